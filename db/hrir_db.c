@@ -1,0 +1,290 @@
+/* hrir_db.c - the in-memory HRIR database and the SATF look-up (eq. 4). */
+#include "db/hrir_db_internal.h"
+
+#include <Imath/half.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define TWO_PI 6.283185307179586
+
+satf_build_params satf_build_params_default(void) {
+  satf_build_params p;
+  memset(&p, 0, sizeof p);
+  p.seed = 1;
+  p.samples = 256;
+  p.n_view = 32;
+  p.n_light = 32;
+  p.grid = 32;
+  p.shape = satf_sector_shape_default();
+  p.trace = satf_trace_params_default();
+  return p;
+}
+
+satf_status satf_build_params_check(const satf_build_params *p,
+                                    satf_error *err) {
+  if (p->samples < 1 || p->samples > 1000000)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "samples = %d is out of range [1, 1000000]",
+                          p->samples);
+  if (p->n_view < 1 || p->n_view > 1024 || p->n_light < 1 || p->n_light > 1024)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "angles %d x %d out of range [1, 1024]", p->n_view,
+                          p->n_light);
+  if (p->grid < 4 || p->grid > 1024)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "grid = %d is out of range [4, 1024]", p->grid);
+  satf_status st = satf_sector_shape_check(&p->shape, err);
+  if (st == SATF_OK)
+    st = satf_trace_params_check(&p->trace, err);
+  if (st != SATF_OK)
+    return st;
+  /* Two channels of 4-byte floats in memory; refuse what cannot fit. */
+  double bytes = 8.0 * p->samples * (double)p->n_view * p->n_light *
+                 p->trace.width;
+  if (bytes > 16e9)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "a database of %d samples x %d x %d angles x %d "
+                          "width needs %.1f GB of memory; refusing",
+                          p->samples, p->n_view, p->n_light, p->trace.width,
+                          bytes / 1e9);
+  return SATF_OK;
+}
+
+static size_t values_per_sample(const satf_build_params *p) {
+  return (size_t)p->n_view * (size_t)p->n_light * (size_t)p->trace.width;
+}
+
+satf_status satf_db_create(const satf_build_params *p, satf_db **out,
+                           satf_error *err) {
+  *out = NULL;
+  satf_status st = satf_build_params_check(p, err);
+  if (st != SATF_OK)
+    return st;
+  satf_db *db = calloc(1, sizeof *db);
+  if (!db)
+    return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate a database");
+  db->p = *p;
+  size_t n = values_per_sample(p) * (size_t)p->samples;
+  db->re = calloc(n, sizeof(float));
+  db->alpha = calloc(n, sizeof(float));
+  db->features = calloc((size_t)p->samples * SATF_FEATURES, sizeof(float));
+  if (!db->re || !db->alpha || !db->features) {
+    satf_db_destroy(db);
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "cannot allocate %zu records of %d samples",
+                          n / (size_t)p->trace.width, p->trace.width);
+  }
+  *out = db;
+  return SATF_OK;
+}
+
+satf_status satf_db_adopt(const satf_build_params *p, float *re, float *alpha,
+                          float *features, satf_db **out, satf_error *err) {
+  satf_db *db = calloc(1, sizeof *db);
+  if (!db) {
+    free(re);
+    free(alpha);
+    free(features);
+    return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate a database");
+  }
+  db->p = *p;
+  db->re = re;
+  db->alpha = alpha;
+  db->features = features;
+  *out = db;
+  return SATF_OK;
+}
+
+void satf_db_destroy(satf_db *db) {
+  if (db) {
+    free(db->re);
+    free(db->alpha);
+    free(db->features);
+    free(db->norm);
+    satf_kdtree_destroy(db->tree);
+    free(db);
+  }
+}
+
+const satf_build_params *satf_db_params(const satf_db *db) { return &db->p; }
+int satf_db_width(const satf_db *db) { return db->p.trace.width; }
+int satf_db_samples(const satf_db *db) { return db->p.samples; }
+
+float *satf_db_sample_features(satf_db *db, int i) {
+  return db->features + (size_t)i * SATF_FEATURES;
+}
+float *satf_db_sample_re(satf_db *db, int i) {
+  return db->re + (size_t)i * values_per_sample(&db->p);
+}
+float *satf_db_sample_alpha(satf_db *db, int i) {
+  return db->alpha + (size_t)i * values_per_sample(&db->p);
+}
+
+static float round_to_half(float x) {
+  return imath_half_to_float(imath_float_to_half(x));
+}
+
+satf_status satf_db_index(satf_db *db, satf_error *err) {
+  int n = db->p.samples;
+  for (int a = 0; a < SATF_FEATURES; a++) {
+    db->lo[a] = INFINITY;
+    db->hi[a] = -INFINITY;
+  }
+  for (int i = 0; i < n; i++)
+    for (int a = 0; a < SATF_FEATURES; a++) {
+      float v = db->features[i * SATF_FEATURES + a];
+      if (!isfinite(v))
+        return satf_error_set(err, SATF_ERR_CORRUPT,
+                              "feature %d of sample %d is not finite", a, i);
+      db->lo[a] = v < db->lo[a] ? v : db->lo[a];
+      db->hi[a] = v > db->hi[a] ? v : db->hi[a];
+    }
+  /* Features are compared after scaling each to [0, 1] over the database,
+   * so density and the centroids weigh alike. */
+  for (int a = 0; a < SATF_FEATURES; a++)
+    db->scale[a] = db->hi[a] > db->lo[a] ? 1.0f / (db->hi[a] - db->lo[a]) : 1.0f;
+  free(db->norm);
+  satf_kdtree_destroy(db->tree);
+  db->tree = NULL;
+  db->norm = malloc((size_t)n * SATF_FEATURES * sizeof(float));
+  if (!db->norm)
+    return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate the index");
+  for (int i = 0; i < n; i++)
+    for (int a = 0; a < SATF_FEATURES; a++)
+      db->norm[i * SATF_FEATURES + a] =
+          (db->features[i * SATF_FEATURES + a] - db->lo[a]) * db->scale[a];
+  db->tree = satf_kdtree_build(db->norm, n);
+  if (!db->tree)
+    return satf_error_set(err, SATF_ERR_NOMEM, "cannot build the k-d tree");
+  return SATF_OK;
+}
+
+satf_status satf_db_finalize(satf_db *db, satf_error *err) {
+  size_t n = values_per_sample(&db->p) * (size_t)db->p.samples;
+  for (size_t i = 0; i < n; i++) {
+    db->re[i] = round_to_half(db->re[i]);
+    db->alpha[i] = round_to_half(db->alpha[i]);
+  }
+  return satf_db_index(db, err);
+}
+
+void satf_db_record(const satf_db *db, int sample, int iv, int il,
+                    const float **re, const float **alpha) {
+  size_t off = (size_t)sample * values_per_sample(&db->p) +
+               ((size_t)il * (size_t)db->p.n_view + (size_t)iv) *
+                   (size_t)db->p.trace.width;
+  *re = db->re + off;
+  *alpha = db->alpha + off;
+}
+
+const float *satf_db_features(const satf_db *db, int sample) {
+  return db->features + (size_t)sample * SATF_FEATURES;
+}
+
+void satf_db_feature_range(const satf_db *db, float lo[SATF_FEATURES],
+                           float hi[SATF_FEATURES]) {
+  memcpy(lo, db->lo, sizeof db->lo);
+  memcpy(hi, db->hi, sizeof db->hi);
+}
+
+int satf_db_nearest(const satf_db *db, const float feature[SATF_FEATURES],
+                    int k, int *index, float *dist2) {
+  float q[SATF_FEATURES];
+  for (int a = 0; a < SATF_FEATURES; a++)
+    q[a] = (feature[a] - db->lo[a]) * db->scale[a];
+  return satf_kdtree_nearest(db->tree, q, k, index, dist2);
+}
+
+/* Position of an azimuth on a periodic grid of n stored angles. Values
+ * within 1e-4 of a grid angle snap to it, so a look-up at a stored angle
+ * returns the stored record exactly despite float rounding of 2 pi k / n. */
+static void angle_cell(float theta, int n, int *i0, int *i1, float *f) {
+  double x = (double)theta / TWO_PI * n;
+  x -= floor(x / n) * n; /* into [0, n) */
+  double r = floor(x + 0.5);
+  if (fabs(x - r) < 1e-4)
+    x = r;
+  int i = (int)floor(x);
+  *f = (float)(x - i);
+  *i0 = i % n;
+  *i1 = (i + 1) % n;
+}
+
+void satf_db_lookup(const satf_db *db, const float feature[SATF_FEATURES],
+                    float theta_v, float theta_l, int k, float *re,
+                    float *alpha) {
+  enum { KMAX = 16 };
+  int w = db->p.trace.width;
+  int idx[KMAX];
+  float d2[KMAX], wt[KMAX];
+  if (k < 1)
+    k = 1;
+  if (k > KMAX)
+    k = KMAX;
+  int found = satf_db_nearest(db, feature, k, idx, d2);
+  /* Inverse-distance weights; an exact hit takes all the weight. */
+  if (found > 1 && d2[0] <= 0.0f)
+    found = 1;
+  float total = 0.0f;
+  for (int n = 0; n < found; n++) {
+    wt[n] = found == 1 ? 1.0f : 1.0f / sqrtf(d2[n]);
+    total += wt[n];
+  }
+  int v0, v1, l0, l1;
+  float fv, fl;
+  angle_cell(theta_v, db->p.n_view, &v0, &v1, &fv);
+  angle_cell(theta_l, db->p.n_light, &l0, &l1, &fl);
+  float bw[4] = {(1 - fv) * (1 - fl), fv * (1 - fl), (1 - fv) * fl, fv * fl};
+  int cv[4] = {v0, v1, v0, v1}, cl[4] = {l0, l0, l1, l1};
+  for (int j = 0; j < w; j++)
+    re[j] = alpha[j] = 0.0f;
+  for (int n = 0; n < found; n++) {
+    for (int c = 0; c < 4; c++) {
+      float weight = bw[c] * wt[n] / total;
+      if (weight == 0.0f)
+        continue;
+      const float *r, *a;
+      satf_db_record(db, idx[n], cv[c], cl[c], &r, &a);
+      for (int j = 0; j < w; j++) {
+        re[j] += weight * r[j];
+        alpha[j] += weight * a[j];
+      }
+    }
+  }
+}
+
+static uint64_t fnv_words(uint64_t h, const void *data, size_t bytes) {
+  const unsigned char *p = data;
+  /* FNV-1a over 32-bit little-endian words: 4x fewer multiplies than the
+   * byte-wise form and still sensitive to every bit. */
+  for (size_t i = 0; i + 4 <= bytes; i += 4) {
+    uint32_t w = (uint32_t)p[i] | (uint32_t)p[i + 1] << 8 |
+                 (uint32_t)p[i + 2] << 16 | (uint32_t)p[i + 3] << 24;
+    h = (h ^ w) * 0x100000001B3ull;
+  }
+  return h;
+}
+
+uint64_t satf_db_payload_hash(const satf_db *db) {
+  const satf_build_params *p = &db->p;
+  uint64_t h = 0xCBF29CE484222325ull;
+  int32_t ints[7] = {p->samples, p->n_view, p->n_light, p->grid,
+                     p->trace.width, p->trace.self_shadow,
+                     SATF_DB_FORMAT_VERSION};
+  float floats[11] = {p->shape.r_inner,   p->shape.r_outer,
+                      p->shape.phase_span, p->trace.extinction,
+                      p->trace.ambient,    p->trace.diffuse,
+                      p->trace.specular,   p->trace.shininess,
+                      p->trace.epsilon,    p->trace.smooth_ratio, 0.0f};
+  uint32_t seed[2] = {(uint32_t)p->seed, (uint32_t)(p->seed >> 32)};
+  h = fnv_words(h, ints, sizeof ints);
+  h = fnv_words(h, floats, sizeof floats);
+  h = fnv_words(h, seed, sizeof seed);
+  size_t n = values_per_sample(p) * (size_t)p->samples;
+  h = fnv_words(h, db->features,
+                (size_t)p->samples * SATF_FEATURES * sizeof(float));
+  h = fnv_words(h, db->re, n * sizeof(float));
+  h = fnv_words(h, db->alpha, n * sizeof(float));
+  return h;
+}

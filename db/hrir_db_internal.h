@@ -1,0 +1,24 @@
+/* hrir_db_internal.h - the database's private layout, shared by the
+ * in-memory part (hrir_db.c) and the file format (hrir_db_file.c). */
+#ifndef SATF_DB_HRIR_DB_INTERNAL_H
+#define SATF_DB_HRIR_DB_INTERNAL_H
+
+#include "db/kdtree.h"
+#include "satf/db.h"
+
+struct satf_db {
+  satf_build_params p;
+  float *re, *alpha; /* samples x n_light x n_view x width */
+  float *features;   /* samples x SATF_FEATURES */
+  float lo[SATF_FEATURES], hi[SATF_FEATURES], scale[SATF_FEATURES];
+  float *norm;       /* features scaled to [0, 1], for the tree */
+  satf_kdtree *tree;
+};
+
+/* Wraps arrays read from a file (ownership passes, even on failure). */
+satf_status satf_db_adopt(const satf_build_params *p, float *re, float *alpha,
+                          float *features, satf_db **out, satf_error *err);
+/* Builds the feature ranges and the k-d tree. */
+satf_status satf_db_index(satf_db *db, satf_error *err);
+
+#endif

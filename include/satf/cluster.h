@@ -1,0 +1,167 @@
+/* cluster.h - the geometry of one hair cluster (SATF paper sec. 3.2): a
+ * generalized cylinder swept by an ellipse along a 3-D B-spline, its layered
+ * volumetric shells and the Hair Shell Volumes (HSVs) they divide into.
+ *
+ * Parameters. t in [0,1] runs along the trajectory T(t) (the B-spline
+ * parameter; it is close to the relative arc length when the control points
+ * are evenly spaced), v in [0,1] from the trajectory to the cluster's
+ * envelope, u in [0, 2 pi) around it. The hair runs along t.
+ *
+ * Frames. The ellipse lies in the normal plane of T. Its axes are measured
+ * from a rotation-minimising frame (tangent, n1, n2), n2 = tangent x n1,
+ * computed by the double reflection method (Wang, Juettler, Zheng, Liu,
+ * "Computation of rotation minimizing frames", ACM TOG 27(1), 2008), so the
+ * frame neither flips on helices nor spins on straight stretches.
+ *
+ * A satf_cluster is immutable after satf_cluster_create: every query below
+ * may run on many threads at once on one handle. */
+#ifndef SATF_CLUSTER_H
+#define SATF_CLUSTER_H
+
+#include <stddef.h>
+
+#include "satf/satf.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The modelling parameters H = Modeling(T(t), A(t), B(t), theta(t)) of
+ * SATF eq. 2, as B-spline control polygons. The arrays are copied. */
+typedef struct satf_cluster_desc {
+  int n_ctrl;         /* trajectory control points, >= 2 */
+  const float *traj;  /* n_ctrl * 3 floats (x, y, z) */
+  int n_radius;       /* control points of a, b and twist, >= 1 */
+  const float *a;     /* semi-axis along the twisted n1, > 0 */
+  const float *b;     /* semi-axis along the twisted n2, > 0 */
+  const float *twist; /* self-twisting phase theta, radians */
+} satf_cluster_desc;
+
+typedef struct satf_cluster satf_cluster;
+
+/* Validates desc (counts, finite values, positive radii, a trajectory of
+ * non-zero length) and builds the cluster with its frame table. */
+satf_status satf_cluster_create(const satf_cluster_desc *desc,
+                                satf_cluster **out, satf_error *err);
+void satf_cluster_destroy(satf_cluster *cluster);
+
+/* Arc length of the trajectory T. */
+float satf_cluster_length(const satf_cluster *cluster);
+
+/* T(t) and, if d1 is non-NULL, dT/dt. */
+void satf_cluster_trajectory(const satf_cluster *cluster, float t,
+                             float pos[3], float d1[3]);
+
+/* The rotation-minimising frame at t: unit tangent of T and the two unit
+ * normals spanning the normal plane (right-handed, orthonormal). */
+void satf_cluster_frame(const satf_cluster *cluster, float t,
+                        float tangent[3], float n1[3], float n2[3]);
+
+/* Everything about the cross-section at one t, so per-vertex work along a
+ * ring evaluates the splines and the frame once. */
+typedef struct satf_cluster_section {
+  float t;
+  float center[3];  /* T(t) */
+  float dcenter[3]; /* dT/dt */
+  float tangent[3], n1[3], n2[3];
+  float dn1[3], dn2[3]; /* d n1/dt, d n2/dt of the rotation-minimising frame */
+  float a, b, theta;    /* A(t), B(t), theta(t) */
+  float da, db, dtheta; /* their derivatives in t */
+} satf_cluster_section;
+
+void satf_cluster_section_at(const satf_cluster *cluster, float t,
+                             satf_cluster_section *section);
+
+/* SATF eq. 1 placed in the normal plane: T(t) + v (A cos(theta + u) n1 +
+ * B sin(theta + u) n2). */
+void satf_cluster_section_point(const satf_cluster_section *section, float v,
+                                float u, float p[3]);
+/* dP/dt normalised: the direction the hair runs at (t, v, u). */
+void satf_cluster_section_hair_tangent(const satf_cluster_section *section,
+                                       float v, float u, float dir[3]);
+/* Unit normal of the surface v = const at (t, u), pointing away from the
+ * trajectory. At v <= 0 the surface collapses onto T; the normal returned
+ * there is the limit direction as v -> 0+. */
+void satf_cluster_section_surface_normal(const satf_cluster_section *section,
+                                         float v, float u, float n[3]);
+
+/* One-shot forms of the three functions above. */
+void satf_cluster_point(const satf_cluster *cluster, float t, float v, float u,
+                        float p[3]);
+void satf_cluster_hair_tangent(const satf_cluster *cluster, float t, float v,
+                               float u, float dir[3]);
+void satf_cluster_surface_normal(const satf_cluster *cluster, float t, float v,
+                                 float u, float n[3]);
+
+/* ---- Shells and Hair Shell Volumes (SATF sec. 3.2, eq. 3) ----
+ *
+ * v in [0, core] is the transparent interior core. The shell v in [core, 1]
+ * is split into `layers` layers; layer k (0 = innermost) spans
+ * [v_k, v_{k+1}] with v_j = core + (1 - core) j / layers, and its mesh is
+ * its outer surface v_{k+1} (SATF sec. 6.1). HSV (i, k, j) spans
+ * t in [i/st, (i+1)/st], layer k and u in [2 pi j/su, 2 pi (j+1)/su]; its
+ * two boundary generalized sectors lie in the normal planes at t = i/st and
+ * t = (i+1)/st. */
+typedef struct satf_shell_params {
+  int layers; /* 1..256 */
+  int st;     /* HSVs along t, 1..4096 */
+  int su;     /* HSVs around u, 3..4096 */
+  float core; /* v radius of the interior core, in [0, 0.95] */
+} satf_shell_params;
+
+satf_status satf_shell_params_check(const satf_shell_params *params,
+                                    satf_error *err);
+/* st * layers * su, or 0 when params are invalid. */
+size_t satf_shell_hsv_count(const satf_shell_params *params);
+/* Linear index of HSV (i, k, j): (i * layers + k) * su + j. */
+size_t satf_shell_hsv_index(const satf_shell_params *params, int i, int k,
+                            int j);
+/* v_j, the boundary between layers j - 1 and j (j in 0..layers). */
+float satf_shell_layer_v(const satf_shell_params *params, int j);
+
+/* A generalized sector: the cut of layer k, phase span j, through the normal
+ * plane at t = i / st (i in 0..st). */
+typedef struct satf_shell_sector {
+  float t;
+  int layer, phase;
+  float v_inner, v_outer; /* v_k, v_{k+1} */
+  float u_begin, u_end;   /* 2 pi j / su, 2 pi (j+1) / su */
+  float a, b;             /* ellipse semi-axes at t */
+  /* (v_inner, u_begin), (v_outer, u_begin), (v_outer, u_end),
+   * (v_inner, u_end) */
+  float corners[4][3];
+  /* The plane frame: origin T(t), normal the tangent of T, and the normal
+   * plane frame rotated by the twist theta(t), so the ellipse reads
+   * x = A v cos(u), y = B v sin(u) in (axis_x, axis_y) (SATF eq. 1). */
+  float origin[3];
+  float normal[3];
+  float axis_x[3], axis_y[3];
+} satf_shell_sector;
+
+/* The boundary sector at t = i / st of layer k, phase span j. */
+satf_status satf_shell_sector_at(const satf_cluster *cluster,
+                                 const satf_shell_params *params, int i, int k,
+                                 int j, satf_shell_sector *out,
+                                 satf_error *err);
+/* Both boundary sectors of HSV (i, k, j), i in 0..st-1. */
+satf_status satf_shell_hsv_sectors(const satf_cluster *cluster,
+                                   const satf_shell_params *params, int i,
+                                   int k, int j, satf_shell_sector out[2],
+                                   satf_error *err);
+
+/* ---- Layer meshes (SATF sec. 6.1) ---- */
+typedef struct satf_mesh satf_mesh; /* satf/mesh.h */
+
+/* The mesh of layer k: its outer surface v_{k+1} as a grid of (st + 1) x
+ * (su + 1) vertices (the u seam duplicated so texture coordinates run over
+ * [0,1]), two triangles per cell, outward normals, the hair direction as
+ * tangent, uv = (u / 2 pi, t) and layer_v = v_{k+1}. */
+satf_status satf_cluster_build_layer_mesh(const satf_cluster *cluster,
+                                          const satf_shell_params *params,
+                                          int k, satf_mesh **out,
+                                          satf_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,232 @@
+/* scene.h - the scene file: a JSON description of a hair volume in the SATF
+ * four-level hierarchy (Xu et al. 2006, sec. 3.1): hair volume ->
+ * macro-clusters (one prototype cluster plus per-instance transforms) ->
+ * clusters (generalized disks, sec. 3.2) -> hair density (sec. 3.3), plus
+ * the material (sec. 6.3-6.4), effect switches, camera, lights, background
+ * and the HRIR database to render it with.
+ *
+ * samples/README.md is the format reference (every key, type, unit, default
+ * and allowed range). This header owns the in-memory data model: a
+ * satf_scene is a plain tree of structs, allocated by satf_scene_load /
+ * satf_scene_parse and freed as a whole by satf_scene_destroy. Every field
+ * has been validated and defaulted when the load succeeds; callers read the
+ * fields directly and must not modify or free them. */
+#ifndef SATF_SCENE_H
+#define SATF_SCENE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "satf/satf.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Limits enforced by validation (documented in samples/README.md). */
+#define SATF_SCENE_MAX_LAYERS 256
+#define SATF_SCENE_MAX_ST 4096
+#define SATF_SCENE_MIN_SU 3
+#define SATF_SCENE_MAX_SU 4096
+#define SATF_SCENE_MAX_CORE 0.95
+#define SATF_SCENE_MAX_HSV 50000000ull       /* over the whole scene */
+#define SATF_SCENE_MAX_CONTROL_POINTS 4096   /* per curve */
+#define SATF_SCENE_MAX_MACRO_CLUSTERS 65536
+#define SATF_SCENE_MAX_INSTANCES 65536       /* per macro-cluster */
+#define SATF_SCENE_MAX_LIGHTS 64
+#define SATF_SCENE_MAX_STRANDS 10000000      /* per cluster */
+#define SATF_SCENE_MAX_COORD 1e6             /* |coordinate| in scene units */
+#define SATF_SCENE_MAX_IMAGE 16384           /* pixels per side */
+#define SATF_SCENE_MAX_FILE_BYTES (64u << 20)
+
+/* A 1-D B-spline given by its control values (SATF eq. 2: A(t), B(t),
+ * theta(t)); a constant has count == 1. */
+typedef struct satf_scene_curve {
+  int count;
+  float *values;
+} satf_scene_curve;
+
+/* The sampling of a cluster's shell into HSVs (SATF eq. 3): `layers`
+ * shells between the core radius (a fraction `core` of the envelope) and the
+ * envelope, st steps along t and su sectors around u. */
+typedef struct satf_scene_shell {
+  int layers;
+  int st;
+  int su;
+  float core;
+} satf_scene_shell;
+
+typedef enum satf_scene_density_type {
+  SATF_SCENE_DENSITY_PROCEDURAL = 0,
+  SATF_SCENE_DENSITY_VDB
+} satf_scene_density_type;
+
+typedef enum satf_scene_layout {
+  SATF_SCENE_LAYOUT_UNIFORM = 0,
+  SATF_SCENE_LAYOUT_CLUMPED,
+  SATF_SCENE_LAYOUT_GRADIENT,
+  SATF_SCENE_LAYOUT_HOLES,
+  SATF_SCENE_LAYOUT_COUNT
+} satf_scene_layout;
+
+/* The bottom level of the hierarchy (SATF sec. 3.3): either strands placed
+ * procedurally in the cluster's cross-section, or a density grid read from
+ * an OpenVDB file. */
+typedef struct satf_scene_density {
+  satf_scene_density_type type;
+  /* procedural */
+  int strands;          /* strands in the cluster */
+  uint64_t seed;        /* placement seed, < 2^53 */
+  satf_scene_layout layout;
+  float strand_width;   /* strand diameter, in units of the cluster radius */
+  float scale;          /* multiplies the density field */
+  int clumps;           /* clumped: number of clumps */
+  float clump_spread;   /* clumped: clump std. deviation / cluster radius */
+  int holes;            /* holes: number of empty discs */
+  float hole_radius;    /* holes: hole radius / cluster radius */
+  float gradient;       /* gradient: density slope from core to surface */
+  /* vdb */
+  char *vdb_file;       /* resolved against the scene file's directory */
+  char *vdb_grid;       /* grid name, default "density" */
+} satf_scene_density;
+
+/* One generalized-disk cluster (SATF eq. 1-2): an ellipse with half-axes
+ * a(t), b(t) and twist phase theta(t) swept along the trajectory T(t). */
+typedef struct satf_scene_cluster {
+  int degree;           /* B-spline degree requested (1..3) */
+  int n_points;         /* trajectory control points (>= 2) */
+  float *trajectory;    /* 3 * n_points, x y z interleaved */
+  satf_scene_curve a;   /* half major axis, scene units, > 0 */
+  satf_scene_curve b;   /* half minor axis, scene units, > 0 */
+  satf_scene_curve twist; /* radians */
+  satf_scene_shell shell;
+  satf_scene_density density;
+} satf_scene_cluster;
+
+/* Maps the prototype's space to the world: p_world = M * (p, 1), M stored
+ * row-major (m[3], m[7], m[11] are the translation). Affine, non-singular. */
+typedef struct satf_scene_instance {
+  float m[16];
+} satf_scene_instance;
+
+/* Second level of the hierarchy (SATF sec. 3.1): clusters whose geometries
+ * are transforms of one prototype. */
+typedef struct satf_scene_macro_cluster {
+  char *name;           /* optional, NULL when absent */
+  satf_scene_cluster prototype;
+  int n_instances;      /* >= 1 */
+  satf_scene_instance *instances;
+} satf_scene_macro_cluster;
+
+/* Shading parameters (SATF eq. 9-12, Scheuermann 2004). */
+typedef struct satf_scene_material {
+  float k_dif, k_speI, k_speII;  /* eq. 9, 10, 11 coefficients */
+  float exponent_I, exponent_II; /* Phong exponents k_h of eq. 10 and 11 */
+  float shift_I;                 /* eq. 10: t~ = normalize(t + shift_I n) */
+  float shift_II;                /* eq. 11: t~ = normalize(t - shift_II n) */
+  float f_dif[3], f_speI[3], f_speII[3]; /* RGB colours */
+  float k_shadow;                /* eq. 12 self-shadow intensity */
+  float noise;                   /* secondary-highlight noise strength */
+} satf_scene_material;
+
+typedef struct satf_scene_effects {
+  int satf;                /* 0: plain shifted Kajiya-Kay (Scheuermann) */
+  int secondary_highlight;
+  int self_shadow;         /* eq. 12 s-maps */
+  int cluster_shadows;     /* shadows between clusters (deep opacity maps) */
+} satf_scene_effects;
+
+typedef struct satf_scene_camera {
+  float position[3];
+  float target[3];
+  float up[3];           /* normalized, not parallel to target - position */
+  float fov_y;           /* degrees, (0, 179] */
+  float near_clip;       /* 0 with far_clip 0: renderer picks from bounds */
+  float far_clip;
+  int automatic;         /* 1 when position/target were framed from bounds */
+} satf_scene_camera;
+
+typedef enum satf_scene_light_type {
+  SATF_SCENE_LIGHT_DIRECTIONAL = 0,
+  SATF_SCENE_LIGHT_POINT
+} satf_scene_light_type;
+
+typedef struct satf_scene_light {
+  satf_scene_light_type type;
+  float direction[3];    /* directional: unit direction the light travels */
+  float position[3];     /* point */
+  float color[3];
+  float intensity;
+} satf_scene_light;
+
+typedef struct satf_scene_image {
+  int width, height;
+} satf_scene_image;
+
+typedef struct satf_scene {
+  char *name;            /* the name used in messages (the path, if loaded) */
+  char *description;     /* optional, NULL when absent */
+  int n_macro_clusters;  /* >= 1 */
+  satf_scene_macro_cluster *macro_clusters;
+  satf_scene_material material;
+  satf_scene_effects effects;
+  satf_scene_camera camera;
+  int n_lights;          /* >= 1 (a default key light when absent) */
+  satf_scene_light *lights;
+  float background[3];
+  char *database;        /* resolved path, NULL when absent */
+  satf_scene_image image;
+  /* Warnings (unknown keys); read them with satf_scene_warning*. */
+  int n_warnings;
+  char **warnings;
+} satf_scene;
+
+/* Reads and validates a scene file. Relative paths inside it resolve
+ * against the directory of `path`. On failure *out is NULL and err names
+ * the file, the key path and what is wrong. */
+satf_status satf_scene_load(const char *path, satf_scene **out,
+                            satf_error *err);
+
+/* Validates len bytes of JSON (no terminator needed). name_for_messages
+ * prefixes every message and its directory part (if any) is the base of
+ * relative paths; NULL means "<scene>" and no base. */
+satf_status satf_scene_parse(const char *json, size_t len,
+                             const char *name_for_messages, satf_scene **out,
+                             satf_error *err);
+
+void satf_scene_destroy(satf_scene *scene);
+
+/* Non-fatal findings (unknown keys), each "NAME: key.path: message". */
+int satf_scene_warning_count(const satf_scene *scene);
+const char *satf_scene_warning(const satf_scene *scene, int index);
+
+/* Replaces the database path (e.g. from the command line; used as given). */
+satf_status satf_scene_set_database(satf_scene *scene, const char *path,
+                                    satf_error *err);
+
+/* Totals over every instance of every macro-cluster, as in SATF Table 1:
+ * clusters (C#), layers (L#), HSVs (H#), procedural strands (S#; VDB
+ * clusters count 0). */
+uint64_t satf_scene_cluster_count(const satf_scene *scene);
+uint64_t satf_scene_layer_count(const satf_scene *scene);
+uint64_t satf_scene_hsv_count(const satf_scene *scene);
+uint64_t satf_scene_strand_count(const satf_scene *scene);
+
+/* HSVs of one cluster: layers * st * su (SATF eq. 3). */
+uint64_t satf_scene_cluster_hsv_count(const satf_scene_cluster *cluster);
+
+/* p_world = M * (p, 1). out may alias p. */
+void satf_scene_instance_apply(const satf_scene_instance *instance,
+                               const float p[3], float out[3]);
+
+/* Axis-aligned world bounds of the hair volume: the control-point hull of
+ * each trajectory (a B-spline lies inside it) grown by the largest radius,
+ * through every instance transform. */
+void satf_scene_bounds(const satf_scene *scene, float lo[3], float hi[3]);
+
+const char *satf_scene_layout_name(satf_scene_layout layout);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# The main job: installs what is missing, builds, builds the default HRIR
+# database into out/, and renders the samples into out/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+bash scripts/build.sh build
+mkdir -p out
+db=out/satf-default.hrirdb.exr
+if build/db/satf-db verify "$db" >/dev/null 2>&1; then
+  echo "main: $db is present and intact (delete it to rebuild)"
+else
+  build/offline/satf-build -o "$db"
+fi
+build/db/satf-db info "$db"
+if [ -x build/online/satf-render ]; then
+  bash scripts/render-samples.sh build "$db" out
+fi
