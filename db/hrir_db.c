@@ -66,10 +66,9 @@ satf_status satf_db_create(const satf_build_params *p, satf_db **out,
     return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate a database");
   db->p = *p;
   size_t n = values_per_sample(p) * (size_t)p->samples;
-  db->re = calloc(n, sizeof(float));
-  db->alpha = calloc(n, sizeof(float));
+  db->rec = calloc(2 * n, sizeof(float));
   db->features = calloc((size_t)p->samples * SATF_FEATURES, sizeof(float));
-  if (!db->re || !db->alpha || !db->features) {
+  if (!db->rec || !db->features) {
     satf_db_destroy(db);
     return satf_error_set(err, SATF_ERR_NOMEM,
                           "cannot allocate %zu records of %d samples",
@@ -79,18 +78,16 @@ satf_status satf_db_create(const satf_build_params *p, satf_db **out,
   return SATF_OK;
 }
 
-satf_status satf_db_adopt(const satf_build_params *p, float *re, float *alpha,
+satf_status satf_db_adopt(const satf_build_params *p, float *rec,
                           float *features, satf_db **out, satf_error *err) {
   satf_db *db = calloc(1, sizeof *db);
   if (!db) {
-    free(re);
-    free(alpha);
+    free(rec);
     free(features);
     return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate a database");
   }
   db->p = *p;
-  db->re = re;
-  db->alpha = alpha;
+  db->rec = rec;
   db->features = features;
   *out = db;
   return SATF_OK;
@@ -98,8 +95,7 @@ satf_status satf_db_adopt(const satf_build_params *p, float *re, float *alpha,
 
 void satf_db_destroy(satf_db *db) {
   if (db) {
-    free(db->re);
-    free(db->alpha);
+    free(db->rec);
     free(db->features);
     free(db->norm);
     satf_kdtree_destroy(db->tree);
@@ -114,11 +110,16 @@ int satf_db_samples(const satf_db *db) { return db->p.samples; }
 float *satf_db_sample_features(satf_db *db, int i) {
   return db->features + (size_t)i * SATF_FEATURES;
 }
-float *satf_db_sample_re(satf_db *db, int i) {
-  return db->re + (size_t)i * values_per_sample(&db->p);
+size_t satf_db_record_offset(const satf_db *db, int sample, int iv, int il) {
+  return (size_t)sample * 2 * values_per_sample(&db->p) +
+         ((size_t)il * (size_t)db->p.n_view + (size_t)iv) * 2 *
+             (size_t)db->p.trace.width;
 }
-float *satf_db_sample_alpha(satf_db *db, int i) {
-  return db->alpha + (size_t)i * values_per_sample(&db->p);
+
+void satf_db_record_mut(satf_db *db, int sample, int iv, int il, float **re,
+                        float **alpha) {
+  *re = db->rec + satf_db_record_offset(db, sample, iv, il);
+  *alpha = *re + db->p.trace.width;
 }
 
 static float round_to_half(float x) {
@@ -161,21 +162,16 @@ satf_status satf_db_index(satf_db *db, satf_error *err) {
 }
 
 satf_status satf_db_finalize(satf_db *db, satf_error *err) {
-  size_t n = values_per_sample(&db->p) * (size_t)db->p.samples;
-  for (size_t i = 0; i < n; i++) {
-    db->re[i] = round_to_half(db->re[i]);
-    db->alpha[i] = round_to_half(db->alpha[i]);
-  }
+  size_t n = 2 * values_per_sample(&db->p) * (size_t)db->p.samples;
+  for (size_t i = 0; i < n; i++)
+    db->rec[i] = round_to_half(db->rec[i]);
   return satf_db_index(db, err);
 }
 
 void satf_db_record(const satf_db *db, int sample, int iv, int il,
                     const float **re, const float **alpha) {
-  size_t off = (size_t)sample * values_per_sample(&db->p) +
-               ((size_t)il * (size_t)db->p.n_view + (size_t)iv) *
-                   (size_t)db->p.trace.width;
-  *re = db->re + off;
-  *alpha = db->alpha + off;
+  *re = db->rec + satf_db_record_offset(db, sample, iv, il);
+  *alpha = *re + db->p.trace.width;
 }
 
 const float *satf_db_features(const satf_db *db, int sample) {
@@ -211,6 +207,22 @@ static void angle_cell(float theta, int n, int *i0, int *i1, float *f) {
   *i1 = (i + 1) % n;
 }
 
+/* out = (accumulate ? out : 0) + sum_c c[c] src[c]; separate, restrict-
+ * qualified streams so the compiler vectorises it. With c = (1, 0, 0, 0)
+ * the result is src[0] exactly. */
+static void blend4(float *restrict out, const float *const src[4],
+                   const float c[4], int w, int accumulate) {
+  const float *restrict s0 = src[0], *restrict s1 = src[1];
+  const float *restrict s2 = src[2], *restrict s3 = src[3];
+  if (accumulate) {
+    for (int j = 0; j < w; j++)
+      out[j] += c[0] * s0[j] + c[1] * s1[j] + c[2] * s2[j] + c[3] * s3[j];
+  } else {
+    for (int j = 0; j < w; j++)
+      out[j] = c[0] * s0[j] + c[1] * s1[j] + c[2] * s2[j] + c[3] * s3[j];
+  }
+}
+
 void satf_db_lookup(const satf_db *db, const float feature[SATF_FEATURES],
                     float theta_v, float theta_l, int k, float *re,
                     float *alpha) {
@@ -236,21 +248,16 @@ void satf_db_lookup(const satf_db *db, const float feature[SATF_FEATURES],
   angle_cell(theta_v, db->p.n_view, &v0, &v1, &fv);
   angle_cell(theta_l, db->p.n_light, &l0, &l1, &fl);
   float bw[4] = {(1 - fv) * (1 - fl), fv * (1 - fl), (1 - fv) * fl, fv * fl};
-  int cv[4] = {v0, v1, v0, v1}, cl[4] = {l0, l0, l1, l1};
-  for (int j = 0; j < w; j++)
-    re[j] = alpha[j] = 0.0f;
   for (int n = 0; n < found; n++) {
-    for (int c = 0; c < 4; c++) {
-      float weight = bw[c] * wt[n] / total;
-      if (weight == 0.0f)
-        continue;
-      const float *r, *a;
-      satf_db_record(db, idx[n], cv[c], cl[c], &r, &a);
-      for (int j = 0; j < w; j++) {
-        re[j] += weight * r[j];
-        alpha[j] += weight * a[j];
-      }
-    }
+    const float *r[4], *a[4];
+    satf_db_record(db, idx[n], v0, l0, &r[0], &a[0]);
+    satf_db_record(db, idx[n], v1, l0, &r[1], &a[1]);
+    satf_db_record(db, idx[n], v0, l1, &r[2], &a[2]);
+    satf_db_record(db, idx[n], v1, l1, &r[3], &a[3]);
+    float s = wt[n] / total;
+    float c[4] = {s * bw[0], s * bw[1], s * bw[2], s * bw[3]};
+    blend4(re, r, c, w, n > 0);
+    blend4(alpha, a, c, w, n > 0);
   }
 }
 
@@ -284,7 +291,6 @@ uint64_t satf_db_payload_hash(const satf_db *db) {
   size_t n = values_per_sample(p) * (size_t)p->samples;
   h = fnv_words(h, db->features,
                 (size_t)p->samples * SATF_FEATURES * sizeof(float));
-  h = fnv_words(h, db->re, n * sizeof(float));
-  h = fnv_words(h, db->alpha, n * sizeof(float));
+  h = fnv_words(h, db->rec, 2 * n * sizeof(float));
   return h;
 }

@@ -77,17 +77,64 @@ static satf_status write_attrs(void *ctx, exr_context_t exr, int part,
   return SATF_OK;
 }
 
-satf_status satf_db_write(const satf_db *db, const char *path,
-                          satf_error *err) {
+/* Copies records between memory (interleaved) and image planes, in the
+ * pixel layout described at the top of this file. */
+static void planes_copy(const satf_db *db, float *rec, float *re, float *alpha,
+                        int to_planes) {
+  const satf_build_params *p = &db->p;
+  size_t w = (size_t)p->trace.width, row = (size_t)p->n_view * w;
+  for (int i = 0; i < p->samples; i++)
+    for (int il = 0; il < p->n_light; il++)
+      for (int iv = 0; iv < p->n_view; iv++) {
+        float *r = rec + satf_db_record_offset(db, i, iv, il);
+        size_t px = ((size_t)i * (size_t)p->n_light + (size_t)il) * row +
+                    (size_t)iv * w;
+        if (to_planes) {
+          memcpy(re + px, r, w * sizeof(float));
+          memcpy(alpha + px, r + w, w * sizeof(float));
+        } else {
+          memcpy(r, re + px, w * sizeof(float));
+          memcpy(r + w, alpha + px, w * sizeof(float));
+        }
+      }
+}
+
+static satf_status write_image(const satf_db *db, const char *path, int rgba,
+                               satf_error *err) {
   if (!db->tree)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "%s: database was not finalized before writing",
                           path);
-  satf_exr_channel ch[2] = {{"A", db->alpha}, {"Y", db->re}};
-  satf_exr_write_opts opts = {EXR_PIXEL_HALF, EXR_COMPRESSION_ZIP, write_attrs,
-                              (void *)db};
-  return satf_exr_write(path, db->p.n_view * db->p.trace.width,
-                        db->p.samples * db->p.n_light, ch, 2, &opts, err);
+  size_t n = (size_t)db->p.samples * db->p.n_light * db->p.n_view *
+             (size_t)db->p.trace.width;
+  float *re = malloc(n * sizeof(float)), *alpha = malloc(n * sizeof(float));
+  if (!re || !alpha) {
+    free(re);
+    free(alpha);
+    return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
+  }
+  planes_copy(db, db->rec, re, alpha, 1);
+  satf_exr_channel db_ch[2] = {{"A", alpha}, {"Y", re}};
+  satf_exr_channel atlas_ch[4] = {{"R", re}, {"G", re}, {"B", re}, {"A", alpha}};
+  satf_exr_write_opts opts = {EXR_PIXEL_HALF, EXR_COMPRESSION_ZIP,
+                              rgba ? NULL : write_attrs, (void *)db};
+  satf_status st = satf_exr_write(path, db->p.n_view * db->p.trace.width,
+                                  db->p.samples * db->p.n_light,
+                                  rgba ? atlas_ch : db_ch, rgba ? 4 : 2, &opts,
+                                  err);
+  free(re);
+  free(alpha);
+  return st;
+}
+
+satf_status satf_db_write(const satf_db *db, const char *path,
+                          satf_error *err) {
+  return write_image(db, path, 0, err);
+}
+
+satf_status satf_db_write_atlas(const satf_db *db, const char *path,
+                                satf_error *err) {
+  return write_image(db, path, 1, err);
 }
 
 typedef struct read_ctx {
@@ -197,7 +244,19 @@ satf_status satf_db_read(const char *path, satf_db **out, satf_error *err) {
     return st;
   }
   satf_db *db = NULL;
-  st = satf_db_adopt(&rc.p, planes[1], planes[0], rc.features, &db, err);
+  size_t n = (size_t)w * (size_t)h;
+  float *rec = malloc(2 * n * sizeof(float));
+  if (!rec) {
+    free(planes[0]);
+    free(planes[1]);
+    free(rc.features);
+    return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
+  }
+  st = satf_db_adopt(&rc.p, rec, rc.features, &db, err);
+  if (st == SATF_OK)
+    planes_copy(db, rec, planes[1], planes[0], 0);
+  free(planes[0]);
+  free(planes[1]);
   if (st != SATF_OK)
     return st;
   uint64_t actual = satf_db_payload_hash(db);

@@ -8,7 +8,7 @@
 
 struct satf_db {
   satf_build_params p;
-  float *re, *alpha; /* samples x n_light x n_view x width */
+  float *rec;        /* samples x n_light x n_view x (width re, width alpha) */
   float *features;   /* samples x SATF_FEATURES */
   float lo[SATF_FEATURES], hi[SATF_FEATURES], scale[SATF_FEATURES];
   float *norm;       /* features scaled to [0, 1], for the tree */
@@ -16,8 +16,10 @@ struct satf_db {
 };
 
 /* Wraps arrays read from a file (ownership passes, even on failure). */
-satf_status satf_db_adopt(const satf_build_params *p, float *re, float *alpha,
+satf_status satf_db_adopt(const satf_build_params *p, float *rec,
                           float *features, satf_db **out, satf_error *err);
+/* Offset of record (sample, iv, il) in rec. */
+size_t satf_db_record_offset(const satf_db *db, int sample, int iv, int il);
 /* Builds the feature ranges and the k-d tree. */
 satf_status satf_db_index(satf_db *db, satf_error *err);
 

@@ -9,7 +9,6 @@
 #include "common/cli.h"
 #include "common/fileio.h"
 #include "common/progress.h"
-#include "db/exr_io.h"
 #include "satf/db.h"
 
 static const char *PROG = "satf-db";
@@ -94,13 +93,9 @@ static int cmd_atlas(const char *path, const char *out) {
     return 1;
   const satf_build_params *p = satf_db_params(db);
   int w = p->n_view * p->trace.width, h = p->samples * p->n_light;
-  const float *re0, *a0;
-  satf_db_record(db, 0, 0, 0, &re0, &a0);
-  satf_exr_channel ch[4] = {{"R", re0}, {"G", re0}, {"B", re0}, {"A", a0}};
-  satf_exr_write_opts opts = {EXR_PIXEL_HALF, EXR_COMPRESSION_ZIP, NULL, NULL};
   satf_error err;
   satf_error_clear(&err);
-  satf_status st = satf_exr_write(out, w, h, ch, 4, &opts, &err);
+  satf_status st = satf_db_write_atlas(db, out, &err);
   satf_db_destroy(db);
   if (st != SATF_OK) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);

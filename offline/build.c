@@ -43,16 +43,14 @@ static int build_one(void *vctx, size_t i, int thread) {
   satf_sector_destroy(sec);
   if (st != SATF_OK)
     return 1;
-  /* view-major (trace) to light-major (file rows) */
-  float *re = satf_db_sample_re(c->db, (int)i);
-  float *alpha = satf_db_sample_alpha(c->db, (int)i);
   size_t w = (size_t)p->trace.width;
   for (int iv = 0; iv < p->n_view; iv++)
     for (int il = 0; il < p->n_light; il++) {
       size_t src = ((size_t)iv * (size_t)p->n_light + (size_t)il) * w;
-      size_t dst = ((size_t)il * (size_t)p->n_view + (size_t)iv) * w;
-      memcpy(re + dst, b->re + src, w * sizeof(float));
-      memcpy(alpha + dst, b->alpha + src, w * sizeof(float));
+      float *re, *alpha;
+      satf_db_record_mut(c->db, (int)i, iv, il, &re, &alpha);
+      memcpy(re, b->re + src, w * sizeof(float));
+      memcpy(alpha, b->alpha + src, w * sizeof(float));
     }
   return 0;
 }

@@ -26,3 +26,7 @@ add_test(NAME cli_db_roundtrip COMMAND sh -c
    head -c -200 $d > $d.cut; \
    if $<TARGET_FILE:satf-db> verify $d.cut 2>/dev/null; then exit 1; fi")
 set_tests_properties(cli_db_roundtrip PROPERTIES LABELS cli)
+
+# Benchmark, not a test: run build/tests/bench_db [SAMPLES].
+add_executable(bench_db bench_db.c)
+target_link_libraries(bench_db PRIVATE satf_offline satf_warnings)

@@ -10,6 +10,7 @@
 
 #include <cmocka.h>
 
+#include "db_compare.h"
 #include "satf/build.h"
 
 #define TWO_PI 6.28318530717959f
@@ -36,13 +37,8 @@ static void same_database_on_one_and_two_threads(void **state) {
   (void)state;
   satf_build_params p = small(24);
   satf_db *a = build(&p, 1), *b = build(&p, 2), *c = build(&p, 3);
-  size_t n = (size_t)p.samples * p.n_view * p.n_light * p.trace.width;
-  assert_memory_equal(satf_db_sample_re(a, 0), satf_db_sample_re(b, 0),
-                      n * sizeof(float));
-  assert_memory_equal(satf_db_sample_alpha(a, 0), satf_db_sample_alpha(b, 0),
-                      n * sizeof(float));
-  assert_memory_equal(satf_db_features(a, 0), satf_db_features(b, 0),
-                      (size_t)p.samples * 3 * sizeof(float));
+  assert_same_db(a, b);
+  assert_same_db(a, c);
   assert_true(satf_db_payload_hash(a) == satf_db_payload_hash(b));
   assert_true(satf_db_payload_hash(a) == satf_db_payload_hash(c));
   p.seed++;

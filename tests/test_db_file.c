@@ -12,6 +12,7 @@
 
 #include "common/rng.h"
 #include "db/exr_io.h"
+#include "db_compare.h"
 #include "satf/build.h"
 #include "test_util.h"
 
@@ -65,19 +66,6 @@ static int teardown(void **state) {
   satf_db_destroy(g_db);
   free(g_bytes);
   return 0;
-}
-
-static void assert_same_db(const satf_db *a, const satf_db *b) {
-  const satf_build_params *p = satf_db_params(a), *q = satf_db_params(b);
-  assert_memory_equal(p, q, sizeof *p);
-  size_t n = (size_t)p->samples * p->n_view * p->n_light * p->trace.width;
-  const float *ra, *aa, *rb, *ab;
-  satf_db_record(a, 0, 0, 0, &ra, &aa);
-  satf_db_record(b, 0, 0, 0, &rb, &ab);
-  assert_memory_equal(ra, rb, n * sizeof(float));
-  assert_memory_equal(aa, ab, n * sizeof(float));
-  assert_memory_equal(satf_db_features(a, 0), satf_db_features(b, 0),
-                      (size_t)p->samples * 3 * sizeof(float));
 }
 
 static void round_trip_is_exact(void **state) {
