@@ -39,9 +39,9 @@ static int knot_span(double t, int n, int p) {
 /* Non-zero basis functions N_{span-p+j,p}(t) and their first nd derivatives
  * (Piegl & Tiller, The NURBS Book, algorithm A2.3); ders[k][j] is the k-th
  * derivative of the j-th basis function. */
-static void basis_derivatives(double t, int span, int n, int p, int nd,
-                              double ders[BSPLINE_MAX_DERIV + 1]
-                                         [BSPLINE_MAX_DEGREE + 1]) {
+static void
+basis_derivatives(double t, int span, int n, int p, int nd,
+                  double ders[BSPLINE_MAX_DERIV + 1][BSPLINE_MAX_DEGREE + 1]) {
   double ndu[BSPLINE_MAX_DEGREE + 1][BSPLINE_MAX_DEGREE + 1];
   double left[BSPLINE_MAX_DEGREE + 1], right[BSPLINE_MAX_DEGREE + 1];
   double a[2][BSPLINE_MAX_DEGREE + 1];
@@ -59,8 +59,8 @@ static void basis_derivatives(double t, int span, int n, int p, int nd,
     }
     ndu[j][j] = saved;
   }
-  memset(ders, 0, sizeof(double) * (BSPLINE_MAX_DERIV + 1) *
-                      (BSPLINE_MAX_DEGREE + 1));
+  memset(ders, 0,
+         sizeof(double) * (BSPLINE_MAX_DERIV + 1) * (BSPLINE_MAX_DEGREE + 1));
   for (int j = 0; j <= p; j++)
     ders[0][j] = ndu[j][p];
 

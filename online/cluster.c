@@ -10,12 +10,12 @@
 
 #include "online/bspline.h"
 
-/* Samples of the frame table. Between samples the frame is interpolated and
- * re-orthogonalised against the exact tangent; 1024 keeps the angular step
- * on a tight helix far below the flip threshold. */
-#define FRAME_SAMPLES 1024
-/* Intervals of the composite Simpson rule for the arc length (even). */
-#define LENGTH_INTERVALS 2048
+/* Samples of the frame table (1024 intervals). Between samples the frame
+ * is interpolated and re-orthogonalised against the exact tangent; this
+ * density keeps the angular step on a tight helix far below the flip
+ * threshold. The same samples give the arc length by Simpson's rule, so
+ * the interval count must be even. */
+#define FRAME_SAMPLES 1025
 /* Control polygons larger than this are certainly a corrupt input. */
 #define MAX_CONTROL_POINTS (1 << 20)
 
@@ -26,6 +26,7 @@ struct satf_cluster {
   float *b;     /* n_radius */
   float *twist; /* n_radius */
   double length;
+  double pos[FRAME_SAMPLES][3];     /* T at sample i */
   double tangent[FRAME_SAMPLES][3]; /* unit tangent of T at sample i */
   double n1[FRAME_SAMPLES][3];      /* rotation-minimising normal */
 };
@@ -88,8 +89,8 @@ static void any_perpendicular(const double t[3], double out[3]) {
 static satf_status check_finite(const float *v, int count, const char *what,
                                 satf_error *err) {
   if (!v)
-    return satf_error_set(err, SATF_ERR_ARGUMENT,
-                          "cluster/%s: array is NULL", what);
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "cluster/%s: array is NULL",
+                          what);
   for (int i = 0; i < count; i++)
     if (!isfinite(v[i]))
       return satf_error_set(err, SATF_ERR_ARGUMENT,
@@ -145,15 +146,16 @@ static void eval_scalar(const satf_cluster *cl, const float *ctrl, double t,
 
 static double sample_t(int i) { return (double)i / (FRAME_SAMPLES - 1); }
 
-/* Arc length of T: composite Simpson rule on |T'(t)|. */
-static double trajectory_length(const satf_cluster *cl) {
-  const int n = LENGTH_INTERVALS;
+/* Evaluates T and T' at every table sample (T' left unnormalised in the
+ * tangent table) and returns the arc length of T by the composite Simpson
+ * rule on |T'|. */
+static double sample_trajectory(satf_cluster *cl) {
+  const int n = FRAME_SAMPLES - 1;
   double sum = 0.0;
   for (int i = 0; i <= n; i++) {
-    double d1[3];
-    eval_traj(cl, (double)i / n, NULL, d1, NULL);
+    eval_traj(cl, sample_t(i), cl->pos[i], cl->tangent[i], NULL);
     double w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
-    sum += w * sqrt(dot3(d1, d1));
+    sum += w * sqrt(dot3(cl->tangent[i], cl->tangent[i]));
   }
   return sum / (3.0 * n);
 }
@@ -175,13 +177,10 @@ static void build_tangent_table(satf_cluster *cl, double speed_eps) {
   int first_valid = -1;
   for (int i = 0; i < FRAME_SAMPLES; i++) {
     double *tan = cl->tangent[i];
-    eval_traj(cl, sample_t(i), NULL, tan, NULL);
     valid[i] = normalize3(tan) > speed_eps;
     if (!valid[i]) {
-      double p0[3], p1[3];
-      eval_traj(cl, sample_t(i > 0 ? i - 1 : 0), p0, NULL, NULL);
-      eval_traj(cl, sample_t(i < FRAME_SAMPLES - 1 ? i + 1 : i), p1, NULL,
-                NULL);
+      const double *p0 = cl->pos[i > 0 ? i - 1 : 0];
+      const double *p1 = cl->pos[i < FRAME_SAMPLES - 1 ? i + 1 : i];
       for (int c = 0; c < 3; c++)
         tan[c] = p1[c] - p0[c];
       valid[i] = normalize3(tan) > speed_eps / FRAME_SAMPLES;
@@ -192,8 +191,8 @@ static void build_tangent_table(satf_cluster *cl, double speed_eps) {
   for (int i = 0; i < FRAME_SAMPLES; i++) {
     if (valid[i])
       continue;
-    const double *src = i < first_valid ? cl->tangent[first_valid]
-                                        : cl->tangent[i - 1];
+    const double *src =
+        i < first_valid ? cl->tangent[first_valid] : cl->tangent[i - 1];
     memcpy(cl->tangent[i], src, sizeof(double) * 3);
   }
 }
@@ -233,15 +232,10 @@ static void double_reflection_step(const double x0[3], const double x1[3],
 }
 
 static void build_frame_table(satf_cluster *cl) {
-  double x0[3], x1[3];
   any_perpendicular(cl->tangent[0], cl->n1[0]);
-  eval_traj(cl, 0.0, x0, NULL, NULL);
-  for (int i = 0; i + 1 < FRAME_SAMPLES; i++) {
-    eval_traj(cl, sample_t(i + 1), x1, NULL, NULL);
-    double_reflection_step(x0, x1, cl->tangent[i], cl->n1[i],
-                           cl->tangent[i + 1], cl->n1[i + 1]);
-    memcpy(x0, x1, sizeof x0);
-  }
+  for (int i = 0; i + 1 < FRAME_SAMPLES; i++)
+    double_reflection_step(cl->pos[i], cl->pos[i + 1], cl->tangent[i],
+                           cl->n1[i], cl->tangent[i + 1], cl->n1[i + 1]);
 }
 
 satf_status satf_cluster_create(const satf_cluster_desc *desc,
@@ -273,7 +267,7 @@ satf_status satf_cluster_create(const satf_cluster_desc *desc,
   memcpy(cl->b, desc->b, sizeof(float) * (size_t)desc->n_radius);
   memcpy(cl->twist, desc->twist, sizeof(float) * (size_t)desc->n_radius);
 
-  cl->length = trajectory_length(cl);
+  cl->length = sample_trajectory(cl);
   double extent = trajectory_extent(cl);
   if (!(cl->length > 1e-6 * extent) || cl->length < DBL_MIN) {
     satf_cluster_destroy(cl);
@@ -298,8 +292,8 @@ float satf_cluster_length(const satf_cluster *cluster) {
   return (float)cluster->length;
 }
 
-void satf_cluster_trajectory(const satf_cluster *cluster, float t,
-                             float pos[3], float d1[3]) {
+void satf_cluster_trajectory(const satf_cluster *cluster, float t, float pos[3],
+                             float d1[3]) {
   double p[3], d[3];
   eval_traj(cluster, t, p, d, NULL);
   to_float3(p, pos);
@@ -352,8 +346,8 @@ static void frame_at(const satf_cluster *cl, double t, double d1[3],
   normalize3(n2);
 }
 
-void satf_cluster_frame(const satf_cluster *cluster, float t,
-                        float tangent[3], float n1[3], float n2[3]) {
+void satf_cluster_frame(const satf_cluster *cluster, float t, float tangent[3],
+                        float n1[3], float n2[3]) {
   double d1[3], d2[3], speed, tan[3], a[3], b[3];
   frame_at(cluster, t, d1, d2, &speed, tan, a, b);
   to_float3(tan, tangent);
@@ -414,16 +408,14 @@ static void ellipse_offset(const satf_cluster_section *s, double phi,
 }
 
 /* dE/du at v = 1. */
-static void ellipse_du(const satf_cluster_section *s, double phi,
-                       double e[3]) {
+static void ellipse_du(const satf_cluster_section *s, double phi, double e[3]) {
   double x = -s->a * sin(phi), y = s->b * cos(phi);
   for (int c = 0; c < 3; c++)
     e[c] = x * s->n1[c] + y * s->n2[c];
 }
 
 /* dE/dt at v = 1: radii, twist and frame all vary along t. */
-static void ellipse_dt(const satf_cluster_section *s, double phi,
-                       double e[3]) {
+static void ellipse_dt(const satf_cluster_section *s, double phi, double e[3]) {
   double cp = cos(phi), sp = sin(phi);
   double k1 = s->da * cp - s->a * sp * s->dtheta;
   double k2 = s->db * sp + s->b * cp * s->dtheta;
@@ -432,8 +424,8 @@ static void ellipse_dt(const satf_cluster_section *s, double phi,
            s->b * sp * s->dn2[c];
 }
 
-void satf_cluster_section_point(const satf_cluster_section *s, float v,
-                                float u, float p[3]) {
+void satf_cluster_section_point(const satf_cluster_section *s, float v, float u,
+                                float p[3]) {
   double e[3];
   ellipse_offset(s, (double)s->theta + u, e); /* SATF eq. 1 */
   for (int c = 0; c < 3; c++)
@@ -458,8 +450,8 @@ void satf_cluster_section_hair_tangent(const satf_cluster_section *s, float v,
   to_float3(d, dir);
 }
 
-void satf_cluster_section_surface_normal(const satf_cluster_section *s,
-                                         float v, float u, float n[3]) {
+void satf_cluster_section_surface_normal(const satf_cluster_section *s, float v,
+                                         float u, float n[3]) {
   double phi = (double)s->theta + u, eu[3], pt[3], out[3];
   /* dP/du = v dE/du; the positive factor v does not change the direction. */
   ellipse_du(s, phi, eu);

@@ -38,8 +38,7 @@ void satf_gl_context_version(const satf_gl_context *ctx, int *major,
 /* GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)". */
 const char *satf_gl_context_renderer(const satf_gl_context *ctx);
 /* The frame size given at creation. */
-void satf_gl_context_size(const satf_gl_context *ctx, int *width,
-                          int *height);
+void satf_gl_context_size(const satf_gl_context *ctx, int *width, int *height);
 
 /* ---- window (GLFW) ----------------------------------------------------- */
 
@@ -60,8 +59,7 @@ void satf_gl_window_terminate(void);
 /* For input callbacks and anything else GLFW-specific. */
 struct GLFWwindow *satf_gl_window_glfw(satf_gl_window *win);
 satf_status satf_gl_window_make_current(satf_gl_window *win, satf_error *err);
-void satf_gl_window_version(const satf_gl_window *win, int *major,
-                            int *minor);
+void satf_gl_window_version(const satf_gl_window *win, int *major, int *minor);
 const char *satf_gl_window_renderer(const satf_gl_window *win);
 /* Default framebuffer size in pixels (differs from the window size on
  * high-DPI screens). */

@@ -59,7 +59,8 @@ static int has_extension(const char *list, const char *name) {
  * device in turn. Records the last EGL error for the caller's message. */
 static EGLDisplay open_display(EGLint *last_error, const char **tried) {
   *last_error = EGL_SUCCESS;
-  *tried = "no EGL platform extension (EGL_EXT_platform_base) available";
+  *tried = "none: this EGL offers no platform extension (is an EGL vendor "
+           "such as Debian's libegl-mesa0 installed?)";
   const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   PFNEGLGETPLATFORMDISPLAYEXTPROC get_display =
       (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress(
@@ -71,7 +72,7 @@ static EGLDisplay open_display(EGLint *last_error, const char **tried) {
   }
   EGLint major = 0, minor = 0;
   if (has_extension(client, "EGL_MESA_platform_surfaceless")) {
-    *tried = "surfaceless platform";
+    *tried = "Mesa surfaceless platform";
     EGLDisplay d =
         get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
     if (d != EGL_NO_DISPLAY && eglInitialize(d, &major, &minor))
@@ -81,7 +82,7 @@ static EGLDisplay open_display(EGLint *last_error, const char **tried) {
   PFNEGLQUERYDEVICESEXTPROC query_devices =
       (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
   if (query_devices && has_extension(client, "EGL_EXT_platform_device")) {
-    *tried = "surfaceless platform and EGL devices";
+    *tried = "Mesa surfaceless platform and EGL devices";
     EGLDeviceEXT devices[16];
     EGLint ndevices = 0;
     if (!query_devices(16, devices, &ndevices))
@@ -132,8 +133,10 @@ void satf_gl_context_destroy(satf_gl_context *ctx) {
 static satf_status fail(satf_gl_context *ctx, satf_error *err,
                         satf_status status, const char *what, EGLint code) {
   satf_gl_context_destroy(ctx);
-  return satf_error_set(err, status, "EGL headless context: %s (%s)", what,
-                        egl_error_name(code));
+  if (code == EGL_SUCCESS)
+    return satf_error_set(err, status, "EGL headless context: %s", what);
+  return satf_error_set(err, status, "EGL headless context: %s (EGL error %s)",
+                        what, egl_error_name(code));
 }
 
 satf_status satf_gl_context_create_headless(int width, int height,
@@ -156,8 +159,8 @@ satf_status satf_gl_context_create_headless(int width, int height,
   const char *tried = "";
   ctx->display = open_display(&code, &tried);
   if (ctx->display == EGL_NO_DISPLAY) {
-    char what[200];
-    snprintf(what, sizeof what, "no usable EGL display (tried %s)", tried);
+    char what[256];
+    snprintf(what, sizeof what, "no usable EGL display; tried: %s", tried);
     return fail(ctx, err, SATF_ERR_GL, what, code);
   }
   const char *exts = eglQueryString(ctx->display, EGL_EXTENSIONS);
@@ -215,8 +218,7 @@ const char *satf_gl_context_renderer(const satf_gl_context *ctx) {
   return ctx->renderer;
 }
 
-void satf_gl_context_size(const satf_gl_context *ctx, int *width,
-                          int *height) {
+void satf_gl_context_size(const satf_gl_context *ctx, int *width, int *height) {
   *width = ctx->width;
   *height = ctx->height;
 }

@@ -88,8 +88,7 @@ struct GLFWwindow *satf_gl_window_glfw(satf_gl_window *win) {
   return win->window;
 }
 
-satf_status satf_gl_window_make_current(satf_gl_window *win,
-                                        satf_error *err) {
+satf_status satf_gl_window_make_current(satf_gl_window *win, satf_error *err) {
   glfwMakeContextCurrent(win->window);
   if (glfwGetCurrentContext() != win->window)
     return satf_error_set(err, SATF_ERR_GL,
@@ -98,8 +97,7 @@ satf_status satf_gl_window_make_current(satf_gl_window *win,
   return SATF_OK;
 }
 
-void satf_gl_window_version(const satf_gl_window *win, int *major,
-                            int *minor) {
+void satf_gl_window_version(const satf_gl_window *win, int *major, int *minor) {
   *major = win->major;
   *minor = win->minor;
 }
@@ -117,9 +115,7 @@ int satf_gl_window_should_close(const satf_gl_window *win) {
   return glfwWindowShouldClose(win->window);
 }
 
-void satf_gl_window_swap(satf_gl_window *win) {
-  glfwSwapBuffers(win->window);
-}
+void satf_gl_window_swap(satf_gl_window *win) { glfwSwapBuffers(win->window); }
 
 void satf_gl_window_poll(satf_gl_window *win) {
   (void)win;

@@ -38,9 +38,9 @@ satf_status satf_gl_check(const char *label, satf_error *err) {
   return satf_error_set(err, SATF_ERR_GL, "%s: GL error %s", label, names);
 }
 
-satf_status satf_gl_query_context(int width, int height, int *major,
-                                  int *minor, char *renderer,
-                                  size_t renderer_size, satf_error *err) {
+satf_status satf_gl_query_context(int width, int height, int *major, int *minor,
+                                  char *renderer, size_t renderer_size,
+                                  satf_error *err) {
   GLint maj = 0, min = 0, profile = 0, viewport[2] = {0, 0}, rb = 0, tex = 0;
   glGetIntegerv(GL_MAJOR_VERSION, &maj);
   glGetIntegerv(GL_MINOR_VERSION, &min);
@@ -53,13 +53,12 @@ satf_status satf_gl_query_context(int width, int height, int *major,
   *major = maj;
   *minor = min;
   if (maj * 10 + min < 33 || !(profile & GL_CONTEXT_CORE_PROFILE_BIT))
-    return satf_error_set(err, SATF_ERR_GL,
-                          "OpenGL context: got %d.%d (%s profile) on %s, "
-                          "need 3.3 core",
-                          maj, min,
-                          profile & GL_CONTEXT_CORE_PROFILE_BIT ? "core"
-                                                                : "compat",
-                          renderer);
+    return satf_error_set(
+        err, SATF_ERR_GL,
+        "OpenGL context: got %d.%d (%s profile) on %s, "
+        "need 3.3 core",
+        maj, min, profile & GL_CONTEXT_CORE_PROFILE_BIT ? "core" : "compat",
+        renderer);
   int limit = viewport[0] < viewport[1] ? viewport[0] : viewport[1];
   limit = rb < limit ? rb : limit;
   limit = tex < limit ? tex : limit;
@@ -103,9 +102,8 @@ satf_status satf_gl_shader_compile(GLenum stage, const char *label,
   GLuint s = glCreateShader(stage);
   if (s == 0)
     return satf_error_set(err, SATF_ERR_GL,
-                          "shader '%s': cannot create a %s shader (%s)",
-                          label, stage_name(stage),
-                          gl_error_name(glGetError()));
+                          "shader '%s': cannot create a %s shader (%s)", label,
+                          stage_name(stage), gl_error_name(glGetError()));
   glShaderSource(s, 1, &source, NULL);
   glCompileShader(s);
   GLint ok = GL_FALSE;
@@ -132,9 +130,8 @@ satf_status satf_gl_program_link(const char *label, const GLuint *shaders,
                           nshaders);
   GLuint p = glCreateProgram();
   if (p == 0)
-    return satf_error_set(err, SATF_ERR_GL,
-                          "program '%s': cannot create (%s)", label,
-                          gl_error_name(glGetError()));
+    return satf_error_set(err, SATF_ERR_GL, "program '%s': cannot create (%s)",
+                          label, gl_error_name(glGetError()));
   for (int i = 0; i < nshaders; i++)
     glAttachShader(p, shaders[i]);
   glLinkProgram(p);
@@ -158,8 +155,7 @@ static satf_status build(const char *label, const GLenum *stages,
   GLuint shaders[2] = {0, 0};
   satf_status st = SATF_OK;
   for (int i = 0; i < n && st == SATF_OK; i++)
-    st = satf_gl_shader_compile(stages[i], label, sources[i], &shaders[i],
-                                err);
+    st = satf_gl_shader_compile(stages[i], label, sources[i], &shaders[i], err);
   if (st == SATF_OK)
     st = satf_gl_program_link(label, shaders, n, out, err);
   for (int i = 0; i < n; i++)
@@ -177,8 +173,8 @@ satf_status satf_gl_program_build(const char *label, const char *vertex_src,
 }
 
 satf_status satf_gl_program_build_compute(const char *label,
-                                          const char *compute_src,
-                                          GLuint *out, satf_error *err) {
+                                          const char *compute_src, GLuint *out,
+                                          satf_error *err) {
   const GLenum stages[1] = {GL_COMPUTE_SHADER};
   const char *sources[1] = {compute_src};
   return build(label, stages, sources, 1, out, err);
@@ -271,8 +267,8 @@ satf_status satf_gl_target_create(int width, int height, int ncolor,
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i,
                            GL_TEXTURE_2D, t->color[i], 0);
   }
-  t->depth = make_texture(GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, width,
-                          height);
+  t->depth =
+      make_texture(GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, width, height);
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D,
                          t->depth, 0);
   GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
@@ -353,12 +349,11 @@ satf_status satf_gl_target_read_bottom_up(const satf_gl_target *t, int index,
                                           satf_error *err) {
   if (index < 0 || index >= t->ncolor)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
-                          "render target read-back: attachment %d of %d",
-                          index, t->ncolor);
+                          "render target read-back: attachment %d of %d", index,
+                          t->ncolor);
   return satf_gl_read_rgba_bottom_up(t->fbo,
                                      GL_COLOR_ATTACHMENT0 + (GLenum)index,
-                                     t->width, t->height, dst, dst_floats,
-                                     err);
+                                     t->width, t->height, dst, dst_floats, err);
 }
 
 /* ---- debug output ------------------------------------------------------ */

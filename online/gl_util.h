@@ -18,9 +18,9 @@ satf_status satf_gl_check(const char *label, satf_error *err);
 /* Reads the current context's version and renderer string, fails unless
  * it is at least 3.3 core and frames of width x height fit the viewport
  * and renderbuffer limits. Used by the context constructors. */
-satf_status satf_gl_query_context(int width, int height, int *major,
-                                  int *minor, char *renderer,
-                                  size_t renderer_size, satf_error *err);
+satf_status satf_gl_query_context(int width, int height, int *major, int *minor,
+                                  char *renderer, size_t renderer_size,
+                                  satf_error *err);
 
 /* ---- shaders ----------------------------------------------------------- */
 
@@ -42,8 +42,8 @@ satf_status satf_gl_program_build(const char *label, const char *vertex_src,
                                   satf_error *err);
 /* Same for a compute program (GL 4.3+). */
 satf_status satf_gl_program_build_compute(const char *label,
-                                          const char *compute_src,
-                                          GLuint *out, satf_error *err);
+                                          const char *compute_src, GLuint *out,
+                                          satf_error *err);
 
 /* ---- render targets ---------------------------------------------------- */
 

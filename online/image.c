@@ -94,8 +94,7 @@ int satf_image_height(const satf_image *img) { return img->height; }
 int satf_image_channel_count(const satf_image *img) { return img->nchannels; }
 
 const char *satf_image_channel_name(const satf_image *img, int channel) {
-  return channel >= 0 && channel < img->nchannels ? img->names[channel]
-                                                  : NULL;
+  return channel >= 0 && channel < img->nchannels ? img->names[channel] : NULL;
 }
 
 int satf_image_channel_index(const satf_image *img, const char *name) {
@@ -127,8 +126,8 @@ satf_status satf_image_store_interleaved(satf_image *img, const float *src,
                           "image: %d interleaved components (need 1..%d)",
                           src_channels, SATF_IMAGE_MAX_CHANNELS);
   if (order != SATF_ROWS_TOP_DOWN && order != SATF_ROWS_BOTTOM_UP)
-    return satf_error_set(err, SATF_ERR_ARGUMENT,
-                          "image: unknown row order %d", (int)order);
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "image: unknown row order %d",
+                          (int)order);
   int target[SATF_IMAGE_MAX_CHANNELS];
   for (int k = 0; k < src_channels; k++) {
     target[k] = names[k] ? satf_image_channel_index(img, names[k]) : -1;
@@ -162,8 +161,8 @@ static satf_status write_exr(const satf_image *img, const char *path,
     channels[c].data = satf_image_const_plane(img, c);
   }
   satf_exr_write_opts opts = {type, EXR_COMPRESSION_ZIP, NULL, NULL};
-  return satf_exr_write(path, img->width, img->height, channels,
-                        img->nchannels, &opts, err);
+  return satf_exr_write(path, img->width, img->height, channels, img->nchannels,
+                        &opts, err);
 }
 
 satf_status satf_image_write_exr(const satf_image *img, const char *path,
@@ -171,8 +170,8 @@ satf_status satf_image_write_exr(const satf_image *img, const char *path,
   return write_exr(img, path, EXR_PIXEL_HALF, err);
 }
 
-satf_status satf_image_write_exr_float(const satf_image *img,
-                                       const char *path, satf_error *err) {
+satf_status satf_image_write_exr_float(const satf_image *img, const char *path,
+                                       satf_error *err) {
   return write_exr(img, path, EXR_PIXEL_FLOAT, err);
 }
 
@@ -186,7 +185,7 @@ static unsigned char srgb_encode8(float linear) {
   if (linear >= 1.0f)
     return 255;
   double v = linear <= 0.0031308 ? 12.92 * linear
-                                  : 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
+                                 : 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
   return (unsigned char)(v * 255.0 + 0.5);
 }
 
@@ -231,8 +230,8 @@ static satf_status png_encode(FILE *f, const unsigned char *pixels, int width,
                           msg.text);
   }
   static const int color_type[5] = {0, PNG_COLOR_TYPE_GRAY,
-                                     PNG_COLOR_TYPE_GRAY_ALPHA,
-                                     PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGBA};
+                                    PNG_COLOR_TYPE_GRAY_ALPHA,
+                                    PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGBA};
   png_init_io(png, f);
   png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 8,
                color_type[ncomp], PNG_INTERLACE_NONE,
@@ -290,9 +289,8 @@ static void encode_pixels(const satf_image *img, const int idx[4], int ncomp,
   }
 }
 
-satf_status satf_image_write_png_layer(const satf_image *img,
-                                       const char *layer, const char *path,
-                                       satf_error *err) {
+satf_status satf_image_write_png_layer(const satf_image *img, const char *layer,
+                                       const char *path, satf_error *err) {
   if (!layer)
     layer = "";
   int idx[4];
@@ -315,8 +313,8 @@ satf_status satf_image_write_png_layer(const satf_image *img,
   satf_status st = satf_temp_path(path, tmp, sizeof tmp, err);
   FILE *f = st == SATF_OK ? fopen(tmp, "wb") : NULL;
   if (st == SATF_OK && !f)
-    st = satf_error_set(err, SATF_ERR_IO, "%s: cannot create %s: %s", path,
-                        tmp, strerror(errno));
+    st = satf_error_set(err, SATF_ERR_IO, "%s: cannot create %s: %s", path, tmp,
+                        strerror(errno));
   if (f) {
     st = png_encode(f, pixels, img->width, img->height, ncomp, path, err);
     if (fclose(f) != 0 && st == SATF_OK)

@@ -30,8 +30,7 @@ typedef enum satf_row_order {
  * (copied; non-empty, unique, at most SATF_IMAGE_MAX_NAME bytes), all
  * pixels zero. */
 satf_status satf_image_create(int width, int height, const char *const *names,
-                              int nchannels, satf_image **out,
-                              satf_error *err);
+                              int nchannels, satf_image **out, satf_error *err);
 void satf_image_destroy(satf_image *img);
 
 int satf_image_width(const satf_image *img);
@@ -51,16 +50,15 @@ const float *satf_image_const_plane(const satf_image *img, int channel);
 satf_status satf_image_store_interleaved(satf_image *img, const float *src,
                                          int src_channels,
                                          const char *const *names,
-                                         satf_row_order order,
-                                         satf_error *err);
+                                         satf_row_order order, satf_error *err);
 
 /* Writes every channel as HALF with ZIP compression. */
 satf_status satf_image_write_exr(const satf_image *img, const char *path,
                                  satf_error *err);
 /* Writes every channel as 32-bit FLOAT with ZIP compression (for AOVs like
  * depth that half precision would ruin). */
-satf_status satf_image_write_exr_float(const satf_image *img,
-                                       const char *path, satf_error *err);
+satf_status satf_image_write_exr_float(const satf_image *img, const char *path,
+                                       satf_error *err);
 
 /* Writes channels R, G, B (and A if present) as an 8-bit sRGB PNG: RGBA
  * when the image has A, RGB otherwise. Alpha is kept: colour is divided by
@@ -72,8 +70,7 @@ satf_status satf_image_write_png(const satf_image *img, const char *path,
                                  satf_error *err);
 /* Same for one layer: "LAYER.R", "LAYER.G", "LAYER.B" (+ "LAYER.A"), or a
  * single channel named LAYER (e.g. "shadow"), written as 8-bit grey. */
-satf_status satf_image_write_png_layer(const satf_image *img,
-                                       const char *layer, const char *path,
-                                       satf_error *err);
+satf_status satf_image_write_png_layer(const satf_image *img, const char *layer,
+                                       const char *path, satf_error *err);
 
 #endif

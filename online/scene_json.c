@@ -11,8 +11,8 @@
 size_t scene_push_key(scene_ctx *ctx, const char *key) {
   size_t previous = ctx->len;
   size_t room = sizeof ctx->path - ctx->len;
-  int n = snprintf(ctx->path + ctx->len, room, "%s%s", ctx->len ? "." : "",
-                   key);
+  int n =
+      snprintf(ctx->path + ctx->len, room, "%s%s", ctx->len ? "." : "", key);
   ctx->len += (n < 0) ? 0 : ((size_t)n < room ? (size_t)n : room - 1);
   return previous;
 }
@@ -67,19 +67,10 @@ satf_status scene_nomem(scene_ctx *ctx) {
                         ctx->name, current_path(ctx));
 }
 
-satf_status scene_warn(scene_ctx *ctx, const char *fmt, ...) {
+static satf_status append_warning(scene_ctx *ctx, const char *message) {
   satf_scene *scene = ctx->scene;
-  if (scene->n_warnings >= SCENE_WARNINGS_KEPT) {
-    ctx->warnings_dropped++;
-    return SATF_OK;
-  }
-  char message[512];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(message, sizeof message, fmt, ap);
-  va_end(ap);
-  size_t size = strlen(ctx->name) + strlen(current_path(ctx)) +
-                strlen(message) + 5;
+  size_t size =
+      strlen(ctx->name) + strlen(current_path(ctx)) + strlen(message) + 5;
   char *text = malloc(size);
   char **grown = realloc(scene->warnings, (size_t)(scene->n_warnings + 1) *
                                               sizeof *scene->warnings);
@@ -92,6 +83,29 @@ satf_status scene_warn(scene_ctx *ctx, const char *fmt, ...) {
   snprintf(text, size, "%s: %s: %s", ctx->name, current_path(ctx), message);
   scene->warnings[scene->n_warnings++] = text;
   return SATF_OK;
+}
+
+satf_status scene_warn(scene_ctx *ctx, const char *fmt, ...) {
+  /* A file of nothing but unknown keys must not cost unbounded memory. */
+  if (ctx->scene->n_warnings >= SCENE_WARNINGS_KEPT) {
+    ctx->warnings_dropped++;
+    return SATF_OK;
+  }
+  char message[512];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(message, sizeof message, fmt, ap);
+  va_end(ap);
+  return append_warning(ctx, message);
+}
+
+satf_status scene_warn_dropped(scene_ctx *ctx) {
+  if (ctx->warnings_dropped == 0)
+    return SATF_OK;
+  char message[64];
+  snprintf(message, sizeof message, "%d more warnings not shown",
+           ctx->warnings_dropped);
+  return append_warning(ctx, message);
 }
 
 const char *scene_quote(const char *text, char *buf, size_t size) {
@@ -115,29 +129,39 @@ const char *scene_quote(const char *text, char *buf, size_t size) {
 }
 
 const char *scene_type_name(const cJSON *item) {
-  if (cJSON_IsNumber(item)) return "a number";
-  if (cJSON_IsString(item)) return "a string";
-  if (cJSON_IsBool(item)) return "a boolean";
-  if (cJSON_IsNull(item)) return "null";
-  if (cJSON_IsArray(item)) return "an array";
-  if (cJSON_IsObject(item)) return "an object";
+  if (cJSON_IsNumber(item))
+    return "a number";
+  if (cJSON_IsString(item))
+    return "a string";
+  if (cJSON_IsBool(item))
+    return "a boolean";
+  if (cJSON_IsNull(item))
+    return "null";
+  if (cJSON_IsArray(item))
+    return "an array";
+  if (cJSON_IsObject(item))
+    return "an object";
   return "an unknown value";
 }
 
 /* Levenshtein distance, for "did you mean" on short keys only. */
 static int edit_distance(const char *a, const char *b) {
   size_t na = strlen(a), nb = strlen(b);
-  if (na > 40 || nb > 40) return 99;
+  if (na > 40 || nb > 40)
+    return 99;
   int row[41];
-  for (size_t j = 0; j <= nb; j++) row[j] = (int)j;
+  for (size_t j = 0; j <= nb; j++)
+    row[j] = (int)j;
   for (size_t i = 1; i <= na; i++) {
     int diag = row[0];
     row[0] = (int)i;
     for (size_t j = 1; j <= nb; j++) {
       int up = row[j];
       int best = diag + (a[i - 1] != b[j - 1]);
-      if (row[j] + 1 < best) best = row[j] + 1;
-      if (row[j - 1] + 1 < best) best = row[j - 1] + 1;
+      if (row[j] + 1 < best)
+        best = row[j] + 1;
+      if (row[j - 1] + 1 < best)
+        best = row[j - 1] + 1;
       row[j] = best;
       diag = up;
     }
@@ -147,7 +171,8 @@ static int edit_distance(const char *a, const char *b) {
 
 static int is_allowed(const char *key, const char *const *allowed) {
   for (const char *const *k = allowed; *k; k++)
-    if (strcmp(key, *k) == 0) return 1;
+    if (strcmp(key, *k) == 0)
+      return 1;
   return 0;
 }
 
@@ -162,25 +187,27 @@ satf_status scene_check_keys(scene_ctx *ctx, const cJSON *obj,
        * scan stays linear in the object size. */
       for (const cJSON *other = obj->child; other != item; other = other->next)
         if (other->string && strcmp(other->string, key) == 0)
-          return scene_fail(ctx, SATF_ERR_FORMAT,
-                            "key \"%s\" appears twice", key);
+          return scene_fail(ctx, SATF_ERR_FORMAT, "key \"%s\" appears twice",
+                            key);
       continue;
     }
     const char *suggestion = NULL;
     int best = 3; /* suggest only within two edits */
     for (const char *const *k = allowed; *k; k++) {
       int d = edit_distance(key, *k);
-      if (d < best) best = d, suggestion = *k;
+      if (d < best)
+        best = d, suggestion = *k;
     }
-    size_t previous = scene_push_key(ctx, scene_quote(key, quoted,
-                                                      sizeof quoted));
-    satf_status s = suggestion
-                        ? scene_warn(ctx, "unknown key (ignored); did you "
-                                          "mean \"%s\"?",
-                                     suggestion)
-                        : scene_warn(ctx, "unknown key (ignored)");
+    size_t previous =
+        scene_push_key(ctx, scene_quote(key, quoted, sizeof quoted));
+    satf_status s = suggestion ? scene_warn(ctx,
+                                            "unknown key (ignored); did you "
+                                            "mean \"%s\"?",
+                                            suggestion)
+                               : scene_warn(ctx, "unknown key (ignored)");
     scene_pop(ctx, previous);
-    if (s != SATF_OK) return s;
+    if (s != SATF_OK)
+      return s;
   }
   return SATF_OK;
 }
@@ -236,18 +263,19 @@ satf_status scene_number(scene_ctx *ctx, const cJSON *item,
     return scene_fail(ctx, SATF_ERR_ARGUMENT,
                       "number is too large to represent (parsed as %g)", v);
   if (range->integer && v != floor(v))
-    return scene_fail(ctx, SATF_ERR_FORMAT, "%g is not an integer", v);
+    return scene_fail(ctx, SATF_ERR_FORMAT, "%.10g is not an integer", v);
   int below = range->lo_open ? !(v > range->lo) : !(v >= range->lo);
   if (below || !(v <= range->hi))
-    return scene_fail(ctx, SATF_ERR_ARGUMENT, "%g is out of range %c%g, %g]",
-                      v, range->lo_open ? '(' : '[', range->lo, range->hi);
+    return scene_fail(ctx, SATF_ERR_ARGUMENT,
+                      "%.10g is out of range %c%.10g, %.10g]", v,
+                      range->lo_open ? '(' : '[', range->lo, range->hi);
   *out = v;
   return SATF_OK;
 }
 
 satf_status scene_key_number(scene_ctx *ctx, const cJSON *obj, const char *key,
-                             const scene_range *range, int required,
-                             double def, double *out) {
+                             const scene_range *range, int required, double def,
+                             double *out) {
   const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
   if (!item) {
     if (required)
@@ -265,7 +293,8 @@ satf_status scene_key_float(scene_ctx *ctx, const cJSON *obj, const char *key,
                             const scene_range *range, double def, float *out) {
   double v;
   satf_status s = scene_key_number(ctx, obj, key, range, 0, def, &v);
-  if (s == SATF_OK) *out = (float)v;
+  if (s == SATF_OK)
+    *out = (float)v;
   return s;
 }
 
@@ -273,7 +302,8 @@ satf_status scene_key_int(scene_ctx *ctx, const cJSON *obj, const char *key,
                           const scene_range *range, int def, int *out) {
   double v;
   satf_status s = scene_key_number(ctx, obj, key, range, 0, def, &v);
-  if (s == SATF_OK) *out = (int)v; /* ranges of int keys fit in an int */
+  if (s == SATF_OK)
+    *out = (int)v; /* ranges of int keys fit in an int */
   return s;
 }
 
@@ -315,9 +345,11 @@ satf_status scene_key_enum(scene_ctx *ctx, const cJSON *obj, const char *key,
                            const char *const *names, int n, int def, int *out) {
   const char *text;
   satf_status s = scene_key_string(ctx, obj, key, 0, &text);
-  if (s != SATF_OK) return s;
+  if (s != SATF_OK)
+    return s;
   *out = def;
-  if (!text) return SATF_OK;
+  if (!text)
+    return SATF_OK;
   for (int i = 0; i < n; i++) {
     if (strcmp(text, names[i]) == 0) {
       *out = i;
@@ -327,11 +359,10 @@ satf_status scene_key_enum(scene_ctx *ctx, const cJSON *obj, const char *key,
   char choices[256] = "", quoted[64];
   for (int i = 0; i < n; i++) {
     size_t used = strlen(choices);
-    snprintf(choices + used, sizeof choices - used, "%s\"%s\"",
-             i ? ", " : "", names[i]);
+    snprintf(choices + used, sizeof choices - used, "%s\"%s\"", i ? ", " : "",
+             names[i]);
   }
-  return scene_fail_key(ctx, key, SATF_ERR_ARGUMENT,
-                        "\"%s\" is not one of %s",
+  return scene_fail_key(ctx, key, SATF_ERR_ARGUMENT, "\"%s\" is not one of %s",
                         scene_quote(text, quoted, sizeof quoted), choices);
 }
 
@@ -352,7 +383,8 @@ satf_status scene_vec(scene_ctx *ctx, const cJSON *item, int n,
     size_t previous = scene_push_index(ctx, i);
     satf_status s = scene_number(ctx, e, range, &v);
     scene_pop(ctx, previous);
-    if (s != SATF_OK) return s;
+    if (s != SATF_OK)
+      return s;
     out[i] = (float)v;
   }
   return SATF_OK;
@@ -372,4 +404,51 @@ satf_status scene_key_vec(scene_ctx *ctx, const cJSON *obj, const char *key,
   satf_status s = scene_vec(ctx, item, n, range, out);
   scene_pop(ctx, previous);
   return s;
+}
+
+char *scene_copy_string(const char *s) {
+  size_t n = strlen(s) + 1;
+  char *c = malloc(n);
+  if (c)
+    memcpy(c, s, n);
+  return c;
+}
+
+char *scene_resolve_path(const char *base_dir, const char *path) {
+  if (path[0] == '/' || !base_dir || !base_dir[0])
+    return scene_copy_string(path);
+  size_t nb = strlen(base_dir), np = strlen(path);
+  int slash = base_dir[nb - 1] != '/';
+  char *out = malloc(nb + (size_t)slash + np + 1);
+  if (!out)
+    return NULL;
+  memcpy(out, base_dir, nb);
+  if (slash)
+    out[nb] = '/';
+  memcpy(out + nb + (size_t)slash, path, np + 1);
+  return out;
+}
+
+satf_status scene_key_path(scene_ctx *ctx, const cJSON *obj, const char *key,
+                           int required, const char *base_dir, char **out) {
+  const char *text;
+  satf_status s = scene_key_string(ctx, obj, key, required, &text);
+  if (s != SATF_OK || !text)
+    return s;
+  *out = scene_resolve_path(base_dir, text);
+  return *out ? SATF_OK : scene_nomem(ctx);
+}
+
+satf_status scene_key_copy(scene_ctx *ctx, const cJSON *obj, const char *key,
+                           int required, char **out) {
+  const char *text;
+  satf_status s = scene_key_string(ctx, obj, key, required, &text);
+  if (s != SATF_OK || !text)
+    return s;
+  *out = scene_copy_string(text);
+  return *out ? SATF_OK : scene_nomem(ctx);
+}
+
+double scene_vec_length(const float v[3]) {
+  return sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]);
 }

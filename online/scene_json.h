@@ -15,12 +15,12 @@
 #define SCENE_WARNINGS_KEPT 256
 
 typedef struct scene_ctx {
-  const char *name;            /* prefixes every message */
-  char path[SCENE_PATH_MAX];   /* key path of the value being read */
+  const char *name;          /* prefixes every message */
+  char path[SCENE_PATH_MAX]; /* key path of the value being read */
   size_t len;
   satf_error *err;
-  satf_scene *scene;           /* receives warnings */
-  int warnings_dropped;        /* beyond SCENE_WARNINGS_KEPT */
+  satf_scene *scene;    /* receives warnings */
+  int warnings_dropped; /* beyond SCENE_WARNINGS_KEPT */
 } scene_ctx;
 
 /* Allowed values of a number: [lo, hi], or (lo, hi] when lo_open. */
@@ -37,8 +37,7 @@ size_t scene_push_index(scene_ctx *ctx, int index);
 void scene_pop(scene_ctx *ctx, size_t previous);
 
 /* Fails with "NAME: PATH: message" (PATH of the current value). */
-satf_status scene_fail(scene_ctx *ctx, satf_status status, const char *fmt,
-                       ...)
+satf_status scene_fail(scene_ctx *ctx, satf_status status, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif
@@ -57,6 +56,9 @@ satf_status scene_warn(scene_ctx *ctx, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
+
+/* Adds "N more warnings not shown" when warnings were dropped. */
+satf_status scene_warn_dropped(scene_ctx *ctx);
 
 /* Escapes and shortens text from the file for a message. */
 const char *scene_quote(const char *text, char *buf, size_t size);
@@ -78,8 +80,8 @@ satf_status scene_key_array(scene_ctx *ctx, const cJSON *obj, const char *key,
 satf_status scene_number(scene_ctx *ctx, const cJSON *item,
                          const scene_range *range, double *out);
 satf_status scene_key_number(scene_ctx *ctx, const cJSON *obj, const char *key,
-                             const scene_range *range, int required,
-                             double def, double *out);
+                             const scene_range *range, int required, double def,
+                             double *out);
 satf_status scene_key_float(scene_ctx *ctx, const cJSON *obj, const char *key,
                             const scene_range *range, double def, float *out);
 satf_status scene_key_int(scene_ctx *ctx, const cJSON *obj, const char *key,
@@ -99,5 +101,18 @@ satf_status scene_vec(scene_ctx *ctx, const cJSON *item, int n,
 satf_status scene_key_vec(scene_ctx *ctx, const cJSON *obj, const char *key,
                           int n, const scene_range *range, const float *def,
                           float *out);
+
+/* A string obj[key] resolved against base_dir (scene_resolve_path), or a
+ * plain copy; *out stays NULL when absent and not required. */
+satf_status scene_key_path(scene_ctx *ctx, const cJSON *obj, const char *key,
+                           int required, const char *base_dir, char **out);
+satf_status scene_key_copy(scene_ctx *ctx, const cJSON *obj, const char *key,
+                           int required, char **out);
+
+/* base_dir + "/" + path for a relative path, a copy otherwise; NULL on
+ * allocation failure. */
+char *scene_resolve_path(const char *base_dir, const char *path);
+char *scene_copy_string(const char *s);
+double scene_vec_length(const float v[3]);
 
 #endif

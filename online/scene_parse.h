@@ -1,5 +1,6 @@
 /* scene_parse.h - the scene schema: fills a satf_scene from a parsed cJSON
- * tree, validating and defaulting every key (samples/README.md). */
+ * tree, validating and defaulting every key (samples/README.md). The hair
+ * hierarchy lives in scene_cluster.c, the rest in scene_parse.c. */
 #ifndef SATF_ONLINE_SCENE_PARSE_H
 #define SATF_ONLINE_SCENE_PARSE_H
 
@@ -12,8 +13,9 @@
 satf_status scene_parse_root(scene_ctx *ctx, const cJSON *root,
                              const char *base_dir);
 
-/* base_dir + "/" + path for a relative path, a copy otherwise; NULL on
- * allocation failure. */
-char *scene_resolve_path(const char *base_dir, const char *path);
+/* Reads root.macro_clusters into ctx->scene (scene_cluster.c), enforcing
+ * the scene-wide cluster and HSV limits before allocating instances. */
+satf_status scene_parse_macro_clusters(scene_ctx *ctx, const cJSON *root,
+                                       const char *base_dir);
 
 #endif

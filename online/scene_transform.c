@@ -7,7 +7,8 @@
 #include "satf/scene.h"
 
 void scene_matrix_identity(float m[16]) {
-  for (int i = 0; i < 16; i++) m[i] = (i % 5 == 0) ? 1.0f : 0.0f;
+  for (int i = 0; i < 16; i++)
+    m[i] = (i % 5 == 0) ? 1.0f : 0.0f;
 }
 
 void scene_matrix_trs(const double translate[3], const double axis[3],
@@ -19,7 +20,8 @@ void scene_matrix_trs(const double translate[3], const double axis[3],
                     {y * x * C + z * s, c + y * y * C, y * z * C - x * s},
                     {z * x * C - y * s, z * y * C + x * s, c + z * z * C}};
   for (int i = 0; i < 3; i++) {
-    for (int j = 0; j < 3; j++) m[4 * i + j] = (float)(r[i][j] * scale[j]);
+    for (int j = 0; j < 3; j++)
+      m[4 * i + j] = (float)(r[i][j] * scale[j]);
     m[4 * i + 3] = (float)translate[i];
   }
   m[12] = m[13] = m[14] = 0.0f;
@@ -34,9 +36,12 @@ double scene_matrix_det3(const float m[16]) {
 
 double scene_matrix_projective_error(const float m[16]) {
   double e = fabs(m[12]);
-  if (fabs(m[13]) > e) e = fabs(m[13]);
-  if (fabs(m[14]) > e) e = fabs(m[14]);
-  if (fabs(m[15] - 1.0) > e) e = fabs(m[15] - 1.0);
+  if (fabs(m[13]) > e)
+    e = fabs(m[13]);
+  if (fabs(m[14]) > e)
+    e = fabs(m[14]);
+  if (fabs(m[15] - 1.0) > e)
+    e = fabs(m[15] - 1.0);
   return e;
 }
 
@@ -51,25 +56,30 @@ void satf_scene_instance_apply(const satf_scene_instance *instance,
 static float curve_max(const satf_scene_curve *curve) {
   float r = 0.0f;
   for (int i = 0; i < curve->count; i++)
-    if (curve->values[i] > r) r = curve->values[i];
+    if (curve->values[i] > r)
+      r = curve->values[i];
   return r;
 }
 
 void satf_scene_bounds(const satf_scene *scene, float lo[3], float hi[3]) {
-  for (int k = 0; k < 3; k++) lo[k] = FLT_MAX, hi[k] = -FLT_MAX;
+  for (int k = 0; k < 3; k++)
+    lo[k] = FLT_MAX, hi[k] = -FLT_MAX;
   for (int i = 0; i < scene->n_macro_clusters; i++) {
     const satf_scene_cluster *c = &scene->macro_clusters[i].prototype;
     /* A B-spline stays in its control points' convex hull, and the swept
      * ellipse adds at most the largest half-axis around it. */
     float r = curve_max(&c->a);
-    if (curve_max(&c->b) > r) r = curve_max(&c->b);
+    if (curve_max(&c->b) > r)
+      r = curve_max(&c->b);
     float plo[3] = {FLT_MAX, FLT_MAX, FLT_MAX};
     float phi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
     for (int p = 0; p < c->n_points; p++) {
       for (int k = 0; k < 3; k++) {
         float v = c->trajectory[3 * p + k];
-        if (v - r < plo[k]) plo[k] = v - r;
-        if (v + r > phi[k]) phi[k] = v + r;
+        if (v - r < plo[k])
+          plo[k] = v - r;
+        if (v + r > phi[k])
+          phi[k] = v + r;
       }
     }
     const satf_scene_macro_cluster *mc = &scene->macro_clusters[i];
@@ -81,12 +91,15 @@ void satf_scene_bounds(const satf_scene *scene, float lo[3], float hi[3]) {
         float w[3];
         satf_scene_instance_apply(&mc->instances[j], p, w);
         for (int k = 0; k < 3; k++) {
-          if (w[k] < lo[k]) lo[k] = w[k];
-          if (w[k] > hi[k]) hi[k] = w[k];
+          if (w[k] < lo[k])
+            lo[k] = w[k];
+          if (w[k] > hi[k])
+            hi[k] = w[k];
         }
       }
     }
   }
   if (lo[0] > hi[0]) /* no clusters */
-    for (int k = 0; k < 3; k++) lo[k] = hi[k] = 0.0f;
+    for (int k = 0; k < 3; k++)
+      lo[k] = hi[k] = 0.0f;
 }

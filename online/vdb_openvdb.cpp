@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
+
 extern "C" {
 #include "common/fileio.h"
 }
@@ -112,8 +114,8 @@ satf_status check_gaussian(const satf_vdb_builder *b, const float c[3],
                           what);
   if (!(sigma > 0.0f) || !std::isfinite(sigma))
     return satf_error_set(err, SATF_ERR_ARGUMENT,
-                          "%s: sigma must be positive and finite, got %g",
-                          what, static_cast<double>(sigma));
+                          "%s: sigma must be positive and finite, got %g", what,
+                          static_cast<double>(sigma));
   const double h = b->voxel_size;
   for (int a = 0; a < 3; ++a) {
     double first, last;
@@ -174,31 +176,136 @@ std::string grid_names(const openvdb::io::File &file) {
   return names.empty() ? std::string("none") : names;
 }
 
-/* Rejects files that are not VDB files or come from a newer OpenVDB before
- * OpenVDB itself parses them, so those cases get precise statuses. */
-satf_status check_vdb_header(const char *path, satf_error *err) {
+/* Sequential reader over a file with a known size; every read is checked
+ * against the bytes left, so lengths in a damaged file cannot mislead it. */
+struct ByteReader {
+  FILE *f;
+  int64_t size, pos;
+  bool ok;
+
+  bool read(void *dst, int64_t n) {
+    if (!ok || n < 0 || n > size - pos ||
+        std::fread(dst, 1, static_cast<size_t>(n), f) != static_cast<size_t>(n))
+      return ok = false;
+    pos += n;
+    return true;
+  }
+  bool seek(int64_t to) {
+    if (!ok || to < 0 || to > size || fseeko(f, to, SEEK_SET) != 0)
+      return ok = false;
+    pos = to;
+    return true;
+  }
+  bool skip(int64_t n) { return n >= 0 && n <= size - pos && seek(pos + n); }
+  uint32_t u32() {
+    uint32_t v = 0;
+    read(&v, sizeof v);
+    return v;
+  }
+  int64_t i64() {
+    int64_t v = 0;
+    read(&v, sizeof v);
+    return v;
+  }
+  /* OpenVDB strings are a uint32 length followed by the bytes. */
+  void skip_string() { skip(u32()); }
+};
+
+/* Walks the VDB header and grid descriptors (the layout of OpenVDB's
+ * Archive::readHeader, MetaMap::readMeta and GridDescriptor::read) and checks
+ * that every grid's recorded extent lies inside the file. OpenVDB itself does
+ * not check stream state while reading voxel buffers, so a file cut inside
+ * the data would otherwise load as a silently damaged grid. Files without
+ * grid offsets (old or streamed) are left to OpenVDB. */
+satf_status check_vdb_layout(ByteReader &r, uint32_t version, const char *path,
+                             satf_error *err) {
+  if (version >= 211)
+    r.skip(8); /* library major and minor version */
+  if (version >= 212) {
+    char has_offsets = 0;
+    r.read(&has_offsets, 1);
+    if (r.ok && !has_offsets)
+      return SATF_OK;
+  }
+  if (version >= 220 && version < 222)
+    r.skip(1);                      /* file-wide compression flag */
+  r.skip(version >= 218 ? 36 : 16); /* UUID, as text from 218 on */
+  const uint32_t meta_count = r.u32();
+  for (uint32_t i = 0; i < meta_count && r.ok; ++i) {
+    r.skip_string(); /* name */
+    r.skip_string(); /* type */
+    r.skip(r.u32()); /* value, size-prefixed */
+  }
+  const uint32_t grid_count = r.u32();
+  for (uint32_t i = 0; i < grid_count && r.ok; ++i) {
+    r.skip_string(); /* unique name */
+    r.skip_string(); /* type */
+    if (version >= 216)
+      r.skip_string(); /* instance parent */
+    const int64_t grid_pos = r.i64(), block_pos = r.i64(), end_pos = r.i64();
+    if (!r.ok)
+      break;
+    if (!(r.pos <= grid_pos && grid_pos <= block_pos && block_pos <= end_pos &&
+          end_pos <= r.size))
+      return satf_error_set(
+          err, SATF_ERR_CORRUPT,
+          "%s: grid %u of %u claims bytes %lld to %lld but "
+          "the file has %lld (truncated or damaged)",
+          path, i + 1, grid_count, static_cast<long long>(grid_pos),
+          static_cast<long long>(end_pos), static_cast<long long>(r.size));
+    r.seek(end_pos);
+  }
+  if (!r.ok)
+    return satf_error_set(err, SATF_ERR_CORRUPT,
+                          "%s: VDB header is truncated or damaged near byte "
+                          "%lld of %lld",
+                          path, static_cast<long long>(r.pos),
+                          static_cast<long long>(r.size));
+  return SATF_OK;
+}
+
+/* Rejects files that are not VDB files, come from a newer OpenVDB or are
+ * truncated before OpenVDB itself parses them, so those cases get precise
+ * statuses and never reach OpenVDB's unchecked buffer reads. */
+satf_status check_vdb_file(const char *path, satf_error *err) {
   FILE *f = std::fopen(path, "rb");
   if (!f)
     return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
                           std::strerror(errno));
-  unsigned char head[12];
-  const size_t got = std::fread(head, 1, sizeof head, f);
-  std::fclose(f);
-  int64_t magic = 0;
-  uint32_t version = 0;
-  if (got == sizeof head) {
-    std::memcpy(&magic, head, sizeof magic);
-    std::memcpy(&version, head + 8, sizeof version);
+  struct stat st_buf;
+  if (fstat(fileno(f), &st_buf) != 0 || !S_ISREG(st_buf.st_mode)) {
+    std::fclose(f);
+    return satf_error_set(err, SATF_ERR_IO, "%s: not a regular file", path);
   }
-  if (got != sizeof head || magic != openvdb::OPENVDB_MAGIC)
-    return satf_error_set(err, SATF_ERR_FORMAT,
-                          "%s: not a VDB file (no VDB magic number)", path);
-  if (version > openvdb::OPENVDB_FILE_VERSION)
-    return satf_error_set(err, SATF_ERR_VERSION,
+  ByteReader r{f, 0, 0, true};
+  if (fseeko(f, 0, SEEK_END) != 0 || (r.size = ftello(f)) < 0 ||
+      fseeko(f, 0, SEEK_SET) != 0) {
+    const int e = errno;
+    std::fclose(f);
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot seek: %s", path,
+                          std::strerror(e));
+  }
+  const int64_t magic = r.i64();
+  satf_status st = SATF_OK;
+  if (!r.ok || magic != openvdb::OPENVDB_MAGIC) {
+    st = satf_error_set(err, SATF_ERR_FORMAT,
+                        "%s: not a VDB file (no VDB magic number)", path);
+  } else {
+    const uint32_t version = r.u32();
+    if (!r.ok)
+      st = satf_error_set(err, SATF_ERR_CORRUPT,
+                          "%s: VDB file is truncated after its magic number",
+                          path);
+    else if (version > openvdb::OPENVDB_FILE_VERSION)
+      st = satf_error_set(err, SATF_ERR_VERSION,
                           "%s: VDB file format %u is newer than the %u this "
                           "build of OpenVDB reads",
                           path, version, openvdb::OPENVDB_FILE_VERSION);
-  return SATF_OK;
+    else
+      st = check_vdb_layout(r, version, path, err);
+  }
+  std::fclose(f);
+  return st;
 }
 
 satf_status read_grid(const char *path, const char *grid_name,
@@ -255,7 +362,8 @@ satf_status write_grid(openvdb::GridBase::Ptr grid, const char *path,
     openvdb::GridCPtrVec grids;
     grids.push_back(grid);
     openvdb::MetaMap meta;
-    meta.insertMeta("creator", openvdb::StringMetadata("satf " SATF_VERSION_STRING));
+    meta.insertMeta("creator",
+                    openvdb::StringMetadata("satf " SATF_VERSION_STRING));
     file.write(grids, meta);
     file.close();
   } catch (const std::exception &e) {
@@ -264,6 +372,10 @@ satf_status write_grid(openvdb::GridBase::Ptr grid, const char *path,
       return satf_error_set(err, SATF_ERR_IO, "%s: cannot write: %s", path,
                             e.what());
     return fail_exception(err, path, e);
+  } catch (...) {
+    std::remove(tmp);
+    return satf_error_set(err, SATF_ERR_INTERNAL, "%s: unknown exception",
+                          path);
   }
   return satf_commit_temp(tmp, path, err);
 }
@@ -279,7 +391,7 @@ satf_status satf_vdb_read(const char *path, const char *grid_name,
   if (!path || !grid_name || !out)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "satf_vdb_read: NULL path, grid name or output");
-  satf_status st = check_vdb_header(path, err);
+  satf_status st = check_vdb_file(path, err);
   if (st != SATF_OK)
     return st;
   try {
@@ -349,8 +461,7 @@ float satf_vdb_voxel_size(const satf_vdb_grid *g) {
 
 double satf_vdb_total_mass(const satf_vdb_grid *g) {
   double sum = 0.0;
-  for (openvdb::FloatGrid::ValueOnCIter it = g->grid->cbeginValueOn(); it;
-       ++it)
+  for (openvdb::FloatGrid::ValueOnCIter it = g->grid->cbeginValueOn(); it; ++it)
     sum += static_cast<double>(*it) * static_cast<double>(it.getVoxelCount());
   return sum * g->grid->transform().voxelVolume();
 }
@@ -378,6 +489,9 @@ satf_status satf_vdb_builder_create(float voxel_size, satf_vdb_builder **out,
     return SATF_OK;
   } catch (const std::exception &e) {
     return fail_exception(err, "vdb builder", e);
+  } catch (...) {
+    return satf_error_set(err, SATF_ERR_INTERNAL, "%s: unknown exception",
+                          "vdb builder");
   }
 }
 
@@ -402,6 +516,9 @@ satf_status satf_vdb_builder_add_gaussian(satf_vdb_builder *b,
     return SATF_OK;
   } catch (const std::exception &e) {
     return fail_exception(err, what, e);
+  } catch (...) {
+    return satf_error_set(err, SATF_ERR_INTERNAL, "%s: unknown exception",
+                          what);
   }
 }
 
@@ -432,8 +549,8 @@ satf_status satf_vdb_builder_add_tube(satf_vdb_builder *b, const float p0[3],
    * at most sigma apart sum to a smooth tube (the ripple is ~1e-8 relative),
    * and at most an eighth of a voxel apart when sigma is below the voxel
    * size, so each voxel's share of the strand's length is resolved. */
-  const double spacing = std::max(static_cast<double>(sigma),
-                                  b->voxel_size / 8.0);
+  const double spacing =
+      std::max(static_cast<double>(sigma), b->voxel_size / 8.0);
   const double count = std::ceil(length / spacing);
   if (count > kMaxTubeGaussians)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
@@ -452,6 +569,9 @@ satf_status satf_vdb_builder_add_tube(satf_vdb_builder *b, const float p0[3],
     return SATF_OK;
   } catch (const std::exception &e) {
     return fail_exception(err, what, e);
+  } catch (...) {
+    return satf_error_set(err, SATF_ERR_INTERNAL, "%s: unknown exception",
+                          what);
   }
 }
 
@@ -469,6 +589,9 @@ satf_status satf_vdb_builder_write(const satf_vdb_builder *b, const char *path,
     return write_grid(grid, path, err);
   } catch (const std::exception &e) {
     return fail_exception(err, path, e);
+  } catch (...) {
+    return satf_error_set(err, SATF_ERR_INTERNAL, "%s: unknown exception",
+                          path);
   }
 }
 
@@ -486,6 +609,9 @@ satf_status satf_vdb_builder_to_grid(const satf_vdb_builder *b,
     return SATF_OK;
   } catch (const std::exception &e) {
     return fail_exception(err, "vdb builder", e);
+  } catch (...) {
+    return satf_error_set(err, SATF_ERR_INTERNAL, "%s: unknown exception",
+                          "vdb builder");
   }
 }
 
@@ -517,6 +643,10 @@ satf_status satf_vdb_write_mixed_test_file(const char *path, satf_error *err) {
   } catch (const std::exception &e) {
     std::remove(tmp);
     return fail_exception(err, path, e);
+  } catch (...) {
+    std::remove(tmp);
+    return satf_error_set(err, SATF_ERR_INTERNAL, "%s: unknown exception",
+                          path);
   }
   return satf_commit_temp(tmp, path, err);
 }

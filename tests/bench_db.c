@@ -33,7 +33,7 @@ static double lookup_rate(const satf_db *db, int k, int n, int coherent) {
   satf_rng_seed(&rng, 1, 1);
   float lo[3], hi[3], re[64], al[64];
   satf_db_feature_range(db, lo, hi);
-  float (*q)[5] = malloc((size_t)n * sizeof *q);
+  float(*q)[5] = malloc((size_t)n * sizeof *q);
   for (int i = 0; i < n; i++) {
     for (int a = 0; a < 3; a++)
       q[i][a] = lo[a] + (hi[a] - lo[a]) * (float)satf_rng_uniform(&rng);
@@ -41,8 +41,8 @@ static double lookup_rate(const satf_db *db, int k, int n, int coherent) {
     q[i][4] = (float)satf_rng_range(&rng, 0, 6.283);
     if (coherent && i % 64 != 0) { /* drift from the previous query */
       for (int a = 0; a < 3; a++)
-        q[i][a] = q[i - 1][a] + 0.01f * (hi[a] - lo[a]) *
-                                    (float)satf_rng_range(&rng, -1, 1);
+        q[i][a] = q[i - 1][a] +
+                  0.01f * (hi[a] - lo[a]) * (float)satf_rng_range(&rng, -1, 1);
       q[i][3] = q[i - 1][3] + 0.02f;
       q[i][4] = q[i - 1][4] + 0.01f;
     }

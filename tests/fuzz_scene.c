@@ -31,7 +31,8 @@ static void check_curve(const satf_scene_curve *c, int positive) {
           "curve size");
   for (int i = 0; i < c->count; i++) {
     require(isfinite(c->values[i]), "curve value finite");
-    if (positive) require(c->values[i] > 0.0f, "radius positive");
+    if (positive)
+      require(c->values[i] > 0.0f, "radius positive");
   }
 }
 
@@ -49,6 +50,18 @@ static void check_scene(const satf_scene *scene) {
     check_curve(&c->a, 1);
     check_curve(&c->b, 1);
     check_curve(&c->twist, 0);
+    int n = satf_scene_cluster_curve_count(c);
+    require((c->a.count == 1 || c->a.count == n) &&
+                (c->b.count == 1 || c->b.count == n) &&
+                (c->twist.count == 1 || c->twist.count == n),
+            "a, b, twist share one control count");
+    require(c->density.type != SATF_SCENE_DENSITY_PROCEDURAL ||
+                (c->density.clumps >= 1 &&
+                 c->density.clumps <= SATF_SCENE_MAX_CLUMPS &&
+                 c->density.holes >= 1 &&
+                 c->density.holes <= SATF_SCENE_MAX_CLUMPS &&
+                 c->density.strands >= 1 && c->density.strand_width > 0.0f),
+            "procedural density parameters");
     require(c->shell.layers >= 1 && c->shell.layers <= SATF_SCENE_MAX_LAYERS,
             "layers");
     require(c->shell.su >= SATF_SCENE_MIN_SU, "su");

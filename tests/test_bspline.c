@@ -15,8 +15,8 @@
 static void near_at(double a, double b, double tol, const char *expr,
                     int line) {
   if (!(fabs(a - b) <= tol)) {
-    print_error("line %d: %s = %.12g, expected %.12g +- %.3g\n", line, expr,
-                a, b, tol);
+    print_error("line %d: %s = %.12g, expected %.12g +- %.3g\n", line, expr, a,
+                b, tol);
     fail();
   }
 }
@@ -71,8 +71,8 @@ static void test_degree(void **state) {
 
 static void test_endpoints_interpolate(void **state) {
   (void)state;
-  const float ctrl[8 * 3] = {1,  2,  3,  -4, 5, 0.5f, 7,  -1, 2, 3, 3, 3,
-                             -2, -2, 10, 0,  1, 4,    9,  8,  7, 6, 5, -3};
+  const float ctrl[8 * 3] = {1,  2,  3,  -4, 5, 0.5f, 7, -1, 2, 3, 3, 3,
+                             -2, -2, 10, 0,  1, 4,    9, 8,  7, 6, 5, -3};
   for (int n = 2; n <= 8; n++) {
     double p0[3], p1[3];
     satf_bspline_eval(ctrl, n, 3, 0.0, p0, NULL, NULL);
@@ -122,15 +122,14 @@ static void test_bezier_closed_forms(void **state) {
                  3 * s * t * t * c[2] + t * t * t * c[3];
     double dbez = 3 * (s * s * (c[1] - c[0]) + 2 * s * t * (c[2] - c[1]) +
                        t * t * (c[3] - c[2]));
-    double ddbez = 6 * (s * (c[2] - 2 * c[1] + c[0]) +
-                        t * (c[3] - 2 * c[2] + c[1]));
+    double ddbez =
+        6 * (s * (c[2] - 2 * c[1] + c[0]) + t * (c[3] - 2 * c[2] + c[1]));
     assert_near(v, bez, 1e-12);
     assert_near(d1, dbez, 1e-11);
     assert_near(d2, ddbez, 1e-10);
 
     satf_bspline_eval(c, 3, 1, t, &v, &d1, &d2);
-    assert_near(v, s * s * c[0] + 2 * s * t * c[1] + t * t * c[2],
-                       1e-12);
+    assert_near(v, s * s * c[0] + 2 * s * t * c[1] + t * t * c[2], 1e-12);
     assert_near(d2, 2 * (c[2] - 2 * c[1] + c[0]), 1e-10);
 
     satf_bspline_eval(c, 2, 1, t, &v, &d1, &d2);

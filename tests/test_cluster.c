@@ -18,8 +18,8 @@
 static void near_at(double a, double b, double tol, const char *expr,
                     int line) {
   if (!(fabs(a - b) <= tol)) {
-    print_error("line %d: %s = %.9g, expected %.9g +- %.3g\n", line, expr, a,
-                b, tol);
+    print_error("line %d: %s = %.9g, expected %.9g +- %.3g\n", line, expr, a, b,
+                tol);
     fail();
   }
 }
@@ -129,8 +129,7 @@ static void test_helix_frames_do_not_flip(void **state) {
 
 static void test_straight_line_frame_constant(void **state) {
   (void)state;
-  const float traj[5 * 3] = {0, 0, 0, 0.5f, 1, 1.5f, 1, 2,  3,
-                             2, 4, 6, 3,    6, 9};
+  const float traj[5 * 3] = {0, 0, 0, 0.5f, 1, 1.5f, 1, 2, 3, 2, 4, 6, 3, 6, 9};
   const float r[1] = {0.2f}, tw[1] = {0.0f};
   satf_cluster *cl = make_cluster(5, traj, 1, r, r, tw);
   float tan0[3], n10[3], n20[3];

@@ -129,7 +129,8 @@ static double held_out_error(int samples, int k) {
                        SATF_OK);
       satf_db_lookup(db, f, tv, tl, k, r1, a1);
       for (int j = 0; j < w; j++) {
-        sum += (r0[j] - r1[j]) * (r0[j] - r1[j]) + (a0[j] - a1[j]) * (a0[j] - a1[j]);
+        sum += (r0[j] - r1[j]) * (r0[j] - r1[j]) +
+               (a0[j] - a1[j]) * (a0[j] - a1[j]);
         count += 2;
       }
     }

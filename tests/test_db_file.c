@@ -103,7 +103,8 @@ static void the_file_is_an_image(void **state) {
   const float *r, *a;
   satf_db_record(g_db, 7, 4, 3, &r, &a);
   for (int j = 0; j < p->trace.width; j++) {
-    size_t px = (size_t)(7 * p->n_light + 3) * (size_t)w + 4 * p->trace.width + j;
+    size_t px =
+        (size_t)(7 * p->n_light + 3) * (size_t)w + 4 * p->trace.width + j;
     assert_float_equal(planes[0][px], r[j], 0);
     assert_float_equal(planes[1][px], a[j], 0);
   }
@@ -248,7 +249,8 @@ static void fuzz_entry_replays(void **state) {
   for (int k = 0; k < 50; k++) {
     memcpy(noise, g_bytes, sizeof noise);
     for (int f = 0; f < 8; f++)
-      noise[satf_rng_below(&rng, sizeof noise)] = (unsigned char)satf_rng_u64(&rng);
+      noise[satf_rng_below(&rng, sizeof noise)] =
+          (unsigned char)satf_rng_u64(&rng);
     assert_int_equal(LLVMFuzzerTestOneInput(noise, sizeof noise), 0);
   }
 }

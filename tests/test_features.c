@@ -56,8 +56,8 @@ static void kdtree_matches_brute_force(void **state) {
       /* brute force: count points strictly closer than the k-th */
       for (int r = 0; r < k; r++) {
         const float *p = pts + 3 * idx[r];
-        float e = (p[0] - x[0]) * (p[0] - x[0]) + (p[1] - x[1]) * (p[1] - x[1]) +
-                  (p[2] - x[2]) * (p[2] - x[2]);
+        float e = (p[0] - x[0]) * (p[0] - x[0]) +
+                  (p[1] - x[1]) * (p[1] - x[1]) + (p[2] - x[2]) * (p[2] - x[2]);
         assert_float_equal(e, d2[r], 1e-7);
         if (r > 0)
           assert_true(d2[r] >= d2[r - 1]);

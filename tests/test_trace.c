@@ -3,8 +3,8 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
-#include <stdlib.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -224,11 +224,13 @@ static void bad_params_rejected(void **state) {
   float re[W], a[W];
   satf_error err;
   p.width = 1;
-  assert_int_equal(satf_trace_hrir(s, &p, 0, 0, re, a, &err), SATF_ERR_ARGUMENT);
+  assert_int_equal(satf_trace_hrir(s, &p, 0, 0, re, a, &err),
+                   SATF_ERR_ARGUMENT);
   assert_non_null(strstr(err.message, "width"));
   p = satf_trace_params_default();
   p.extinction = NAN;
-  assert_int_equal(satf_trace_hrir(s, &p, 0, 0, re, a, &err), SATF_ERR_ARGUMENT);
+  assert_int_equal(satf_trace_hrir(s, &p, 0, 0, re, a, &err),
+                   SATF_ERR_ARGUMENT);
   assert_int_equal(satf_trace_all(s, &p, 0, 4, re, a, &err), SATF_ERR_ARGUMENT);
   satf_sector_destroy(s);
 }

@@ -98,23 +98,24 @@ static void test_gaussian_round_trip(void **state) {
 
   /* The truncated kernel is renormalised, so its peak sits above the
    * untruncated one by 1/erf(3/sqrt 2)^3 (0.8 %); voxel averaging lowers it by
-   * about 3 h^2 / (24 sigma^2) (0.2 %). */
+   * 3 h^2 / (24 sigma^2) (0.2 %) and trilinear lookup by up to
+   * 3 h^2 / (8 sigma^2) (0.6 %). */
   const double peak = gaussian_peak(kMass, kSigma);
   const double peak_truncated = peak / pow(axis_kept_fraction(), 3.0);
   const double centre = sample3(g, kCenter[0], kCenter[1], kCenter[2]);
-  assert_true(rel_err(centre, peak_truncated) < 0.01);
+  assert_true(rel_err(centre, peak_truncated) < 0.015);
   assert_true(rel_err(centre, peak) < 0.03);
   /* One sigma off-centre along each axis: exp(-1/2) of the peak. */
   for (int a = 0; a < 3; ++a) {
     double p[3] = {kCenter[0], kCenter[1], kCenter[2]};
     p[a] += kSigma;
     const double v = sample3(g, p[0], p[1], p[2]);
-    assert_true(rel_err(v, peak_truncated * exp(-0.5)) < 0.01);
+    assert_true(rel_err(v, peak_truncated * exp(-0.5)) < 0.015);
   }
   /* Beyond the voxels covering 3 sigma the density is exactly zero. */
-  assert_float_equal(sample3(g, kCenter[0] + 3.2 * kSigma, kCenter[1],
-                             kCenter[2]),
-                     0.0f, 0.0f);
+  assert_float_equal(
+      sample3(g, kCenter[0] + 3.2 * kSigma, kCenter[1], kCenter[2]), 0.0f,
+      0.0f);
 
   /* The box covers centre +- 3 sigma and at most one voxel more. */
   float lo[3], hi[3];
@@ -172,9 +173,9 @@ static void check_tube_profile(const float p0[3], const float p1[3],
                                double sigma, double lambda) {
   satf_vdb_builder *b = new_builder(0.05f);
   satf_error err;
-  assert_int_equal(satf_vdb_builder_add_tube(b, p0, p1, (float)sigma,
-                                             (float)lambda, &err),
-                   SATF_OK);
+  assert_int_equal(
+      satf_vdb_builder_add_tube(b, p0, p1, (float)sigma, (float)lambda, &err),
+      SATF_OK);
   satf_vdb_grid *g = to_grid(b);
   double d[3], mid[3], u[3], w[3];
   for (int a = 0; a < 3; ++a) {
@@ -189,17 +190,19 @@ static void check_tube_profile(const float p0[3], const float p1[3],
   w[0] = (d[1] * u[2] - d[2] * u[1]) / length;
   w[1] = (d[2] * u[0] - d[0] * u[2]) / length;
   w[2] = (d[0] * u[1] - d[1] * u[0]) / length;
-  /* The builder renormalises 3-sigma truncation on every axis (0.8 % up);
-   * voxel averaging and trilinear lookup widen the profile slightly. */
-  const double norm = 1.0 / pow(axis_kept_fraction(), 3.0);
+  /* Each splat is renormalised for 3-sigma truncation on every axis, but
+   * along the strand the neighbours' truncated tails make that up, so the
+   * cross-section sits 1/erf(3/sqrt 2)^2 (0.5 %) high. Voxel averaging and
+   * trilinear lookup then flatten the peak by up to about 1 %. */
+  const double norm = 1.0 / pow(axis_kept_fraction(), 2.0);
   const double radii[] = {0.0, 0.5, 1.0, 1.5, 2.0};
   for (size_t i = 0; i < sizeof radii / sizeof radii[0]; ++i) {
     const double r = radii[i] * sigma;
     const double want = norm * tube_density(lambda, sigma, r);
     for (int dir = 0; dir < 2; ++dir) {
       const double *v = dir ? w : u;
-      const double got = sample3(g, mid[0] + r * v[0], mid[1] + r * v[1],
-                                 mid[2] + r * v[2]);
+      const double got =
+          sample3(g, mid[0] + r * v[0], mid[1] + r * v[1], mid[2] + r * v[2]);
       if (rel_err(got, want) >= 0.02)
         fail_msg("tube r=%g sigma dir %d: density %g, want %g", radii[i], dir,
                  got, want);
@@ -322,6 +325,10 @@ static void test_missing_file(void **state) {
   assert_non_null(strstr(err.message, path));
   /* A NULL err is allowed. */
   assert_int_equal(satf_vdb_read(path, "density", &g, NULL), SATF_ERR_IO);
+  /* A directory opens but is no file to read. */
+  tmp_path(path, sizeof path, ".");
+  assert_int_equal(satf_vdb_read(path, "density", &g, &err), SATF_ERR_IO);
+  assert_non_null(strstr(err.message, path));
 }
 
 static void write_bytes(const char *path, const void *data, size_t n) {
@@ -361,10 +368,9 @@ static void test_truncated_files(void **state) {
   fclose(f);
   assert_true(size > 256 && size < sizeof data);
 
-  const size_t offsets[] = {0,        4,        8,           11,
-                            12,       16,       40,          100,
-                            200,      size / 8, size / 4,    size / 2,
-                            size - 64, size - 8, size - 1};
+  const size_t offsets[] = {0,        4,        8,         11,       12,
+                            16,       40,       100,       200,      size / 8,
+                            size / 4, size / 2, size - 64, size - 8, size - 1};
   for (size_t i = 0; i < sizeof offsets / sizeof offsets[0]; ++i) {
     write_bytes(cut, data, offsets[i]);
     satf_vdb_grid *g = NULL;
@@ -493,9 +499,8 @@ static void test_sampler_speed_and_integral(void **state) {
     fail_msg("Monte Carlo mass %g, want %g", mc_mass, kMass);
 
   sample_job job = {g, xyz, parallel, 10000, N};
-  assert_int_equal(satf_parallel_for(N / 10000, 4, sample_chunk, &job, NULL,
-                                     NULL),
-                   0);
+  assert_int_equal(
+      satf_parallel_for(N / 10000, 4, sample_chunk, &job, NULL, NULL), 0);
   assert_memory_equal(serial, parallel, sizeof(float) * N);
   free(xyz);
   free(serial);

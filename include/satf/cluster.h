@@ -49,13 +49,13 @@ void satf_cluster_destroy(satf_cluster *cluster);
 float satf_cluster_length(const satf_cluster *cluster);
 
 /* T(t) and, if d1 is non-NULL, dT/dt. */
-void satf_cluster_trajectory(const satf_cluster *cluster, float t,
-                             float pos[3], float d1[3]);
+void satf_cluster_trajectory(const satf_cluster *cluster, float t, float pos[3],
+                             float d1[3]);
 
 /* The rotation-minimising frame at t: unit tangent of T and the two unit
  * normals spanning the normal plane (right-handed, orthonormal). */
-void satf_cluster_frame(const satf_cluster *cluster, float t,
-                        float tangent[3], float n1[3], float n2[3]);
+void satf_cluster_frame(const satf_cluster *cluster, float t, float tangent[3],
+                        float n1[3], float n2[3]);
 
 /* Everything about the cross-section at one t, so per-vertex work along a
  * ring evaluates the splines and the frame once. */
@@ -130,11 +130,16 @@ typedef struct satf_shell_sector {
   /* (v_inner, u_begin), (v_outer, u_begin), (v_outer, u_end),
    * (v_inner, u_end) */
   float corners[4][3];
-  /* The plane frame: origin T(t), normal the tangent of T, and the normal
-   * plane frame rotated by the twist theta(t), so the ellipse reads
-   * x = A v cos(u), y = B v sin(u) in (axis_x, axis_y) (SATF eq. 1). */
+  /* The plane: origin T(t), normal the tangent of T, (n1, n2) the
+   * rotation-minimising normal-plane frame and theta(t) the twist. The
+   * point at (v, u) is origin + v (A cos(theta + u) n1 + B sin(theta + u)
+   * n2) (SATF eq. 1). (axis_x, axis_y) is (n1, n2) rotated by theta: the
+   * direction of phase u = 0, from which u is measured; for A = B the point
+   * is origin + v A (cos u axis_x + sin u axis_y). */
   float origin[3];
   float normal[3];
+  float n1[3], n2[3];
+  float theta;
   float axis_x[3], axis_y[3];
 } satf_shell_sector;
 
@@ -160,6 +165,15 @@ satf_status satf_cluster_build_layer_mesh(const satf_cluster *cluster,
                                           const satf_shell_params *params,
                                           int k, satf_mesh **out,
                                           satf_error *err);
+/* The same, copying the triangle connectivity of `grid`, any layer mesh
+ * built earlier with the same st and su (any cluster, any layer; checked),
+ * instead of rebuilding it: the way to build many layers quickly. grid may
+ * be NULL. */
+satf_status satf_cluster_build_layer_mesh_from(const satf_cluster *cluster,
+                                               const satf_shell_params *params,
+                                               int k, const satf_mesh *grid,
+                                               satf_mesh **out,
+                                               satf_error *err);
 
 #ifdef __cplusplus
 }

@@ -53,13 +53,13 @@ const satf_build_params *satf_db_params(const satf_db *db);
 int satf_db_width(const satf_db *db);
 int satf_db_samples(const satf_db *db);
 
-/* Writable storage of sample i: features[3], and its n_light * n_view
- * records of width values, record (il, iv) at (il * n_view + iv) * width:
- * the layout of the file's image rows, so files load without reordering.
- * (satf_trace_all produces view-major records; builders transpose.) */
+/* Writable storage for builders: the features[3] of sample i, and record
+ * (sample, iv, il). In memory a record's reflectance and alpha are
+ * adjacent, and records of neighbouring view azimuths too, so a look-up
+ * reads two contiguous runs. */
 float *satf_db_sample_features(satf_db *db, int i);
-float *satf_db_sample_re(satf_db *db, int i);
-float *satf_db_sample_alpha(satf_db *db, int i);
+void satf_db_record_mut(satf_db *db, int sample, int iv, int il, float **re,
+                        float **alpha);
 
 /* Rounds every stored value to what the file keeps (half floats) and builds
  * the look-up index. Call after filling, before look-ups or writing. */
@@ -91,6 +91,10 @@ void satf_db_lookup(const satf_db *db, const float feature[SATF_FEATURES],
 satf_status satf_db_write(const satf_db *db, const char *path,
                           satf_error *err);
 satf_status satf_db_read(const char *path, satf_db **out, satf_error *err);
+/* Writes the records as an RGBA image (R = G = B = reflectance, A = alpha)
+ * in the file's pixel layout, for viewers that do not show Y/A images. */
+satf_status satf_db_write_atlas(const satf_db *db, const char *path,
+                                satf_error *err);
 /* satf_db_read checks the integrity hash and fails with SATF_ERR_CORRUPT on
  * a mismatch; this is the hash it computes: 64-bit FNV-1a over the build
  * parameters, the features and every stored value. */

@@ -29,18 +29,21 @@ extern "C" {
 #define SATF_SCENE_MIN_SU 3
 #define SATF_SCENE_MAX_SU 4096
 #define SATF_SCENE_MAX_CORE 0.95
-#define SATF_SCENE_MAX_HSV 50000000ull       /* over the whole scene */
-#define SATF_SCENE_MAX_CONTROL_POINTS 4096   /* per curve */
+#define SATF_SCENE_MAX_HSV 50000000ull     /* over the whole scene */
+#define SATF_SCENE_MAX_CONTROL_POINTS 4096 /* per curve */
 #define SATF_SCENE_MAX_MACRO_CLUSTERS 65536
-#define SATF_SCENE_MAX_INSTANCES 65536       /* per macro-cluster */
+#define SATF_SCENE_MAX_INSTANCES 65536  /* per macro-cluster */
+#define SATF_SCENE_MAX_CLUSTERS 1000000 /* instances over the scene */
 #define SATF_SCENE_MAX_LIGHTS 64
-#define SATF_SCENE_MAX_STRANDS 10000000      /* per cluster */
-#define SATF_SCENE_MAX_COORD 1e6             /* |coordinate| in scene units */
-#define SATF_SCENE_MAX_IMAGE 16384           /* pixels per side */
+#define SATF_SCENE_MAX_STRANDS 10000000 /* per cluster */
+#define SATF_SCENE_MAX_CLUMPS 16        /* clumps or holes per cluster */
+#define SATF_SCENE_MAX_COORD 1e6        /* |coordinate| in scene units */
+#define SATF_SCENE_MAX_IMAGE 16384      /* pixels per side */
 #define SATF_SCENE_MAX_FILE_BYTES (64u << 20)
 
 /* A 1-D B-spline given by its control values (SATF eq. 2: A(t), B(t),
- * theta(t)); a constant has count == 1. */
+ * theta(t)); a constant has count == 1. All curves of the scene are clamped
+ * uniform B-splines of degree min(3, count - 1) on t in [0, 1]. */
 typedef struct satf_scene_curve {
   int count;
   float *values;
@@ -75,29 +78,28 @@ typedef enum satf_scene_layout {
 typedef struct satf_scene_density {
   satf_scene_density_type type;
   /* procedural */
-  int strands;          /* strands in the cluster */
-  uint64_t seed;        /* placement seed, < 2^53 */
+  int strands;   /* strands in the cluster */
+  uint64_t seed; /* placement seed, < 2^53 */
   satf_scene_layout layout;
-  float strand_width;   /* strand diameter, in units of the cluster radius */
-  float scale;          /* multiplies the density field */
-  int clumps;           /* clumped: number of clumps */
-  float clump_spread;   /* clumped: clump std. deviation / cluster radius */
-  int holes;            /* holes: number of empty discs */
-  float hole_radius;    /* holes: hole radius / cluster radius */
-  float gradient;       /* gradient: density slope from core to surface */
+  float strand_width; /* strand diameter, in units of the cluster radius */
+  float scale;        /* multiplies the density field */
+  int clumps;         /* clumped: number of clumps */
+  float clump_spread; /* clumped: clump std. deviation / cluster radius */
+  int holes;          /* holes: number of empty discs */
+  float hole_radius;  /* holes: hole radius / cluster radius */
+  float gradient;     /* gradient: density slope from core to surface */
   /* vdb */
-  char *vdb_file;       /* resolved against the scene file's directory */
-  char *vdb_grid;       /* grid name, default "density" */
+  char *vdb_file; /* resolved against the scene file's directory */
+  char *vdb_grid; /* grid name, default "density" */
 } satf_scene_density;
 
 /* One generalized-disk cluster (SATF eq. 1-2): an ellipse with half-axes
  * a(t), b(t) and twist phase theta(t) swept along the trajectory T(t). */
 typedef struct satf_scene_cluster {
-  int degree;           /* B-spline degree requested (1..3) */
-  int n_points;         /* trajectory control points (>= 2) */
-  float *trajectory;    /* 3 * n_points, x y z interleaved */
-  satf_scene_curve a;   /* half major axis, scene units, > 0 */
-  satf_scene_curve b;   /* half minor axis, scene units, > 0 */
+  int n_points;           /* trajectory control points (>= 2) */
+  float *trajectory;      /* 3 * n_points, x y z interleaved */
+  satf_scene_curve a;     /* half major axis, scene units, > 0 */
+  satf_scene_curve b;     /* half minor axis, scene units, > 0 */
   satf_scene_curve twist; /* radians */
   satf_scene_shell shell;
   satf_scene_density density;
@@ -112,9 +114,9 @@ typedef struct satf_scene_instance {
 /* Second level of the hierarchy (SATF sec. 3.1): clusters whose geometries
  * are transforms of one prototype. */
 typedef struct satf_scene_macro_cluster {
-  char *name;           /* optional, NULL when absent */
+  char *name; /* optional, NULL when absent */
   satf_scene_cluster prototype;
-  int n_instances;      /* >= 1 */
+  int n_instances; /* >= 1 */
   satf_scene_instance *instances;
 } satf_scene_macro_cluster;
 
@@ -125,25 +127,25 @@ typedef struct satf_scene_material {
   float shift_I;                 /* eq. 10: t~ = normalize(t + shift_I n) */
   float shift_II;                /* eq. 11: t~ = normalize(t - shift_II n) */
   float f_dif[3], f_speI[3], f_speII[3]; /* RGB colours */
-  float k_shadow;                /* eq. 12 self-shadow intensity */
-  float noise;                   /* secondary-highlight noise strength */
+  float k_shadow;                        /* eq. 12 self-shadow intensity */
+  float noise; /* secondary-highlight noise strength */
 } satf_scene_material;
 
 typedef struct satf_scene_effects {
-  int satf;                /* 0: plain shifted Kajiya-Kay (Scheuermann) */
+  int satf; /* 0: plain shifted Kajiya-Kay (Scheuermann) */
   int secondary_highlight;
-  int self_shadow;         /* eq. 12 s-maps */
-  int cluster_shadows;     /* shadows between clusters (deep opacity maps) */
+  int self_shadow;     /* eq. 12 s-maps */
+  int cluster_shadows; /* shadows between clusters (deep opacity maps) */
 } satf_scene_effects;
 
 typedef struct satf_scene_camera {
   float position[3];
   float target[3];
-  float up[3];           /* normalized, not parallel to target - position */
-  float fov_y;           /* degrees, (0, 179] */
-  float near_clip;       /* 0 with far_clip 0: renderer picks from bounds */
+  float up[3];     /* normalized, not parallel to target - position */
+  float fov_y;     /* degrees, [0.1, 179] */
+  float near_clip; /* 0 with far_clip 0: renderer picks from bounds */
   float far_clip;
-  int automatic;         /* 1 when position/target were framed from bounds */
+  int automatic; /* 1 when position/target were framed from bounds */
 } satf_scene_camera;
 
 typedef enum satf_scene_light_type {
@@ -153,8 +155,8 @@ typedef enum satf_scene_light_type {
 
 typedef struct satf_scene_light {
   satf_scene_light_type type;
-  float direction[3];    /* directional: unit direction the light travels */
-  float position[3];     /* point */
+  float direction[3]; /* directional: unit direction the light travels */
+  float position[3];  /* point */
   float color[3];
   float intensity;
 } satf_scene_light;
@@ -164,17 +166,17 @@ typedef struct satf_scene_image {
 } satf_scene_image;
 
 typedef struct satf_scene {
-  char *name;            /* the name used in messages (the path, if loaded) */
-  char *description;     /* optional, NULL when absent */
-  int n_macro_clusters;  /* >= 1 */
+  char *name;           /* the name used in messages (the path, if loaded) */
+  char *description;    /* optional, NULL when absent */
+  int n_macro_clusters; /* >= 1 */
   satf_scene_macro_cluster *macro_clusters;
   satf_scene_material material;
   satf_scene_effects effects;
   satf_scene_camera camera;
-  int n_lights;          /* >= 1 (a default key light when absent) */
+  int n_lights; /* >= 1 (a default key light when absent) */
   satf_scene_light *lights;
   float background[3];
-  char *database;        /* resolved path, NULL when absent */
+  char *database; /* resolved path, NULL when absent */
   satf_scene_image image;
   /* Warnings (unknown keys); read them with satf_scene_warning*. */
   int n_warnings;
@@ -214,6 +216,15 @@ uint64_t satf_scene_strand_count(const satf_scene *scene);
 
 /* HSVs of one cluster: layers * st * su (SATF eq. 3). */
 uint64_t satf_scene_cluster_hsv_count(const satf_scene_cluster *cluster);
+
+/* The control-value count a, b and twist share once constants are repeated
+ * (validation ensures each is a single value or has this count). */
+int satf_scene_cluster_curve_count(const satf_scene_cluster *cluster);
+
+/* Writes n control values of curve into out: its own when it has n, its
+ * constant repeated when it has one (a clamped B-spline whose control values
+ * are all equal is that constant). */
+void satf_scene_curve_expand(const satf_scene_curve *curve, int n, float *out);
 
 /* p_world = M * (p, 1). out may alias p. */
 void satf_scene_instance_apply(const satf_scene_instance *instance,

@@ -24,19 +24,21 @@ typedef struct satf_vdb_builder satf_vdb_builder;
 /* ---- Reading and sampling ---------------------------------------------- */
 
 /* Opens the .vdb at path and loads its FloatGrid named grid_name into *out.
- * Errors name the file: SATF_ERR_IO (cannot open), SATF_ERR_FORMAT (not a
- * VDB file, the grid is not a FloatGrid, or its transform is not linear),
- * SATF_ERR_VERSION (newer file format), SATF_ERR_CORRUPT (damaged or
- * truncated), SATF_ERR_ARGUMENT (no such grid; the message lists the grids
- * the file holds). The file is read completely here, never lazily. */
+ * Errors name the file: SATF_ERR_IO (cannot open, or not a regular file),
+ * SATF_ERR_FORMAT (not a VDB file, the grid is not a FloatGrid, or its
+ * transform is not linear), SATF_ERR_VERSION (newer file format),
+ * SATF_ERR_CORRUPT (damaged or truncated), SATF_ERR_ARGUMENT (no such grid;
+ * the message lists the grids the file holds). The file is read completely
+ * here, never lazily, and a file cut short anywhere is rejected. */
 satf_status satf_vdb_read(const char *path, const char *grid_name,
                           satf_vdb_grid **out, satf_error *err);
 
 /* Frees a grid (NULL is allowed). */
 void satf_vdb_grid_destroy(satf_vdb_grid *g);
 
-/* Trilinear density at a world-space point; 0 outside the grid and for
- * non-finite points. Thread-safe. */
+/* Trilinear (OpenVDB BoxSampler) density at a world-space point. Outside the
+ * active voxels, and for non-finite or absurdly distant points, it is the
+ * grid's background value (0 for every grid a builder makes). Thread-safe. */
 float satf_vdb_sample(const satf_vdb_grid *g, const float world_xyz[3]);
 
 /* Samples n points (xyz holds n interleaved x,y,z triples) into out[n].

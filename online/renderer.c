@@ -1,0 +1,907 @@
+/* renderer.c - see renderer.h. */
+#include "online/renderer.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/parallel.h"
+#include "common/progress.h"
+#include "common/rng.h"
+#include "online/density.h"
+#include "online/gl.h"
+#include "online/gl_util.h"
+#include "online/maps.h"
+#include "online/mat4.h"
+#include "online/shaders.h"
+#include "satf/cluster.h"
+#include "satf/mesh.h"
+#include "satf/vdb.h"
+
+#define DOM_SIZE 512
+#define NOISE_SIZE 256
+/* Fragments each pixel can keep at first; the arrays grow (up to
+ * SATF_MAX_FRAGMENTS) when a frame needs more. */
+#define START_SLOTS 16
+
+typedef struct proto {
+  satf_cluster *cluster;
+  satf_shell_geom geom; /* features: procedural density, shared */
+  satf_strands *strands;
+  satf_vdb_grid *vdb;
+  int layers;
+  GLuint *vao, *vbo, *ibo;
+  GLsizei *count;
+} proto;
+
+typedef struct inst {
+  int proto;
+  float m[16], inv[16], nmat[9];
+  satf_shell_geom geom; /* shallow copy; own features only with a VDB */
+  int own_features;
+  float *angles, *texels;
+  float eye[3], light[4];
+  GLuint tex;
+} inst;
+
+struct satf_renderer {
+  const satf_scene *scene;
+  const satf_db *db;
+  satf_maps *maps;
+  satf_map_options map_opt;
+  satf_scene_camera camera;
+  satf_scene_effects effects;
+  satf_scene_light lights[4];
+  int nlights;
+  int width, height, threads, w;
+  float lo[3], hi[3];
+  int nprotos, ninsts;
+  proto *protos;
+  inst *insts;
+  satf_render_stats stats;
+  /* GL */
+  GLuint prog_shade, prog_depth, prog_dom, prog_resolve, prog_display;
+  GLuint empty_vao, noise_tex, counts_tex, frags_tex, list_fbo;
+  int slots; /* fragments kept per pixel */
+  satf_gl_target *out, *dom_depth, *dom_opacity;
+  float light_viewproj[16], dom_slab;
+};
+
+const char *satf_aov_name(satf_aov aov) {
+  static const char *names[] = {"beauty", "diffuse", "specI",
+                                "specII", "shadow",  "alpha"};
+  return aov < SATF_AOV_COUNT ? names[aov] : "unknown";
+}
+
+/* ---- building the hierarchy ------------------------------------------- */
+
+/* The scene gives A, B and twist as separate curves; the cluster takes one
+ * control polygon for the three, so shorter ones are resampled linearly. */
+static void resample_curve(const satf_scene_curve *c, int n, float *out) {
+  for (int i = 0; i < n; i++) {
+    if (c->count == 1 || n == 1) {
+      out[i] = c->values[0];
+      continue;
+    }
+    float x = (float)i / (float)(n - 1) * (float)(c->count - 1);
+    int k = (int)x;
+    if (k > c->count - 2)
+      k = c->count - 2;
+    float f = x - (float)k;
+    out[i] = c->values[k] + f * (c->values[k + 1] - c->values[k]);
+  }
+}
+
+static satf_status upload_layer(proto *p, int k, const satf_mesh *mesh) {
+  glGenVertexArrays(1, &p->vao[k]);
+  glGenBuffers(1, &p->vbo[k]);
+  glGenBuffers(1, &p->ibo[k]);
+  glBindVertexArray(p->vao[k]);
+  glBindBuffer(GL_ARRAY_BUFFER, p->vbo[k]);
+  glBufferData(GL_ARRAY_BUFFER,
+               (GLsizeiptr)(satf_mesh_vertex_count(mesh) * sizeof(satf_mesh_vertex)),
+               satf_mesh_vertices(mesh), GL_STATIC_DRAW);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, p->ibo[k]);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+               (GLsizeiptr)(satf_mesh_triangle_count(mesh) * 3 * sizeof(uint32_t)),
+               satf_mesh_indices(mesh), GL_STATIC_DRAW);
+  GLsizei stride = (GLsizei)sizeof(satf_mesh_vertex);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride,
+                        (void *)offsetof(satf_mesh_vertex, pos));
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                        (void *)offsetof(satf_mesh_vertex, normal));
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, stride,
+                        (void *)offsetof(satf_mesh_vertex, tangent));
+  glEnableVertexAttribArray(3);
+  glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, stride,
+                        (void *)offsetof(satf_mesh_vertex, uv));
+  glBindVertexArray(0);
+  p->count[k] = (GLsizei)(satf_mesh_triangle_count(mesh) * 3);
+  return SATF_OK;
+}
+
+static satf_status build_proto(satf_renderer *r, int index,
+                               const satf_scene_macro_cluster *mc,
+                               satf_error *err) {
+  proto *p = &r->protos[index];
+  const satf_scene_cluster *c = &mc->prototype;
+  const char *name = r->scene->name ? r->scene->name : "scene";
+  int n = c->a.count;
+  if (c->b.count > n)
+    n = c->b.count;
+  if (c->twist.count > n)
+    n = c->twist.count;
+  float *radii = malloc(3 * (size_t)n * sizeof(float));
+  if (!radii)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  resample_curve(&c->a, n, radii);
+  resample_curve(&c->b, n, radii + n);
+  resample_curve(&c->twist, n, radii + 2 * n);
+  satf_cluster_desc desc = {c->n_points, c->trajectory, n,
+                            radii, radii + n, radii + 2 * n};
+  satf_error cerr;
+  satf_status st = satf_cluster_create(&desc, &p->cluster, &cerr);
+  free(radii);
+  if (st != SATF_OK)
+    return satf_error_set(err, st, "%s: macro_clusters[%d].prototype: %s",
+                          name, index, cerr.message);
+  satf_shell_params shell = {c->shell.layers, c->shell.st, c->shell.su,
+                             c->shell.core};
+  st = satf_shell_geom_create(p->cluster, &shell, &p->geom, &cerr);
+  if (st != SATF_OK)
+    return satf_error_set(err, st, "%s: macro_clusters[%d].prototype.shell: %s",
+                          name, index, cerr.message);
+  p->layers = shell.layers;
+  if (c->density.type == SATF_SCENE_DENSITY_VDB) {
+    st = satf_vdb_read(c->density.vdb_file, c->density.vdb_grid, &p->vdb, &cerr);
+    if (st != SATF_OK)
+      return satf_error_set(err, st, "%s: macro_clusters[%d].prototype.density: %s",
+                            name, index, cerr.message);
+  } else {
+    st = satf_strands_create(&c->density, &p->strands, &cerr);
+    if (st == SATF_OK) /* once per prototype (SATF sec. 3.1) */
+      st = satf_sector_features(p->cluster, &shell, p->strands, NULL, NULL,
+                                r->threads, p->geom.features, &cerr);
+    if (st != SATF_OK)
+      return satf_error_set(err, st, "%s: macro_clusters[%d].prototype.density: %s",
+                            name, index, cerr.message);
+    r->stats.strands += (long)c->density.strands * mc->n_instances;
+  }
+  p->vao = calloc((size_t)p->layers, sizeof(GLuint));
+  p->vbo = calloc((size_t)p->layers, sizeof(GLuint));
+  p->ibo = calloc((size_t)p->layers, sizeof(GLuint));
+  p->count = calloc((size_t)p->layers, sizeof(GLsizei));
+  if (!p->vao || !p->vbo || !p->ibo || !p->count)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  for (int k = 0; k < p->layers; k++) {
+    satf_mesh *mesh = NULL;
+    st = satf_cluster_build_layer_mesh(p->cluster, &shell, k, &mesh, &cerr);
+    if (st != SATF_OK)
+      return satf_error_set(err, st, "%s: macro_clusters[%d]: layer %d: %s",
+                            name, index, k, cerr.message);
+    upload_layer(p, k, mesh);
+    satf_mesh_destroy(mesh);
+  }
+  return SATF_OK;
+}
+
+static satf_status build_inst(satf_renderer *r, inst *in, int pi,
+                              const satf_scene_instance *si, satf_error *err) {
+  proto *p = &r->protos[pi];
+  in->proto = pi;
+  memcpy(in->m, si->m, sizeof in->m);
+  if (!satf_mat4_invert(in->m, in->inv))
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "%s: an instance transform of macro cluster %d is "
+                          "singular", r->scene->name ? r->scene->name : "scene",
+                          pi);
+  satf_mat4_normal_matrix(in->m, in->nmat);
+  in->geom = p->geom;
+  size_t sectors = satf_shell_sector_count(&p->geom.shell);
+  if (p->vdb) { /* world-space density: features differ per instance */
+    in->geom.features = malloc(sectors * 3 * sizeof(float));
+    in->own_features = 1;
+    if (!in->geom.features)
+      return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+    satf_status st = satf_sector_features(p->cluster, &p->geom.shell, NULL,
+                                          p->vdb, in->m, r->threads,
+                                          in->geom.features, err);
+    if (st != SATF_OK)
+      return st;
+  }
+  size_t texels = satf_maps_layer_texels(&p->geom, r->w) * (size_t)p->layers;
+  in->angles = malloc(sectors * 2 * sizeof(float));
+  in->texels = calloc(texels * 4, sizeof(float));
+  if (!in->angles || !in->texels)
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "cannot allocate %zu map texels", texels);
+  glGenTextures(1, &in->tex);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32F,
+                 p->geom.shell.su * r->w, 2 * p->geom.shell.st, p->layers);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  r->stats.clusters++;
+  r->stats.layers += p->layers;
+  r->stats.hsvs += (long)satf_shell_hsv_count(&p->geom.shell);
+  return satf_gl_check("map texture", err);
+}
+
+/* ---- GL resources ------------------------------------------------------ */
+
+static satf_status build_programs(satf_renderer *r, satf_error *err) {
+  satf_status st = satf_gl_program_build("shade", satf_glsl_layer_vs,
+                                         satf_glsl_shade_fs, &r->prog_shade, err);
+  if (st == SATF_OK)
+    st = satf_gl_program_build("depth", satf_glsl_layer_vs, satf_glsl_depth_fs,
+                               &r->prog_depth, err);
+  if (st == SATF_OK)
+    st = satf_gl_program_build("dom", satf_glsl_layer_vs, satf_glsl_dom_fs,
+                               &r->prog_dom, err);
+  if (st == SATF_OK)
+    st = satf_gl_program_build("resolve", satf_glsl_fullscreen_vs,
+                               satf_glsl_resolve_fs, &r->prog_resolve, err);
+  if (st == SATF_OK)
+    st = satf_gl_program_build("display", satf_glsl_fullscreen_vs,
+                               satf_glsl_display_fs, &r->prog_display, err);
+  return st;
+}
+
+static void make_noise(satf_renderer *r) {
+  static float noise[NOISE_SIZE * NOISE_SIZE];
+  satf_rng rng;
+  satf_rng_seed(&rng, 2004, 2); /* fixed: the noise is part of the look */
+  for (int i = 0; i < NOISE_SIZE * NOISE_SIZE; i++)
+    noise[i] = (float)satf_rng_uniform(&rng);
+  glGenTextures(1, &r->noise_tex);
+  glBindTexture(GL_TEXTURE_2D, r->noise_tex);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, NOISE_SIZE, NOISE_SIZE, 0, GL_RED,
+               GL_FLOAT, noise);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
+/* Per-pixel fragment arrays: an r32ui counter per pixel and a layered
+ * rgba32ui image of `slots` fragments (colour as halves, depth). A texture
+ * rather than a storage buffer: llvmpipe caps buffers at 128 MB, and a
+ * per-pixel counter avoids the contention of one global atomic counter,
+ * which made linked lists three times slower there. */
+static satf_status alloc_lists(satf_renderer *r, int slots, satf_error *err) {
+  if (r->counts_tex)
+    glDeleteTextures(1, &r->counts_tex);
+  if (r->frags_tex)
+    glDeleteTextures(1, &r->frags_tex);
+  glGenTextures(1, &r->counts_tex);
+  glBindTexture(GL_TEXTURE_2D, r->counts_tex);
+  glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32UI, r->width, r->height);
+  glGenTextures(1, &r->frags_tex);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, r->frags_tex);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32UI, r->width, r->height,
+                 slots);
+  r->slots = slots;
+  return satf_gl_check("fragment arrays", err);
+}
+
+static satf_status alloc_screen(satf_renderer *r, satf_error *err) {
+  if (!r->list_fbo)
+    glGenFramebuffers(1, &r->list_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
+  glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_WIDTH, r->width);
+  glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_HEIGHT,
+                          r->height);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (r->out)
+    satf_gl_target_destroy(r->out);
+  r->out = NULL;
+  satf_status st = satf_gl_target_create(r->width, r->height, 1, NULL, &r->out, err);
+  if (st == SATF_OK)
+    st = alloc_lists(r, r->slots > 0 ? r->slots : START_SLOTS, err);
+  return st;
+}
+
+satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
+                                 int width, int height, int threads,
+                                 satf_renderer **out, satf_error *err) {
+  *out = NULL;
+  GLint major = 0, minor = 0;
+  glGetIntegerv(GL_MAJOR_VERSION, &major);
+  glGetIntegerv(GL_MINOR_VERSION, &minor);
+  if (major * 10 + minor < 43)
+    return satf_error_set(err, SATF_ERR_GL,
+                          "the renderer needs OpenGL 4.3 (shader storage "
+                          "buffers and image atomics); this context has %d.%d",
+                          major, minor);
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "image size %dx%d", width,
+                          height);
+  satf_renderer *r = calloc(1, sizeof *r);
+  if (!r)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  r->scene = scene;
+  r->db = db;
+  r->width = width;
+  r->height = height;
+  r->threads = threads > 0 ? threads : satf_cpu_count();
+  r->camera = scene->camera;
+  r->effects = scene->effects;
+  r->nlights = scene->n_lights < 4 ? scene->n_lights : 4;
+  memcpy(r->lights, scene->lights, (size_t)r->nlights * sizeof(satf_scene_light));
+  r->map_opt = satf_map_options_default();
+  satf_scene_bounds(scene, r->lo, r->hi);
+  satf_status st = satf_maps_create(db, &r->maps, err);
+  if (st != SATF_OK) {
+    free(r);
+    return st;
+  }
+  r->w = satf_maps_width(r->maps);
+  r->nprotos = scene->n_macro_clusters;
+  r->protos = calloc((size_t)r->nprotos, sizeof(proto));
+  r->ninsts = (int)satf_scene_cluster_count(scene);
+  r->insts = calloc((size_t)r->ninsts, sizeof(inst));
+  if (!r->protos || !r->insts) {
+    satf_renderer_destroy(r);
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  r->stats.macro_clusters = r->nprotos;
+  int ii = 0;
+  for (int m = 0; m < r->nprotos && st == SATF_OK; m++) {
+    const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
+    st = build_proto(r, m, mc, err);
+    for (int i = 0; i < mc->n_instances && st == SATF_OK; i++)
+      st = build_inst(r, &r->insts[ii++], m, &mc->instances[i], err);
+    r->stats.prototypes_shared += mc->n_instances - 1;
+  }
+  if (st == SATF_OK)
+    st = build_programs(r, err);
+  if (st == SATF_OK) {
+    glGenVertexArrays(1, &r->empty_vao);
+    make_noise(r);
+    st = alloc_screen(r, err);
+  }
+  if (st == SATF_OK)
+    st = satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &r->dom_depth, err);
+  if (st == SATF_OK)
+    st = satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &r->dom_opacity, err);
+  if (st == SATF_OK)
+    st = satf_gl_check("renderer set-up", err);
+  if (st != SATF_OK) {
+    satf_renderer_destroy(r);
+    return st;
+  }
+  *out = r;
+  return SATF_OK;
+}
+
+void satf_renderer_destroy(satf_renderer *r) {
+  if (!r)
+    return;
+  for (int i = 0; r->insts && i < r->ninsts; i++) {
+    inst *in = &r->insts[i];
+    if (in->own_features)
+      free(in->geom.features);
+    free(in->angles);
+    free(in->texels);
+    if (in->tex)
+      glDeleteTextures(1, &in->tex);
+  }
+  for (int m = 0; r->protos && m < r->nprotos; m++) {
+    proto *p = &r->protos[m];
+    if (p->vao) {
+      glDeleteVertexArrays(p->layers, p->vao);
+      glDeleteBuffers(p->layers, p->vbo);
+      glDeleteBuffers(p->layers, p->ibo);
+    }
+    free(p->vao);
+    free(p->vbo);
+    free(p->ibo);
+    free(p->count);
+    satf_shell_geom_destroy(&p->geom);
+    satf_strands_destroy(p->strands);
+    satf_vdb_grid_destroy(p->vdb);
+    satf_cluster_destroy(p->cluster);
+  }
+  free(r->protos);
+  free(r->insts);
+  GLuint progs[5] = {r->prog_shade, r->prog_depth, r->prog_dom, r->prog_resolve,
+                     r->prog_display};
+  for (int i = 0; i < 5; i++)
+    if (progs[i])
+      glDeleteProgram(progs[i]);
+  if (r->empty_vao)
+    glDeleteVertexArrays(1, &r->empty_vao);
+  GLuint texs[3] = {r->noise_tex, r->counts_tex, r->frags_tex};
+  glDeleteTextures(3, texs);
+  if (r->list_fbo)
+    glDeleteFramebuffers(1, &r->list_fbo);
+  satf_gl_target_destroy(r->out);
+  satf_gl_target_destroy(r->dom_depth);
+  satf_gl_target_destroy(r->dom_opacity);
+  satf_maps_destroy(r->maps);
+  free(r);
+}
+
+satf_status satf_renderer_resize(satf_renderer *r, int width, int height,
+                                 satf_error *err) {
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "image size %dx%d", width,
+                          height);
+  if (width == r->width && height == r->height)
+    return SATF_OK;
+  r->width = width;
+  r->height = height;
+  return alloc_screen(r, err);
+}
+
+void satf_renderer_stats(const satf_renderer *r, satf_render_stats *s) {
+  *s = r->stats;
+}
+satf_scene_camera *satf_renderer_camera(satf_renderer *r) { return &r->camera; }
+satf_scene_effects *satf_renderer_effects(satf_renderer *r) {
+  return &r->effects;
+}
+satf_scene_light *satf_renderer_light(satf_renderer *r, int i) {
+  return i >= 0 && i < r->nlights ? &r->lights[i] : NULL;
+}
+int satf_renderer_light_count(const satf_renderer *r) { return r->nlights; }
+unsigned satf_renderer_texture(const satf_renderer *r) {
+  return satf_gl_target_color_texture(r->out, 0);
+}
+unsigned satf_renderer_framebuffer(const satf_renderer *r) {
+  return satf_gl_target_fbo(r->out);
+}
+
+/* ---- per-frame CPU work (Table 1: I, C, M) ----------------------------- */
+
+/* Light 0 as seen from a point: xyz + w (0: direction to it, 1: position). */
+static void light_vector(const satf_scene_light *l, float out[4]) {
+  if (l->type == SATF_SCENE_LIGHT_POINT) {
+    memcpy(out, l->position, 3 * sizeof(float));
+    out[3] = 1.0f;
+  } else {
+    out[0] = -l->direction[0];
+    out[1] = -l->direction[1];
+    out[2] = -l->direction[2];
+    out[3] = 0.0f;
+  }
+}
+
+static int angles_job(void *ctx, size_t i, int thread) {
+  (void)thread;
+  satf_renderer *r = ctx;
+  inst *in = &r->insts[i];
+  float lv[4];
+  light_vector(&r->lights[0], lv);
+  satf_mat4_point(in->inv, r->camera.position, in->eye);
+  if (lv[3] != 0.0f) {
+    satf_mat4_point(in->inv, lv, in->light);
+  } else {
+    satf_mat4_vector(in->inv, lv, in->light);
+  }
+  in->light[3] = lv[3];
+  satf_maps_angles(&in->geom, in->eye, in->light, in->angles);
+  return 0;
+}
+
+typedef struct layer_jobs {
+  satf_renderer *r;
+  int *inst_of, *layer_of;
+  long *lookups;
+} layer_jobs;
+
+static int layer_job(void *ctx, size_t i, int thread) {
+  layer_jobs *j = ctx;
+  satf_renderer *r = j->r;
+  inst *in = &r->insts[j->inst_of[i]];
+  int k = j->layer_of[i];
+  size_t n = satf_maps_layer_texels(&in->geom, r->w) * 4;
+  j->lookups[thread] += satf_maps_build_layer(r->maps, &in->geom, in->angles,
+                                              &r->map_opt, k,
+                                              in->texels + (size_t)k * n);
+  return 0;
+}
+
+static int shadow_job(void *ctx, size_t i, int thread) {
+  (void)thread;
+  satf_renderer *r = ctx;
+  satf_maps_shadow_sums(&r->insts[i].geom, r->w, r->insts[i].texels);
+  return 0;
+}
+
+static satf_status update_maps(satf_renderer *r, satf_frame_timing *t,
+                               satf_error *err) {
+  double t0 = satf_now_seconds();
+  satf_parallel_for((size_t)r->ninsts, r->threads, angles_job, r, NULL, NULL);
+  double t1 = satf_now_seconds();
+  size_t jobs = 0;
+  for (int i = 0; i < r->ninsts; i++)
+    jobs += (size_t)r->protos[r->insts[i].proto].layers;
+  layer_jobs lj = {r, malloc(jobs * sizeof(int)), malloc(jobs * sizeof(int)),
+                   calloc((size_t)r->threads, sizeof(long))};
+  if (!lj.inst_of || !lj.layer_of || !lj.lookups) {
+    free(lj.inst_of);
+    free(lj.layer_of);
+    free(lj.lookups);
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  size_t q = 0;
+  for (int i = 0; i < r->ninsts; i++)
+    for (int k = 0; k < r->protos[r->insts[i].proto].layers; k++) {
+      lj.inst_of[q] = i;
+      lj.layer_of[q++] = k;
+    }
+  satf_parallel_for(jobs, r->threads, layer_job, &lj, NULL, NULL);
+  satf_parallel_for((size_t)r->ninsts, r->threads, shadow_job, r, NULL, NULL);
+  t->lookups = 0;
+  for (int k = 0; k < r->threads; k++)
+    t->lookups += lj.lookups[k];
+  free(lj.inst_of);
+  free(lj.layer_of);
+  free(lj.lookups);
+  double t2 = satf_now_seconds();
+  for (int i = 0; i < r->ninsts; i++) {
+    inst *in = &r->insts[i];
+    const satf_shell_params *sh = &in->geom.shell;
+    glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, sh->su * r->w, 2 * sh->st,
+                    sh->layers, GL_RGBA, GL_FLOAT, in->texels);
+  }
+  glFinish();
+  double t3 = satf_now_seconds();
+  t->index_ms = 1e3 * (t1 - t0);
+  t->maps_ms = 1e3 * (t2 - t1);
+  t->upload_ms = 1e3 * (t3 - t2);
+  return satf_gl_check("map upload", err);
+}
+
+/* ---- GPU passes (Table 1: L, S) ---------------------------------------- */
+
+static void set_mat4(GLuint prog, const char *name, const float m[16]) {
+  glUniformMatrix4fv(glGetUniformLocation(prog, name), 1, GL_TRUE, m);
+}
+
+static void draw_layers(satf_renderer *r, GLuint prog, const float viewproj[16]) {
+  glUseProgram(prog);
+  set_mat4(prog, "u_viewproj", viewproj);
+  glUniform1i(glGetUniformLocation(prog, "u_maps"), 0);
+  glUniform1i(glGetUniformLocation(prog, "u_satf"), r->effects.satf);
+  glUniform1f(glGetUniformLocation(prog, "u_plain_opacity"), 3.0f);
+  GLint loc_model = glGetUniformLocation(prog, "u_model");
+  GLint loc_nmat = glGetUniformLocation(prog, "u_normal_matrix");
+  GLint loc_layer = glGetUniformLocation(prog, "u_layer");
+  GLint loc_st = glGetUniformLocation(prog, "u_st");
+  glActiveTexture(GL_TEXTURE0);
+  for (int i = 0; i < r->ninsts; i++) {
+    inst *in = &r->insts[i];
+    proto *p = &r->protos[in->proto];
+    glUniformMatrix4fv(loc_model, 1, GL_TRUE, in->m);
+    glUniformMatrix3fv(loc_nmat, 1, GL_TRUE, in->nmat);
+    glUniform1i(loc_st, in->geom.shell.st);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
+    for (int k = 0; k < p->layers; k++) {
+      glUniform1i(loc_layer, k);
+      glBindVertexArray(p->vao[k]);
+      glDrawElements(GL_TRIANGLES, p->count[k], GL_UNSIGNED_INT, NULL);
+    }
+  }
+  glBindVertexArray(0);
+}
+
+static float scene_radius(const satf_renderer *r, float centre[3]) {
+  float d2 = 0.0f;
+  for (int a = 0; a < 3; a++) {
+    centre[a] = 0.5f * (r->lo[a] + r->hi[a]);
+    float h = 0.5f * (r->hi[a] - r->lo[a]);
+    d2 += h * h;
+  }
+  return sqrtf(d2) + 1e-3f;
+}
+
+/* Deep opacity map from the key light: an orthographic view along its
+ * direction (a point light is treated as directional from its position
+ * towards the scene centre), four slabs behind the first hair. */
+static void render_dom(satf_renderer *r) {
+  float c[3], rad = scene_radius(r, c), lv[4], dir[3];
+  light_vector(&r->lights[0], lv);
+  for (int a = 0; a < 3; a++)
+    dir[a] = lv[3] != 0.0f ? lv[a] - c[a] : lv[a];
+  float len = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+  for (int a = 0; a < 3; a++)
+    dir[a] = len > 0 ? dir[a] / len : (a == 1);
+  float eye[3] = {c[0] + 2 * rad * dir[0], c[1] + 2 * rad * dir[1],
+                  c[2] + 2 * rad * dir[2]};
+  float up[3] = {0, 1, 0};
+  if (fabsf(dir[1]) > 0.95f) {
+    up[1] = 0;
+    up[2] = 1;
+  }
+  float view[16], proj[16];
+  satf_mat4_look_at(eye, c, up, view);
+  satf_mat4_ortho(-rad, rad, -rad, rad, rad, 3 * rad, proj);
+  satf_mat4_mul(proj, view, r->light_viewproj);
+  /* slabs a third of a typical cluster's radius deep, in depth units */
+  float cluster_r = 0.0f;
+  for (int m = 0; m < r->nprotos; m++)
+    cluster_r += r->scene->macro_clusters[m].prototype.a.values[0];
+  cluster_r /= (float)(r->nprotos > 0 ? r->nprotos : 1);
+  r->dom_slab = 0.66f * cluster_r / (2.0f * rad) * 0.5f;
+
+  satf_gl_target_bind(r->dom_depth);
+  glClearColor(0, 0, 0, 0);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  draw_layers(r, r->prog_depth, r->light_viewproj);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDisable(GL_DEPTH_TEST);
+
+  satf_gl_target_bind(r->dom_opacity);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE);
+  glUseProgram(r->prog_dom);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
+  glUniform1i(glGetUniformLocation(r->prog_dom, "u_dom_depth"), 1);
+  glUniform2f(glGetUniformLocation(r->prog_dom, "u_dom_size"), DOM_SIZE, DOM_SIZE);
+  glUniform1f(glGetUniformLocation(r->prog_dom, "u_dom_slab"), r->dom_slab);
+  draw_layers(r, r->prog_dom, r->light_viewproj);
+  glDisable(GL_BLEND);
+}
+
+static void camera_matrices(const satf_renderer *r, float viewproj[16]) {
+  const satf_scene_camera *cam = &r->camera;
+  float c[3], rad = scene_radius(r, c), view[16], proj[16];
+  float n = cam->near_clip, f = cam->far_clip;
+  if (!(n > 0.0f && f > n)) {
+    float d = sqrtf((cam->position[0] - c[0]) * (cam->position[0] - c[0]) +
+                    (cam->position[1] - c[1]) * (cam->position[1] - c[1]) +
+                    (cam->position[2] - c[2]) * (cam->position[2] - c[2]));
+    f = d + 1.5f * rad;
+    n = d - 1.5f * rad;
+    if (n < 0.002f * f)
+      n = 0.002f * f;
+  }
+  satf_mat4_look_at(cam->position, cam->target, cam->up, view);
+  satf_mat4_perspective(cam->fov_y, (float)r->width / (float)r->height, n, f,
+                        proj);
+  satf_mat4_mul(proj, view, viewproj);
+}
+
+static void set_shading_uniforms(satf_renderer *r, satf_aov aov) {
+  GLuint p = r->prog_shade;
+  const satf_scene_material *m = &r->scene->material;
+  glUseProgram(p);
+  glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
+  glUniform1i(glGetUniformLocation(p, "u_nlights"), r->nlights);
+  float vec[16], col[12];
+  for (int k = 0; k < r->nlights; k++) {
+    light_vector(&r->lights[k], vec + 4 * k);
+    for (int a = 0; a < 3; a++)
+      col[3 * k + a] = r->lights[k].color[a] * r->lights[k].intensity;
+  }
+  glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
+  glUniform3fv(glGetUniformLocation(p, "u_light_color"), r->nlights, col);
+  glUniform1f(glGetUniformLocation(p, "u_kdif"), m->k_dif);
+  glUniform1f(glGetUniformLocation(p, "u_kspe1"), m->k_speI);
+  glUniform1f(glGetUniformLocation(p, "u_kspe2"), m->k_speII);
+  glUniform1f(glGetUniformLocation(p, "u_exp1"), m->exponent_I);
+  glUniform1f(glGetUniformLocation(p, "u_exp2"), m->exponent_II);
+  glUniform1f(glGetUniformLocation(p, "u_shift1"), m->shift_I);
+  glUniform1f(glGetUniformLocation(p, "u_shift2"), m->shift_II);
+  glUniform3fv(glGetUniformLocation(p, "u_fdif"), 1, m->f_dif);
+  glUniform3fv(glGetUniformLocation(p, "u_fspe1"), 1, m->f_speI);
+  glUniform3fv(glGetUniformLocation(p, "u_fspe2"), 1, m->f_speII);
+  glUniform1f(glGetUniformLocation(p, "u_kshadow"), m->k_shadow);
+  glUniform1f(glGetUniformLocation(p, "u_noise"), m->noise);
+  glUniform1i(glGetUniformLocation(p, "u_secondary"), r->effects.secondary_highlight);
+  glUniform1i(glGetUniformLocation(p, "u_self_shadow"), r->effects.self_shadow);
+  glUniform1i(glGetUniformLocation(p, "u_cluster_shadow"),
+              r->effects.cluster_shadows);
+  glUniform1i(glGetUniformLocation(p, "u_aov"), (int)aov);
+  glUniform1i(glGetUniformLocation(p, "u_slots"), r->slots);
+  glUniform1f(glGetUniformLocation(p, "u_kcluster"), 1.0f);
+  glUniform1f(glGetUniformLocation(p, "u_dom_slab"), r->dom_slab);
+  set_mat4(p, "u_light_viewproj", r->light_viewproj);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, r->noise_tex);
+  glUniform1i(glGetUniformLocation(p, "u_noise_tex"), 1);
+  glActiveTexture(GL_TEXTURE2);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
+  glUniform1i(glGetUniformLocation(p, "u_dom_depth"), 2);
+  glActiveTexture(GL_TEXTURE3);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_color_texture(r->dom_opacity, 0));
+  glUniform1i(glGetUniformLocation(p, "u_dom_opacity"), 3);
+}
+
+/* Pixel rectangle (x, y, w, h) covering the projected scene bounds; the
+ * whole frame when a corner is behind the eye. */
+static void screen_box(const satf_renderer *r, const float viewproj[16],
+                       int box[4]) {
+  float mn[2] = {1e30f, 1e30f}, mx[2] = {-1e30f, -1e30f};
+  int behind = 0;
+  for (int c = 0; c < 8; c++) {
+    float p[3] = {c & 1 ? r->hi[0] : r->lo[0], c & 2 ? r->hi[1] : r->lo[1],
+                  c & 4 ? r->hi[2] : r->lo[2]};
+    float w = viewproj[12] * p[0] + viewproj[13] * p[1] + viewproj[14] * p[2] +
+              viewproj[15];
+    if (w <= 1e-6f) {
+      behind = 1;
+      break;
+    }
+    for (int a = 0; a < 2; a++) {
+      float q = (viewproj[4 * a] * p[0] + viewproj[4 * a + 1] * p[1] +
+                 viewproj[4 * a + 2] * p[2] + viewproj[4 * a + 3]) / w;
+      mn[a] = q < mn[a] ? q : mn[a];
+      mx[a] = q > mx[a] ? q : mx[a];
+    }
+  }
+  int size[2] = {r->width, r->height};
+  for (int a = 0; a < 2; a++) {
+    int lo = behind ? 0 : (int)floorf((mn[a] * 0.5f + 0.5f) * size[a]) - 1;
+    int hi = behind ? size[a] : (int)ceilf((mx[a] * 0.5f + 0.5f) * size[a]) + 1;
+    lo = lo < 0 ? 0 : lo > size[a] ? size[a] : lo;
+    hi = hi < lo ? lo : hi > size[a] ? size[a] : hi;
+    box[a] = lo;
+    box[2 + a] = hi - lo;
+  }
+}
+
+/* Per-pixel fragment arrays, then the sorted composite (SATF eq. 14).
+ * Returns the largest number of fragments a pixel received. */
+static GLuint render_lists(satf_renderer *r, satf_aov aov,
+                           const float viewproj[16], long *fragments) {
+  GLuint zero = 0;
+  glClearTexImage(r->counts_tex, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindImageTexture(0, r->counts_tex, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(1, r->frags_tex, 0, GL_TRUE, 0, GL_READ_WRITE,
+                     GL_RGBA32UI);
+  glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
+  glViewport(0, 0, r->width, r->height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  set_shading_uniforms(r, aov);
+  draw_layers(r, r->prog_shade, viewproj);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                  GL_TEXTURE_FETCH_BARRIER_BIT);
+  satf_gl_target_bind(r->out);
+  glClearColor(0, 0, 0, 0);
+  if (aov == SATF_AOV_BEAUTY)
+    glClearColor(r->scene->background[0], r->scene->background[1],
+                 r->scene->background[2], 0.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
+  /* only pixels the hair can cover need resolving */
+  int box[4];
+  screen_box(r, viewproj, box);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(box[0], box[1], box[2], box[3]);
+  glUseProgram(r->prog_resolve);
+  glUniform3fv(glGetUniformLocation(r->prog_resolve, "u_background"), 1,
+               r->scene->background);
+  glUniform1i(glGetUniformLocation(r->prog_resolve, "u_use_background"),
+              aov == SATF_AOV_BEAUTY);
+  glUniform1i(glGetUniformLocation(r->prog_resolve, "u_slots"), r->slots);
+  glBindVertexArray(r->empty_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glDisable(GL_SCISSOR_TEST);
+  /* the deepest pixel decides whether the arrays were large enough */
+  size_t n = (size_t)r->width * (size_t)r->height;
+  GLuint *counts = malloc(n * sizeof(GLuint)), most = 0;
+  *fragments = 0;
+  if (counts) {
+    glBindTexture(GL_TEXTURE_2D, r->counts_tex);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, counts);
+    for (size_t i = 0; i < n; i++) {
+      most = counts[i] > most ? counts[i] : most;
+      *fragments += counts[i];
+    }
+    free(counts);
+  }
+  return most;
+}
+
+satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,
+                                 satf_frame_timing *timing, satf_error *err) {
+  satf_frame_timing t;
+  memset(&t, 0, sizeof t);
+  double t0 = satf_now_seconds();
+  satf_status st = update_maps(r, &t, err);
+  if (st != SATF_OK)
+    return st;
+  double t1 = satf_now_seconds();
+  if (r->effects.cluster_shadows)
+    render_dom(r);
+  glFinish();
+  double t2 = satf_now_seconds();
+  float viewproj[16];
+  camera_matrices(r, viewproj);
+  long count = 0;
+  GLuint most = render_lists(r, aov, viewproj, &count);
+  if ((int)most > r->slots && r->slots < SATF_MAX_FRAGMENTS) {
+    /* some pixel had more fragments than slots: grow and draw again */
+    int slots = (int)most + 4;
+    st = alloc_lists(r, slots < SATF_MAX_FRAGMENTS ? slots : SATF_MAX_FRAGMENTS,
+                     err);
+    if (st != SATF_OK)
+      return st;
+    render_lists(r, aov, viewproj, &count);
+  }
+  glFinish();
+  double t3 = satf_now_seconds();
+  t.shadow_ms = 1e3 * (t2 - t1);
+  t.lighting_ms = 1e3 * (t3 - t2);
+  t.total_ms = 1e3 * (t3 - t0);
+  t.fragments = (long)count;
+  if (timing)
+    *timing = t;
+  return satf_gl_check("frame", err);
+}
+
+void satf_renderer_present(satf_renderer *r) {
+  glUseProgram(r->prog_display);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_color_texture(r->out, 0));
+  glUniform1i(glGetUniformLocation(r->prog_display, "u_image"), 0);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glBindVertexArray(r->empty_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
+satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
+                                       satf_image **out,
+                                       satf_frame_timing *timing,
+                                       satf_error *err) {
+  *out = NULL;
+  static const char *const names[] = {
+      "R",         "G",         "B",          "A",          "diffuse.R",
+      "diffuse.G", "diffuse.B", "specI.R",    "specI.G",    "specI.B",
+      "specII.R",  "specII.G",  "specII.B",   "shadow",     "alpha"};
+  int n = aovs ? 15 : 4;
+  satf_image *img = NULL;
+  satf_status st = satf_image_create(r->width, r->height, names, n, &img, err);
+  if (st != SATF_OK)
+    return st;
+  size_t px = (size_t)r->width * (size_t)r->height;
+  float *buf = malloc(px * 4 * sizeof(float));
+  if (!buf) {
+    satf_image_destroy(img);
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  const char *const *dest[SATF_AOV_COUNT] = {
+      (const char *const[]){"R", "G", "B", "A"},
+      (const char *const[]){"diffuse.R", "diffuse.G", "diffuse.B", NULL},
+      (const char *const[]){"specI.R", "specI.G", "specI.B", NULL},
+      (const char *const[]){"specII.R", "specII.G", "specII.B", NULL},
+      (const char *const[]){"shadow", NULL, NULL, NULL},
+      (const char *const[]){"alpha", NULL, NULL, NULL}};
+  int passes = aovs ? SATF_AOV_COUNT : 1;
+  for (int a = 0; a < passes && st == SATF_OK; a++) {
+    /* shadow and alpha AOVs are coverage-weighted: their composite over a
+     * black background, as the other AOVs */
+    st = satf_renderer_render(r, (satf_aov)a, a == 0 ? timing : NULL, err);
+    if (st == SATF_OK)
+      st = satf_gl_target_read_bottom_up(r->out, 0, buf, px * 4, err);
+    if (st == SATF_OK)
+      st = satf_image_store_interleaved(img, buf, 4, dest[a],
+                                        SATF_ROWS_BOTTOM_UP, err);
+  }
+  free(buf);
+  if (st != SATF_OK) {
+    satf_image_destroy(img);
+    return st;
+  }
+  *out = img;
+  return SATF_OK;
+}
