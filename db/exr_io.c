@@ -184,6 +184,8 @@ satf_status satf_exr_read(const char *path, const char *const *names,
   int32_t lines = 1;
   if (st == SATF_OK && exr_get_scanlines_per_chunk(ctx, 0, &lines) != EXR_ERR_SUCCESS)
     st = satf_error_set(err, SATF_ERR_FORMAT, "%s: bad chunk layout", path);
+  float *scratch = NULL;
+  size_t scratch_size = 0;
   for (long long y = dw.min.y; st == SATF_OK && y <= dw.max.y; y += lines) {
     exr_chunk_info_t cinfo;
     exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
@@ -195,8 +197,21 @@ satf_status satf_exr_read(const char *path, const char *const *names,
       if (row0 < 0 || row0 + cinfo.height > h) {
         rc = EXR_ERR_CORRUPT_CHUNK;
       } else {
-        for (int e = 0; e < dec.channel_count; e++) {
-          dec.channels[e].decode_to_ptr = NULL;
+        /* Channels nobody asked for are decoded into scratch: OpenEXRCore
+         * 3.1 can crash converting a chunk when some channels are skipped
+         * (NULL decode_to_ptr) and others converted from half. */
+        size_t need = (size_t)w * (size_t)cinfo.height;
+        if (need > scratch_size) {
+          float *grown = realloc(scratch, need * sizeof(float));
+          if (grown) {
+            scratch = grown;
+            scratch_size = need;
+          }
+        }
+        if (need > scratch_size)
+          rc = EXR_ERR_OUT_OF_MEMORY;
+        for (int e = 0; rc == EXR_ERR_SUCCESS && e < dec.channel_count; e++) {
+          dec.channels[e].decode_to_ptr = (uint8_t *)scratch;
           for (int i = 0; i < nnames; i++)
             if (strcmp(names[i], dec.channels[e].channel_name) == 0)
               dec.channels[e].decode_to_ptr =
@@ -206,7 +221,8 @@ satf_status satf_exr_read(const char *path, const char *const *names,
           dec.channels[e].user_pixel_stride = 4;
           dec.channels[e].user_line_stride = (int32_t)(4 * w);
         }
-        rc = exr_decoding_choose_default_routines(ctx, 0, &dec);
+        if (rc == EXR_ERR_SUCCESS)
+          rc = exr_decoding_choose_default_routines(ctx, 0, &dec);
         if (rc == EXR_ERR_SUCCESS)
           rc = exr_decoding_run(ctx, 0, &dec);
       }
@@ -217,6 +233,7 @@ satf_status satf_exr_read(const char *path, const char *const *names,
                           "%s: cannot decode scanlines at y=%lld: %s", path, y,
                           describe(&msg, rc));
   }
+  free(scratch);
   exr_finish(&ctx);
   if (st != SATF_OK) {
     for (int i = 0; i < nnames; i++) {

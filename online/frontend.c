@@ -37,7 +37,10 @@ const char *const satf_frontend_effect_help =
     "                       Fig. 4a)\n"
     "  --no-secondary       no secondary highlight (Fig. 4b)\n"
     "  --no-self-shadow     no s-map self-shadowing (Fig. 4c)\n"
-    "  --no-cluster-shadows no deep-opacity shadows between clusters\n";
+    "  --no-cluster-shadows no deep-opacity shadows between clusters\n"
+    "  --composite MODE     exact: every fragment of a pixel sorted by depth;\n"
+    "                       ordered: clusters far to near, shells back to\n"
+    "                       front by drawing order (faster)\n";
 
 int satf_frontend_effect_flag(const char *arg, satf_scene_effects *e) {
   if (!strcmp(arg, "--no-satf"))
@@ -51,6 +54,14 @@ int satf_frontend_effect_flag(const char *arg, satf_scene_effects *e) {
   else
     return 0;
   return 1;
+}
+
+int satf_frontend_composite(const char *value) {
+  if (value && !strcmp(value, "exact"))
+    return SATF_COMPOSITE_EXACT;
+  if (value && !strcmp(value, "ordered"))
+    return SATF_COMPOSITE_ORDERED;
+  return -1;
 }
 
 void satf_frontend_table_header(FILE *out) {

@@ -24,6 +24,9 @@ void satf_frontend_free(satf_frontend *fe);
 int satf_frontend_effect_flag(const char *arg, satf_scene_effects *e);
 extern const char *const satf_frontend_effect_help;
 
+/* Parses --composite's value ("exact" or "ordered"); -1 if neither. */
+int satf_frontend_composite(const char *value);
+
 /* Table 1 of the paper: C#, L#, S#, H#, then ms for I, C, M, L, S and FPS. */
 void satf_frontend_table_header(FILE *out);
 void satf_frontend_table_row(FILE *out, const char *name,

@@ -77,6 +77,7 @@ void satf_shell_geom_destroy(satf_shell_geom *g) {
 struct satf_maps {
   const satf_db *db;
   int width;
+  float re_scale; /* 1 / mean reflectance of the database's opaque samples */
   float lo[SATF_FEATURES], scale[SATF_FEATURES];
   uint16_t *index; /* AZIMUTH_BINS x width: record sample left of column x */
   float *frac;     /* AZIMUTH_BINS x width: weight of the sample after it */
@@ -85,6 +86,28 @@ struct satf_maps {
 satf_map_options satf_map_options_default(void) {
   satf_map_options o = {0.05f, 1};
   return o;
+}
+
+/* Mean of re / alpha over every record sample with alpha > 0.5. The
+ * renderer uses reflectance relative to it, so that k_dif, k_speI and
+ * k_speII keep their meaning whatever Phong constants built the database
+ * (the paper multiplies lighting by re without saying what scale re has). */
+static float mean_reflectance(const satf_db *db) {
+  const satf_build_params *p = satf_db_params(db);
+  double sum = 0.0;
+  long n = 0;
+  for (int i = 0; i < p->samples; i++)
+    for (int iv = 0; iv < p->n_view; iv++)
+      for (int il = 0; il < p->n_light; il++) {
+        const float *re, *al;
+        satf_db_record(db, i, iv, il, &re, &al);
+        for (int j = 0; j < p->trace.width; j++)
+          if (al[j] > 0.5f) {
+            sum += re[j] / al[j];
+            n++;
+          }
+      }
+  return n > 0 && sum > 0.0 ? (float)(sum / (double)n) : 1.0f;
 }
 
 satf_status satf_maps_create(const satf_db *db, satf_maps **out,
@@ -112,6 +135,7 @@ satf_status satf_maps_create(const satf_db *db, satf_maps **out,
     satf_maps_destroy(m);
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }
+  m->re_scale = 1.0f / mean_reflectance(db);
   const satf_sector_shape *shape = &satf_db_params(db)->shape;
   for (int b = 0; b < AZIMUTH_BINS; b++) {
     float theta = TWO_PI_F * (float)b / AZIMUTH_BINS;
@@ -229,7 +253,7 @@ static void lay_row(const satf_maps *m, const float *re, const float *al,
     float r = re[i] + f * (re[i + 1] - re[i]);
     float a = al[i] + f * (al[i + 1] - al[i]);
     float *t = row + 4 * x;
-    t[0] = a > 1e-4f ? r / a : 0.0f;
+    t[0] = a > 1e-4f ? m->re_scale * r / a : 0.0f;
     t[1] = a;
     t[3] = density;
   }

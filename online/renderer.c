@@ -19,8 +19,7 @@
 #include "satf/mesh.h"
 #include "satf/vdb.h"
 
-#define DOM_SIZE 512
-#define NOISE_SIZE 256
+#define DOM_SIZE 256
 /* Fragments each pixel can keep at first; the arrays grow (up to
  * SATF_MAX_FRAGMENTS) when a frame needs more. */
 #define START_SLOTS 16
@@ -38,6 +37,7 @@ typedef struct proto {
 typedef struct inst {
   int proto;
   float m[16], inv[16], nmat[9];
+  float centre[3]; /* world position of the cluster's middle, for sorting */
   satf_shell_geom geom; /* shallow copy; own features only with a VDB */
   int own_features;
   float *angles, *texels;
@@ -61,8 +61,9 @@ struct satf_renderer {
   inst *insts;
   satf_render_stats stats;
   /* GL */
-  GLuint prog_shade, prog_depth, prog_dom, prog_resolve, prog_display;
-  GLuint empty_vao, noise_tex, counts_tex, frags_tex, list_fbo;
+  satf_composite composite;
+  GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve, prog_display;
+  GLuint empty_vao, counts_tex, frags_tex, list_fbo;
   int slots; /* fragments kept per pixel */
   satf_gl_target *out, *dom_depth, *dom_opacity;
   float light_viewproj[16], dom_slab;
@@ -202,6 +203,11 @@ static satf_status build_inst(satf_renderer *r, inst *in, int pi,
   satf_mat4_normal_matrix(in->m, in->nmat);
   in->geom = p->geom;
   size_t sectors = satf_shell_sector_count(&p->geom.shell);
+  float local[3] = {0, 0, 0};
+  for (size_t q = 0; q < sectors; q++)
+    for (int a = 0; a < 3; a++)
+      local[a] += p->geom.frames[9 * q + a] / (float)sectors;
+  satf_mat4_point(in->m, local, in->centre);
   if (p->vdb) { /* world-space density: features differ per instance */
     in->geom.features = malloc(sectors * 3 * sizeof(float));
     in->own_features = 1;
@@ -235,9 +241,29 @@ static satf_status build_inst(satf_renderer *r, inst *in, int pi,
 
 /* ---- GL resources ------------------------------------------------------ */
 
+/* src with `line` inserted after its #version line. */
+static char *with_define(const char *src, const char *line) {
+  const char *nl = strchr(src, '\n');
+  size_t head = nl ? (size_t)(nl - src) + 1 : 0;
+  char *out = malloc(strlen(src) + strlen(line) + 1);
+  if (out) {
+    memcpy(out, src, head);
+    strcpy(out + head, line);
+    strcat(out, src + head);
+  }
+  return out;
+}
+
 static satf_status build_programs(satf_renderer *r, satf_error *err) {
   satf_status st = satf_gl_program_build("shade", satf_glsl_layer_vs,
                                          satf_glsl_shade_fs, &r->prog_shade, err);
+  char *ordered = with_define(satf_glsl_shade_fs, "#define EXACT 0\n");
+  if (!ordered)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  if (st == SATF_OK)
+    st = satf_gl_program_build("shade (ordered)", satf_glsl_layer_vs, ordered,
+                               &r->prog_shade_ordered, err);
+  free(ordered);
   if (st == SATF_OK)
     st = satf_gl_program_build("depth", satf_glsl_layer_vs, satf_glsl_depth_fs,
                                &r->prog_depth, err);
@@ -251,22 +277,6 @@ static satf_status build_programs(satf_renderer *r, satf_error *err) {
     st = satf_gl_program_build("display", satf_glsl_fullscreen_vs,
                                satf_glsl_display_fs, &r->prog_display, err);
   return st;
-}
-
-static void make_noise(satf_renderer *r) {
-  static float noise[NOISE_SIZE * NOISE_SIZE];
-  satf_rng rng;
-  satf_rng_seed(&rng, 2004, 2); /* fixed: the noise is part of the look */
-  for (int i = 0; i < NOISE_SIZE * NOISE_SIZE; i++)
-    noise[i] = (float)satf_rng_uniform(&rng);
-  glGenTextures(1, &r->noise_tex);
-  glBindTexture(GL_TEXTURE_2D, r->noise_tex);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, NOISE_SIZE, NOISE_SIZE, 0, GL_RED,
-               GL_FLOAT, noise);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
 }
 
 /* Per-pixel fragment arrays: an r32ui counter per pixel and a layered
@@ -363,7 +373,6 @@ satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
     st = build_programs(r, err);
   if (st == SATF_OK) {
     glGenVertexArrays(1, &r->empty_vao);
-    make_noise(r);
     st = alloc_screen(r, err);
   }
   if (st == SATF_OK)
@@ -410,15 +419,15 @@ void satf_renderer_destroy(satf_renderer *r) {
   }
   free(r->protos);
   free(r->insts);
-  GLuint progs[5] = {r->prog_shade, r->prog_depth, r->prog_dom, r->prog_resolve,
-                     r->prog_display};
-  for (int i = 0; i < 5; i++)
+  GLuint progs[6] = {r->prog_shade, r->prog_shade_ordered, r->prog_depth,
+                     r->prog_dom, r->prog_resolve, r->prog_display};
+  for (int i = 0; i < 6; i++)
     if (progs[i])
       glDeleteProgram(progs[i]);
   if (r->empty_vao)
     glDeleteVertexArrays(1, &r->empty_vao);
-  GLuint texs[3] = {r->noise_tex, r->counts_tex, r->frags_tex};
-  glDeleteTextures(3, texs);
+  GLuint texs[2] = {r->counts_tex, r->frags_tex};
+  glDeleteTextures(2, texs);
   if (r->list_fbo)
     glDeleteFramebuffers(1, &r->list_fbo);
   satf_gl_target_destroy(r->out);
@@ -451,6 +460,12 @@ satf_scene_light *satf_renderer_light(satf_renderer *r, int i) {
   return i >= 0 && i < r->nlights ? &r->lights[i] : NULL;
 }
 int satf_renderer_light_count(const satf_renderer *r) { return r->nlights; }
+void satf_renderer_set_composite(satf_renderer *r, satf_composite mode) {
+  r->composite = mode;
+}
+satf_composite satf_renderer_composite(const satf_renderer *r) {
+  return r->composite;
+}
 unsigned satf_renderer_texture(const satf_renderer *r) {
   return satf_gl_target_color_texture(r->out, 0);
 }
@@ -567,29 +582,50 @@ static void set_mat4(GLuint prog, const char *name, const float m[16]) {
   glUniformMatrix4fv(glGetUniformLocation(prog, name), 1, GL_TRUE, m);
 }
 
-static void draw_layers(satf_renderer *r, GLuint prog, const float viewproj[16]) {
+/* Sets the per-pass uniforms of a layer program; returns its per-draw
+ * uniform locations (model, normal matrix, layer, st). */
+static void use_layer_program(const satf_renderer *r, GLuint prog,
+                              const float viewproj[16], GLint loc[4]) {
   glUseProgram(prog);
   set_mat4(prog, "u_viewproj", viewproj);
   glUniform1i(glGetUniformLocation(prog, "u_maps"), 0);
   glUniform1i(glGetUniformLocation(prog, "u_satf"), r->effects.satf);
   glUniform1f(glGetUniformLocation(prog, "u_plain_opacity"), 3.0f);
-  GLint loc_model = glGetUniformLocation(prog, "u_model");
-  GLint loc_nmat = glGetUniformLocation(prog, "u_normal_matrix");
-  GLint loc_layer = glGetUniformLocation(prog, "u_layer");
-  GLint loc_st = glGetUniformLocation(prog, "u_st");
+  loc[0] = glGetUniformLocation(prog, "u_model");
+  loc[1] = glGetUniformLocation(prog, "u_normal_matrix");
+  loc[2] = glGetUniformLocation(prog, "u_layer");
+  loc[3] = glGetUniformLocation(prog, "u_st");
   glActiveTexture(GL_TEXTURE0);
+}
+
+static void bind_instance(const inst *in, const GLint loc[4]) {
+  glUniformMatrix4fv(loc[0], 1, GL_TRUE, in->m);
+  glUniformMatrix3fv(loc[1], 1, GL_TRUE, in->nmat);
+  glUniform1i(loc[3], in->geom.shell.st);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
+}
+
+static void draw_layer(const proto *p, int k, const GLint loc[4]) {
+  glUniform1i(loc[2], k);
+  glBindVertexArray(p->vao[k]);
+  glDrawElements(GL_TRIANGLES, p->count[k], GL_UNSIGNED_INT, NULL);
+}
+
+/* Every layer of every cluster (or only the outermost), in list order,
+ * for passes whose result does not depend on order. */
+static void draw_layers(satf_renderer *r, GLuint prog, const float viewproj[16],
+                        int outermost_only) {
+  GLint loc[4];
+  use_layer_program(r, prog, viewproj, loc);
+  GLint loc_layers = glGetUniformLocation(prog, "u_layers");
   for (int i = 0; i < r->ninsts; i++) {
     inst *in = &r->insts[i];
     proto *p = &r->protos[in->proto];
-    glUniformMatrix4fv(loc_model, 1, GL_TRUE, in->m);
-    glUniformMatrix3fv(loc_nmat, 1, GL_TRUE, in->nmat);
-    glUniform1i(loc_st, in->geom.shell.st);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
-    for (int k = 0; k < p->layers; k++) {
-      glUniform1i(loc_layer, k);
-      glBindVertexArray(p->vao[k]);
-      glDrawElements(GL_TRIANGLES, p->count[k], GL_UNSIGNED_INT, NULL);
-    }
+    bind_instance(in, loc);
+    glUniform1i(loc_layers, p->layers);
+    for (int k = outermost_only ? p->layers - 1 : 0; k < p->layers; k++)
+      draw_layer(p, k, loc);
   }
   glBindVertexArray(0);
 }
@@ -640,7 +676,7 @@ static void render_dom(satf_renderer *r) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  draw_layers(r, r->prog_depth, r->light_viewproj);
+  draw_layers(r, r->prog_depth, r->light_viewproj, 1);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDisable(GL_DEPTH_TEST);
 
@@ -652,9 +688,8 @@ static void render_dom(satf_renderer *r) {
   glActiveTexture(GL_TEXTURE1);
   glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
   glUniform1i(glGetUniformLocation(r->prog_dom, "u_dom_depth"), 1);
-  glUniform2f(glGetUniformLocation(r->prog_dom, "u_dom_size"), DOM_SIZE, DOM_SIZE);
   glUniform1f(glGetUniformLocation(r->prog_dom, "u_dom_slab"), r->dom_slab);
-  draw_layers(r, r->prog_dom, r->light_viewproj);
+  draw_layers(r, r->prog_dom, r->light_viewproj, 1);
   glDisable(GL_BLEND);
 }
 
@@ -677,8 +712,7 @@ static void camera_matrices(const satf_renderer *r, float viewproj[16]) {
   satf_mat4_mul(proj, view, viewproj);
 }
 
-static void set_shading_uniforms(satf_renderer *r, satf_aov aov) {
-  GLuint p = r->prog_shade;
+static void set_shading_uniforms(satf_renderer *r, GLuint p, satf_aov aov) {
   const satf_scene_material *m = &r->scene->material;
   glUseProgram(p);
   glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
@@ -712,9 +746,6 @@ static void set_shading_uniforms(satf_renderer *r, satf_aov aov) {
   glUniform1f(glGetUniformLocation(p, "u_kcluster"), 1.0f);
   glUniform1f(glGetUniformLocation(p, "u_dom_slab"), r->dom_slab);
   set_mat4(p, "u_light_viewproj", r->light_viewproj);
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, r->noise_tex);
-  glUniform1i(glGetUniformLocation(p, "u_noise_tex"), 1);
   glActiveTexture(GL_TEXTURE2);
   glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
   glUniform1i(glGetUniformLocation(p, "u_dom_depth"), 2);
@@ -769,8 +800,8 @@ static GLuint render_lists(satf_renderer *r, satf_aov aov,
   glViewport(0, 0, r->width, r->height);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
-  set_shading_uniforms(r, aov);
-  draw_layers(r, r->prog_shade, viewproj);
+  set_shading_uniforms(r, r->prog_shade, aov);
+  draw_layers(r, r->prog_shade, viewproj, 0);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                   GL_TEXTURE_FETCH_BARRIER_BIT);
   satf_gl_target_bind(r->out);
@@ -810,6 +841,70 @@ static GLuint render_lists(satf_renderer *r, satf_aov aov,
   return most;
 }
 
+typedef struct depth_key {
+  float d2;
+  float centre[3];
+  int index;
+} depth_key;
+
+/* Far first; equal distances by position, never by list order. */
+static int farther_first(const void *a, const void *b) {
+  const depth_key *x = a, *y = b;
+  if (x->d2 != y->d2)
+    return x->d2 < y->d2 ? 1 : -1;
+  for (int k = 0; k < 3; k++)
+    if (x->centre[k] != y->centre[k])
+      return x->centre[k] < y->centre[k] ? -1 : 1;
+  return 0;
+}
+
+/* SATF eq. 14 by drawing order (see satf_composite in renderer.h). */
+static satf_status render_ordered(satf_renderer *r, satf_aov aov,
+                                  const float viewproj[16], satf_error *err) {
+  depth_key *keys = malloc((size_t)r->ninsts * sizeof *keys);
+  if (!keys)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  for (int i = 0; i < r->ninsts; i++) {
+    const float *c = r->insts[i].centre, *e = r->camera.position;
+    keys[i].d2 = (c[0] - e[0]) * (c[0] - e[0]) + (c[1] - e[1]) * (c[1] - e[1]) +
+                 (c[2] - e[2]) * (c[2] - e[2]);
+    memcpy(keys[i].centre, c, sizeof keys[i].centre);
+    keys[i].index = i;
+  }
+  qsort(keys, (size_t)r->ninsts, sizeof *keys, farther_first);
+  satf_gl_target_bind(r->out);
+  if (aov == SATF_AOV_BEAUTY)
+    glClearColor(r->scene->background[0], r->scene->background[1],
+                 r->scene->background[2], 0.0f);
+  else
+    glClearColor(0, 0, 0, 0);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glDisable(GL_DEPTH_TEST);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
+  glEnable(GL_CULL_FACE);
+  GLuint prog = r->prog_shade_ordered;
+  set_shading_uniforms(r, prog, aov);
+  GLint loc[4];
+  use_layer_program(r, prog, viewproj, loc);
+  for (int q = 0; q < r->ninsts; q++) {
+    const inst *in = &r->insts[keys[q].index];
+    const proto *p = &r->protos[in->proto];
+    bind_instance(in, loc);
+    glCullFace(GL_FRONT); /* back halves, outer layer first */
+    for (int k = p->layers - 1; k >= 0; k--)
+      draw_layer(p, k, loc);
+    glCullFace(GL_BACK); /* front halves, inner layer first */
+    for (int k = 0; k < p->layers; k++)
+      draw_layer(p, k, loc);
+  }
+  glBindVertexArray(0);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  free(keys);
+  return SATF_OK;
+}
+
 satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,
                                  satf_frame_timing *timing, satf_error *err) {
   satf_frame_timing t;
@@ -826,8 +921,16 @@ satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,
   float viewproj[16];
   camera_matrices(r, viewproj);
   long count = 0;
-  GLuint most = render_lists(r, aov, viewproj, &count);
-  if ((int)most > r->slots && r->slots < SATF_MAX_FRAGMENTS) {
+  GLuint most = 0;
+  if (r->composite == SATF_COMPOSITE_ORDERED) {
+    st = render_ordered(r, aov, viewproj, err);
+    if (st != SATF_OK)
+      return st;
+  } else {
+    most = render_lists(r, aov, viewproj, &count);
+  }
+  if (r->composite == SATF_COMPOSITE_EXACT && (int)most > r->slots &&
+      r->slots < SATF_MAX_FRAGMENTS) {
     /* some pixel had more fragments than slots: grow and draw again */
     int slots = (int)most + 4;
     st = alloc_lists(r, slots < SATF_MAX_FRAGMENTS ? slots : SATF_MAX_FRAGMENTS,

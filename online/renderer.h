@@ -26,6 +26,17 @@ typedef enum satf_aov {
 
 const char *satf_aov_name(satf_aov aov);
 
+/* How layers are composited (SATF eq. 14 over every cluster):
+ * EXACT sorts every fragment of every pixel by depth (per-pixel fragment
+ * arrays); ORDERED draws clusters far to near and, within a cluster, the
+ * back halves of the shells outer to inner and then the front halves inner
+ * to outer, with fixed-function blending: exact for clusters that do not
+ * interleave in depth, and several times faster on a CPU rasteriser. */
+typedef enum satf_composite {
+  SATF_COMPOSITE_EXACT = 0,
+  SATF_COMPOSITE_ORDERED
+} satf_composite;
+
 /* Per-frame stage times in ms, named as the paper's Table 1. */
 typedef struct satf_frame_timing {
   double index_ms;    /* I: SATF parameters (azimuths, eq. 6 test) */
@@ -58,6 +69,8 @@ satf_scene_camera *satf_renderer_camera(satf_renderer *r);
 satf_scene_effects *satf_renderer_effects(satf_renderer *r);
 satf_scene_light *satf_renderer_light(satf_renderer *r, int index);
 int satf_renderer_light_count(const satf_renderer *r);
+void satf_renderer_set_composite(satf_renderer *r, satf_composite mode);
+satf_composite satf_renderer_composite(const satf_renderer *r);
 
 /* Renders one frame of `aov` into the renderer's RGBA32F target. */
 satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,

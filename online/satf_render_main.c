@@ -57,6 +57,7 @@ int main(int argc, char **argv) {
   long w = 0, h = 0, bench = 0, threads = 0;
   int aov = 0, quiet = 0;
   satf_scene_effects off = {1, 1, 1, 1};
+  int composite = SATF_COMPOSITE_EXACT;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
 #define NEED_VALUE                                                             \
@@ -80,6 +81,13 @@ int main(int argc, char **argv) {
       NEED_VALUE if (satf_cli_int(PROG, a, val, 1, 100000, &bench)) return 2;
     } else if (!strcmp(a, "--threads")) {
       NEED_VALUE if (satf_cli_int(PROG, a, val, 0, 1024, &threads)) return 2;
+    } else if (!strcmp(a, "--composite")) {
+      NEED_VALUE composite = satf_frontend_composite(val);
+      if (composite < 0) {
+        fprintf(stderr, "%s: --composite: expected exact or ordered, got '%s'\n",
+                PROG, val);
+        return 2;
+      }
     } else if (!strcmp(a, "--aov")) {
       aov = 1;
     } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
@@ -132,6 +140,7 @@ int main(int argc, char **argv) {
   e->secondary_highlight &= off.secondary_highlight;
   e->self_shadow &= off.self_shadow;
   e->cluster_shadows &= off.cluster_shadows;
+  satf_renderer_set_composite(r, (satf_composite)composite);
   satf_render_stats stats;
   satf_renderer_stats(r, &stats);
   satf_frame_timing t;

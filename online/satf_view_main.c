@@ -27,7 +27,8 @@ static void usage(FILE *out) {
           "Interactive SATF hair preview.\n"
           "  mouse: left drag orbit, wheel zoom, right drag move the key light\n"
           "  keys:  1 SATF maps  2 secondary highlight  3 self-shadow\n"
-          "         4 cluster shadows  S save frame (EXR + PNG)  R reset view\n"
+          "         4 cluster shadows  O exact/ordered compositing\n"
+          "         S save frame (EXR + PNG)  R reset view\n"
           "         Q / Esc quit\n"
           "\n"
           "options:\n"
@@ -104,6 +105,12 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods) {
   case GLFW_KEY_3: e->self_shadow = !e->self_shadow; break;
   case GLFW_KEY_4: e->cluster_shadows = !e->cluster_shadows; break;
   case GLFW_KEY_S: v->save_requested = 1; break;
+  case GLFW_KEY_O:
+    satf_renderer_set_composite(v->r, satf_renderer_composite(v->r) ==
+                                              SATF_COMPOSITE_EXACT
+                                          ? SATF_COMPOSITE_ORDERED
+                                          : SATF_COMPOSITE_EXACT);
+    break;
   case GLFW_KEY_R: reset_view(v); break;
   case GLFW_KEY_Q:
   case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
@@ -211,6 +218,7 @@ int main(int argc, char **argv) {
   const char *scene_path = NULL, *db_path = NULL, *shot = NULL;
   long w = 0, h = 0, frames = 3;
   satf_scene_effects off = {1, 1, 1, 1};
+  int composite = SATF_COMPOSITE_ORDERED;
   viewer v;
   memset(&v, 0, sizeof v);
   v.prefix = "satf-view";
@@ -218,7 +226,7 @@ int main(int argc, char **argv) {
     const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
     int needs = !strcmp(a, "--db") || !strcmp(a, "--size") ||
                 !strcmp(a, "--save-prefix") || !strcmp(a, "--screenshot") ||
-                !strcmp(a, "--frames");
+                !strcmp(a, "--frames") || !strcmp(a, "--composite");
     if (needs && !val) {
       fprintf(stderr, "%s: %s needs a value (see --help)\n", PROG, a);
       return 2;
@@ -235,6 +243,12 @@ int main(int argc, char **argv) {
       v.prefix = argv[++i];
     } else if (!strcmp(a, "--screenshot")) {
       shot = argv[++i];
+    } else if (!strcmp(a, "--composite")) {
+      composite = satf_frontend_composite(argv[++i]);
+      if (composite < 0) {
+        fprintf(stderr, "%s: --composite: expected exact or ordered\n", PROG);
+        return 2;
+      }
     } else if (!strcmp(a, "--frames")) {
       if (satf_cli_int(PROG, a, argv[++i], 1, 1000000, &frames))
         return 2;
@@ -278,6 +292,7 @@ int main(int argc, char **argv) {
   e->secondary_highlight &= off.secondary_highlight;
   e->self_shadow &= off.self_shadow;
   e->cluster_shadows &= off.cluster_shadows;
+  satf_renderer_set_composite(v.r, (satf_composite)composite);
   v.home = *satf_renderer_camera(v.r);
   reset_view(&v);
   satf_scene_light *key = satf_renderer_light(v.r, 0);
@@ -340,12 +355,15 @@ int main(int argc, char **argv) {
       char title[256];
       snprintf(title, sizeof title,
                "satf-view  %.1f FPS | I %.1f C %.1f M %.1f L %.1f S %.1f ms | "
-               "[1]satf %s [2]specII %s [3]self-shadow %s [4]cluster shadows %s",
+               "[1]satf %s [2]specII %s [3]self-shadow %s [4]cluster shadows %s "
+               "[O]%s",
                fps, t.index_ms, t.maps_ms, t.upload_ms, t.lighting_ms,
                t.shadow_ms, e->satf ? "on" : "off",
                e->secondary_highlight ? "on" : "off",
                e->self_shadow ? "on" : "off",
-               e->cluster_shadows ? "on" : "off");
+               e->cluster_shadows ? "on" : "off",
+               satf_renderer_composite(v.r) == SATF_COMPOSITE_EXACT ? "exact"
+                                                                    : "ordered");
       glfwSetWindowTitle(gw, title);
     }
     satf_gl_window_poll(win);

@@ -2,6 +2,10 @@
 #ifndef SATF_ONLINE_SHADERS_H
 #define SATF_ONLINE_SHADERS_H
 
+/* The lighting functions alone (no #version), for tests that evaluate them:
+ * float kk_diffuse(vec3 t, vec3 l); float kk_specular(vec3 t, vec3 l,
+ * vec3 v, float exponent); vec3 shifted(vec3 t, vec3 n, float s). */
+extern const char *const satf_glsl_lighting;
 extern const char *const satf_glsl_layer_vs;    /* shell layer vertices */
 extern const char *const satf_glsl_shade_fs;    /* eq. 8-13 + list append */
 extern const char *const satf_glsl_dom_fs;      /* deep opacity map slabs */

@@ -1,0 +1,255 @@
+/* import.h - turning strand hair (satf/strands.h) into the SATF hierarchy
+ * (Xu et al. 2006, sec. 3.1-3.3, "in case the hair model is given as strand
+ * positions"): strands are grouped into clusters (k-means on resampled
+ * strand shapes), each cluster gets a generalized cylinder fitted to its
+ * strands (satf/cluster.h), clusters whose shapes agree after a similarity
+ * transform share one prototype (macro-clusters), and the strands become
+ * density: per cluster in its (t, v, u) coordinates, and for the whole
+ * hairstyle as a world-space OpenVDB grid. Finally a scene file
+ * (satf/scene.h, samples/README.md) is written.
+ *
+ * Owns: the clustering result (labels), satf_import_fit (one cluster's
+ * fitted parameters and fit quality), satf_import_projection (strand points
+ * in a cluster's coordinates), satf_import_macro (prototypes and
+ * transforms), satf_import_density (a cluster's density grid) and the scene
+ * writer's options. Every struct with pointers is freed by its *_free. */
+#ifndef SATF_IMPORT_H
+#define SATF_IMPORT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "satf/cluster.h"
+#include "satf/satf.h"
+#include "satf/scene.h"
+#include "satf/strands.h"
+#include "satf/vdb.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SATF_IMPORT_MAX_CLUSTERS 4096
+
+/* Called now and then from the calling thread; may be NULL. */
+typedef void (*satf_import_progress_fn)(void *ctx, size_t done, size_t total);
+
+/* ---- Clustering (import_cluster.c) ------------------------------------ */
+
+typedef struct satf_import_cluster_params {
+  int clusters;   /* 1..SATF_IMPORT_MAX_CLUSTERS, or 0 = choose */
+  int samples;    /* points each strand is resampled to, 2..256 */
+  int iterations; /* Lloyd iterations at most, >= 1 */
+  uint64_t seed;  /* k-means++ seeding */
+  int threads;    /* 0 = all cores */
+} satf_import_cluster_params;
+
+satf_import_cluster_params satf_import_cluster_params_default(void);
+
+/* Resamples strand i to `samples` points evenly spaced in arc length. */
+void satf_import_resample(const satf_strand_set *s, int i, int samples,
+                          float *out);
+
+/* The cluster count chosen when none is given: the smallest power of two
+ * (1..min(1024, strands / 4)) whose k-means RMS strand-to-centre distance is
+ * at most 3% of the hairstyle's bounding-box diagonal, measured on a sample
+ * of at most 4000 strands. */
+satf_status satf_import_choose_clusters(const satf_strand_set *s,
+                                        const satf_import_cluster_params *p,
+                                        int *clusters, satf_error *err);
+
+/* k-means on resampled strand shapes (k-means++ seeding, Lloyd iterations,
+ * empty clusters re-seeded with the farthest strand). labels receives one
+ * cluster index per strand; *n_clusters the count used (the given one, at
+ * most the strand count, or the chosen one); rms (may be NULL) the RMS
+ * distance of resampled points to their centre. Deterministic for a given
+ * seed whatever the thread count. */
+satf_status satf_import_kmeans(const satf_strand_set *s,
+                               const satf_import_cluster_params *p,
+                               int *labels, int *n_clusters, float *rms,
+                               satf_import_progress_fn progress,
+                               void *progress_ctx, satf_error *err);
+
+/* Strand indices of cluster c, in order: *members is malloc'ed. */
+satf_status satf_import_members(const int *labels, int n_strands, int c,
+                                int **members, int *n_members,
+                                satf_error *err);
+
+/* ---- Fitting the generalized cylinder (import_fit.c) ------------------ */
+
+typedef struct satf_import_fit_params {
+  int n_ctrl;     /* trajectory control points, 2..64 */
+  int n_radius;   /* control values of A, B and twist, 1..64 */
+  int samples;    /* points the mean strand is resampled to, >= n_ctrl */
+  float coverage; /* share of strand points the envelope encloses, (0, 1] */
+} satf_import_fit_params;
+
+satf_import_fit_params satf_import_fit_params_default(void);
+
+/* One cluster's generalized cylinder (SATF eq. 1-2) and how well it fits. */
+typedef struct satf_import_fit {
+  int n_ctrl;
+  float *traj; /* n_ctrl * 3 */
+  int n_radius;
+  float *a, *b, *twist; /* n_radius each; a >= b (a is the major axis) */
+  int strands;          /* member strands */
+  size_t points;        /* their points */
+  size_t inside;        /* points inside the envelope (v <= 1) */
+  double distance_sum;  /* sum of point-to-trajectory distances */
+  float length;         /* arc length of the trajectory */
+  /* density estimates (filled by satf_import_estimate_density) */
+  float strand_width; /* diameter, in units of the cluster radius */
+  float radius;       /* sqrt(mean a * mean b), scene units */
+  satf_scene_layout layout;
+  float gradient; /* for SATF_SCENE_LAYOUT_GRADIENT */
+} satf_import_fit;
+
+/* Fits the cluster of the strands `members`: the trajectory is the
+ * least-squares cubic B-spline through the members' mean strand; A, B and
+ * twist come from the principal axes of the points' spread in the normal
+ * plane (weighted by each control value's B-spline basis), then scaled
+ * together so the envelope encloses `coverage` of the points. */
+satf_status satf_import_fit_cluster(const satf_strand_set *s,
+                                    const int *members, int n_members,
+                                    const satf_import_fit_params *p,
+                                    satf_import_fit *out, satf_error *err);
+void satf_import_fit_free(satf_import_fit *fit);
+
+/* The satf_cluster of a fit (caller destroys). */
+satf_status satf_import_fit_cluster_create(const satf_import_fit *fit,
+                                           satf_cluster **out,
+                                           satf_error *err);
+
+/* The point of the trajectory closest to p: its parameter *t, the distance,
+ * and p's offset in the normal-plane frame (n1, n2) at *t. */
+void satf_import_project_point(const satf_cluster *cluster, const float p[3],
+                               float *t, float *distance, float xy[2]);
+
+/* Every member strand's points in the cluster's coordinates: t, and the
+ * normalised cross-section position (x, y) = v (cos u, sin u) (SATF eq. 1,
+ * so v = 1 on the envelope). */
+typedef struct satf_import_projection {
+  int n_strands;
+  size_t *offset; /* n_strands + 1 */
+  float *txy;     /* 3 per point */
+} satf_import_projection;
+
+satf_status satf_import_project(const satf_strand_set *s, const int *members,
+                                int n_members, const satf_cluster *cluster,
+                                satf_import_projection *out, satf_error *err);
+void satf_import_projection_free(satf_import_projection *p);
+/* Position (x, y) of projected strand i where it crosses t; 0 when it does
+ * not reach t. */
+int satf_import_projection_at(const satf_import_projection *p, int i, float t,
+                              float xy[2]);
+
+/* ---- Density (import_density.c) --------------------------------------- */
+
+/* Fills fit->strand_width (twice the mean nearest-neighbour spacing of the
+ * strands in the normalised cross-section, so the file's strands fill the
+ * cluster as the many more strands of real hair would), fit->radius, and
+ * the layout: "gradient" with the slope g of 1 + g (v - 1/2) when the
+ * strands' mean v says |g| >= 0.3, else "uniform". */
+void satf_import_estimate_density(const satf_import_projection *proj,
+                                  satf_import_fit *fit);
+
+/* A cluster's density in its own coordinates (SATF sec. 3.3): nt slices at
+ * t = (i + 0.5) / nt, each an n x n grid over normalised (x, y) in
+ * [-extent, extent]^2, in which every strand crossing the slice adds a
+ * circular Gaussian of standard deviation sigma (normalised units) and
+ * mass pi sigma^2 (coverage units: a lone strand peaks near 1/2). */
+typedef struct satf_import_density {
+  int nt, n;
+  float extent, sigma;
+  float *values; /* nt * n * n, [(i * n + y) * n + x] */
+} satf_import_density;
+
+satf_status satf_import_cluster_density(const satf_import_projection *proj,
+                                        int nt, int n, float extent,
+                                        float sigma, satf_import_density *out,
+                                        satf_error *err);
+void satf_import_density_free(satf_import_density *d);
+/* Integral of slice i: sum of values x cell area. */
+double satf_import_density_slice_mass(const satf_import_density *d, int i);
+
+/* World-space Gaussian width of a cluster's strands: half the strand width
+ * times the cluster radius. */
+float satf_import_world_sigma(const satf_import_fit *fit);
+
+/* The whole hairstyle's density in world space: every segment of strand i
+ * is a tube of width satf_import_world_sigma(fits[labels[i]]) and mass pi
+ * sigma^2 per unit length (coverage units, as the per-cluster grids). */
+satf_status satf_import_build_vdb(const satf_strand_set *s, const int *labels,
+                                  const satf_import_fit *fits, float voxel,
+                                  satf_vdb_builder **out,
+                                  satf_import_progress_fn progress,
+                                  void *progress_ctx, satf_error *err);
+
+/* ---- Macro-clusters (import_macro.c) ---------------------------------- */
+
+/* Clusters whose shapes match within `tolerance` after a similarity
+ * transform share one prototype (SATF sec. 3.1). */
+typedef struct satf_import_macro {
+  int n_clusters;
+  int n_macro;
+  int *prototype;      /* n_macro cluster indices */
+  int *macro_of;       /* n_clusters: the macro-cluster of each cluster */
+  float *transform;    /* n_clusters x 16 row-major: prototype -> cluster */
+  float *residual;     /* n_clusters: shape mismatch / prototype length */
+  size_t bytes_separate; /* cluster parameters stored one by one */
+  size_t bytes_shared;   /* prototypes + one transform per instance */
+} satf_import_macro;
+
+/* The best similarity transform (scale s, rotation R, translation) taking n
+ * points `from` onto `to` in the least-squares sense (Horn's quaternion
+ * method; R is a proper rotation). m receives the 4x4 row-major matrix;
+ * returns the RMS residual. */
+double satf_import_similarity(const double *from, const double *to, int n,
+                              double m[16]);
+
+/* Greedy grouping: each cluster not yet grouped becomes a prototype and
+ * takes every later ungrouped cluster whose trajectory, after the best
+ * similarity transform, lies within tolerance x the prototype's length
+ * (RMS over samples along t, envelope axis end points included) and whose
+ * transformed cross-section ellipses match within 2 x tolerance relative.
+ * tolerance <= 0 makes every cluster its own prototype. */
+satf_status satf_import_find_macro(const satf_import_fit *fits, int n,
+                                   float tolerance, satf_import_macro *out,
+                                   satf_error *err);
+void satf_import_macro_free(satf_import_macro *m);
+
+/* ---- Scene file (import_scene.c) -------------------------------------- */
+
+typedef struct satf_import_scene_options {
+  const char *vdb_file;    /* density grid to name, or NULL: procedural */
+  const char *vdb_grid;    /* grid name, default "density" */
+  const char *database;    /* written as given, or NULL */
+  const char *description; /* or NULL */
+  int width, height;       /* image size, 0 = 640 x 480 */
+  uint64_t seed;           /* procedural placement seeds start here */
+} satf_import_scene_options;
+
+/* Shell sampling chosen for a fitted cluster: 3..6 layers (more for more
+ * strands), st from the trajectory length over the radius (8..64), su
+ * 16..32 (more for flatter ellipses). */
+satf_scene_shell satf_import_choose_shell(const satf_import_fit *fit);
+
+/* The scene as JSON text (malloc'ed, NUL-terminated): one macro-cluster per
+ * prototype with one instance per member cluster (macro may be NULL: one
+ * macro-cluster per cluster), a camera framing the hair and a key and a
+ * fill light. */
+satf_status satf_import_scene_json(const satf_import_fit *fits, int n,
+                                   const satf_import_macro *macro,
+                                   const satf_import_scene_options *o,
+                                   char **json, satf_error *err);
+/* The same, written to path through a temporary file. */
+satf_status satf_import_write_scene(const char *path,
+                                    const satf_import_fit *fits, int n,
+                                    const satf_import_macro *macro,
+                                    const satf_import_scene_options *o,
+                                    satf_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
