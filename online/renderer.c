@@ -19,7 +19,7 @@
 #include "satf/mesh.h"
 #include "satf/vdb.h"
 
-#define DOM_SIZE 256
+#define DOM_SIZE 128 /* shadows between clusters are soft */
 /* Fragments each pixel can keep at first; the arrays grow (up to
  * SATF_MAX_FRAGMENTS) when a frame needs more. */
 #define START_SLOTS 16
@@ -31,6 +31,7 @@ typedef struct proto {
   satf_vdb_grid *vdb;
   int layers;
   GLuint *vao, *vbo, *ibo;
+  GLuint frame_vbo; /* the outermost shell's local frames (satf_glsl_cluster_vs) */
   GLsizei *count;
 } proto;
 
@@ -125,6 +126,51 @@ static satf_status upload_layer(proto *p, int k, const satf_mesh *mesh) {
   return SATF_OK;
 }
 
+/* Per vertex (i, j) of the outermost shell: the cross-section at t_i as
+ * the shading pass needs it: C(t), n1, n2, (A, B, theta, |dT/dt|) and the
+ * unit tangent of T (locations 4-8). */
+static satf_status upload_frames(proto *p, const satf_shell_params *sh,
+                                 satf_error *err) {
+  int k = sh->layers - 1, cols = sh->su + 1;
+  size_t nv = (size_t)(sh->st + 1) * (size_t)cols;
+  float *f = malloc(nv * 16 * sizeof(float));
+  if (!f)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  for (int i = 0; i <= sh->st; i++) {
+    satf_cluster_section sec;
+    satf_cluster_section_at(p->cluster, (float)i / (float)sh->st, &sec);
+    float speed = sqrtf(sec.dcenter[0] * sec.dcenter[0] +
+                        sec.dcenter[1] * sec.dcenter[1] +
+                        sec.dcenter[2] * sec.dcenter[2]);
+    for (int j = 0; j < cols; j++) {
+      float *v = f + 16 * ((size_t)i * cols + (size_t)j);
+      memcpy(v, sec.center, 3 * sizeof(float));
+      memcpy(v + 3, sec.n1, 3 * sizeof(float));
+      memcpy(v + 6, sec.n2, 3 * sizeof(float));
+      v[9] = sec.a;
+      v[10] = sec.b;
+      v[11] = sec.theta;
+      v[12] = speed;
+      memcpy(v + 13, sec.tangent, 3 * sizeof(float));
+    }
+  }
+  glBindVertexArray(p->vao[k]);
+  glGenBuffers(1, &p->frame_vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, p->frame_vbo);
+  glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * 16 * sizeof(float)), f,
+               GL_STATIC_DRAW);
+  free(f);
+  const GLint sizes[5] = {3, 3, 3, 4, 3};
+  const size_t offs[5] = {0, 3, 6, 9, 13};
+  for (int a = 0; a < 5; a++) {
+    glEnableVertexAttribArray((GLuint)(4 + a));
+    glVertexAttribPointer((GLuint)(4 + a), sizes[a], GL_FLOAT, GL_FALSE,
+                          16 * sizeof(float), (void *)(offs[a] * sizeof(float)));
+  }
+  glBindVertexArray(0);
+  return satf_gl_check("shell frames", err);
+}
+
 static satf_status build_proto(satf_renderer *r, int index,
                                const satf_scene_macro_cluster *mc,
                                satf_error *err) {
@@ -187,7 +233,7 @@ static satf_status build_proto(satf_renderer *r, int index,
     upload_layer(p, k, mesh);
     satf_mesh_destroy(mesh);
   }
-  return SATF_OK;
+  return upload_frames(p, &shell, err);
 }
 
 static satf_status build_inst(satf_renderer *r, inst *in, int pi,
@@ -255,13 +301,20 @@ static char *with_define(const char *src, const char *line) {
 }
 
 static satf_status build_programs(satf_renderer *r, satf_error *err) {
-  satf_status st = satf_gl_program_build("shade", satf_glsl_layer_vs,
-                                         satf_glsl_shade_fs, &r->prog_shade, err);
-  char *ordered = with_define(satf_glsl_shade_fs, "#define EXACT 0\n");
+  /* the light loop runs a compile-time count so it unrolls */
+  char lights[64];
+  snprintf(lights, sizeof lights, "#define NLIGHTS %d\n", r->nlights);
+  char *exact = with_define(satf_glsl_shade_fs, lights);
+  if (!exact)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  satf_status st = satf_gl_program_build("shade", satf_glsl_cluster_vs, exact,
+                                         &r->prog_shade, err);
+  char *ordered = with_define(exact, "#define EXACT 0\n");
+  free(exact);
   if (!ordered)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   if (st == SATF_OK)
-    st = satf_gl_program_build("shade (ordered)", satf_glsl_layer_vs, ordered,
+    st = satf_gl_program_build("shade (ordered)", satf_glsl_cluster_vs, ordered,
                                &r->prog_shade_ordered, err);
   free(ordered);
   if (st == SATF_OK)
@@ -414,6 +467,8 @@ void satf_renderer_destroy(satf_renderer *r) {
     free(p->vbo);
     free(p->ibo);
     free(p->count);
+    if (p->frame_vbo)
+      glDeleteBuffers(1, &p->frame_vbo);
     satf_shell_geom_destroy(&p->geom);
     satf_strands_destroy(p->strands);
     satf_vdb_grid_destroy(p->vdb);
@@ -593,41 +648,59 @@ static void use_layer_program(const satf_renderer *r, GLuint prog,
   glUniform1i(glGetUniformLocation(prog, "u_maps"), 0);
   glUniform1i(glGetUniformLocation(prog, "u_satf"), r->effects.satf);
   glUniform1f(glGetUniformLocation(prog, "u_plain_opacity"), 3.0f);
+  glUniform1i(glGetUniformLocation(prog, "u_map_width"), 0);
   loc[0] = glGetUniformLocation(prog, "u_model");
-  loc[1] = glGetUniformLocation(prog, "u_normal_matrix");
-  loc[2] = glGetUniformLocation(prog, "u_layer");
-  loc[3] = glGetUniformLocation(prog, "u_st");
+  loc[1] = glGetUniformLocation(prog, "u_st");
+  loc[2] = glGetUniformLocation(prog, "u_layers");
+  loc[3] = glGetUniformLocation(prog, "u_core");
   glActiveTexture(GL_TEXTURE0);
 }
 
-static void bind_instance(const inst *in, const GLint loc[4]) {
+/* Per-cluster uniforms: transform, shells, and the eye and lights in the
+ * prototype's frame (where the shading pass traces its rays). */
+static void bind_instance(const satf_renderer *r, GLuint prog, const inst *in,
+                          const GLint loc[4]) {
   glUniformMatrix4fv(loc[0], 1, GL_TRUE, in->m);
-  glUniformMatrix3fv(loc[1], 1, GL_TRUE, in->nmat);
-  glUniform1i(loc[3], in->geom.shell.st);
+  glUniform1i(loc[1], in->geom.shell.st);
+  glUniform1i(glGetUniformLocation(prog, "u_map_width"),
+              in->geom.shell.su * r->w);
+  glUniform1i(loc[2], in->geom.shell.layers);
+  glUniform1f(loc[3], in->geom.shell.core);
+  GLint eye = glGetUniformLocation(prog, "u_eye_local");
+  if (eye >= 0) {
+    float lights[16];
+    for (int k = 0; k < r->nlights; k++) {
+      float lv[4];
+      light_vector(&r->lights[k], lv);
+      if (lv[3] != 0.0f)
+        satf_mat4_point(in->inv, lv, lights + 4 * k);
+      else
+        satf_mat4_vector(in->inv, lv, lights + 4 * k);
+      lights[4 * k + 3] = lv[3];
+    }
+    glUniform3fv(eye, 1, in->eye);
+    glUniform4fv(glGetUniformLocation(prog, "u_light_local"), r->nlights, lights);
+  }
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
 }
 
-static void draw_layer(const proto *p, int k, const GLint loc[4]) {
-  glUniform1i(loc[2], k);
+static void draw_layer(const proto *p, int k) {
   glBindVertexArray(p->vao[k]);
   glDrawElements(GL_TRIANGLES, p->count[k], GL_UNSIGNED_INT, NULL);
 }
 
-/* Every layer of every cluster (or only the outermost), in list order,
- * for passes whose result does not depend on order. */
-static void draw_layers(satf_renderer *r, GLuint prog, const float viewproj[16],
-                        int outermost_only) {
+/* The outermost shell of every cluster, in list order: each fragment
+ * accounts for all the shells behind it (shaders.c). */
+static void draw_clusters(satf_renderer *r, GLuint prog,
+                          const float viewproj[16]) {
   GLint loc[4];
   use_layer_program(r, prog, viewproj, loc);
-  GLint loc_layers = glGetUniformLocation(prog, "u_layers");
   for (int i = 0; i < r->ninsts; i++) {
     inst *in = &r->insts[i];
     proto *p = &r->protos[in->proto];
-    bind_instance(in, loc);
-    glUniform1i(loc_layers, p->layers);
-    for (int k = outermost_only ? p->layers - 1 : 0; k < p->layers; k++)
-      draw_layer(p, k, loc);
+    bind_instance(r, prog, in, loc);
+    draw_layer(p, p->layers - 1);
   }
   glBindVertexArray(0);
 }
@@ -678,7 +751,7 @@ static void render_dom(satf_renderer *r) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  draw_layers(r, r->prog_depth, r->light_viewproj, 1);
+  draw_clusters(r, r->prog_depth, r->light_viewproj);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDisable(GL_DEPTH_TEST);
 
@@ -691,7 +764,7 @@ static void render_dom(satf_renderer *r) {
   glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
   glUniform1i(glGetUniformLocation(r->prog_dom, "u_dom_depth"), 1);
   glUniform1f(glGetUniformLocation(r->prog_dom, "u_dom_slab"), r->dom_slab);
-  draw_layers(r, r->prog_dom, r->light_viewproj, 1);
+  draw_clusters(r, r->prog_dom, r->light_viewproj);
   glDisable(GL_BLEND);
 }
 
@@ -717,15 +790,11 @@ static void camera_matrices(const satf_renderer *r, float viewproj[16]) {
 static void set_shading_uniforms(satf_renderer *r, GLuint p, satf_aov aov) {
   const satf_scene_material *m = &r->scene->material;
   glUseProgram(p);
-  glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
   glUniform1i(glGetUniformLocation(p, "u_nlights"), r->nlights);
-  float vec[16], col[12];
-  for (int k = 0; k < r->nlights; k++) {
-    light_vector(&r->lights[k], vec + 4 * k);
+  float col[12];
+  for (int k = 0; k < r->nlights; k++)
     for (int a = 0; a < 3; a++)
       col[3 * k + a] = r->lights[k].color[a] * r->lights[k].intensity;
-  }
-  glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
   glUniform3fv(glGetUniformLocation(p, "u_light_color"), r->nlights, col);
   glUniform1f(glGetUniformLocation(p, "u_kdif"), m->k_dif);
   glUniform1f(glGetUniformLocation(p, "u_kspe1"), m->k_speI);
@@ -803,7 +872,10 @@ static GLuint render_lists(satf_renderer *r, satf_aov aov,
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   set_shading_uniforms(r, r->prog_shade, aov);
-  draw_layers(r, r->prog_shade, viewproj, 0);
+  glEnable(GL_CULL_FACE); /* front faces: each traces the whole cluster */
+  glCullFace(GL_BACK);
+  draw_clusters(r, r->prog_shade, viewproj);
+  glDisable(GL_CULL_FACE);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                   GL_TEXTURE_FETCH_BARRIER_BIT);
   satf_gl_target_bind(r->out);
@@ -889,16 +961,12 @@ static satf_status render_ordered(satf_renderer *r, satf_aov aov,
   set_shading_uniforms(r, prog, aov);
   GLint loc[4];
   use_layer_program(r, prog, viewproj, loc);
+  glCullFace(GL_BACK);
   for (int q = 0; q < r->ninsts; q++) {
     const inst *in = &r->insts[keys[q].index];
     const proto *p = &r->protos[in->proto];
-    bind_instance(in, loc);
-    glCullFace(GL_FRONT); /* back halves, outer layer first */
-    for (int k = p->layers - 1; k >= 0; k--)
-      draw_layer(p, k, loc);
-    glCullFace(GL_BACK); /* front halves, inner layer first */
-    for (int k = 0; k < p->layers; k++)
-      draw_layer(p, k, loc);
+    bind_instance(r, prog, in, loc);
+    draw_layer(p, p->layers - 1);
   }
   glBindVertexArray(0);
   glDisable(GL_CULL_FACE);

@@ -347,7 +347,7 @@ satf_status satf_hair_read(const char *path, satf_strand_set **out,
                            satf_error *err) {
   *out = NULL;
   unsigned char *data;
-  size_t size;
+  size_t size = 0;
   satf_status st = slurp(path, &data, &size, err);
   if (st != SATF_OK)
     return st;

@@ -1,0 +1,229 @@
+/* import_density.c - strands as density (SATF sec. 3.3): each strand's
+ * cross-section is a circular Gaussian. Per cluster the field lives in the
+ * cluster's own (t, v, u) coordinates (normalised so v = 1 is the
+ * envelope); for the whole hairstyle it is a world-space OpenVDB grid. Both
+ * use the coverage units of the HRIR database (satf/sector.h): a strand of
+ * Gaussian width sigma has mass pi sigma^2 per unit length. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "satf/import.h"
+
+#define PI_F 3.14159265358979f
+#define WIDTH_SLICES 5
+#define WIDTH_PROBES 1500
+
+/* Mean nearest-neighbour distance among n points (x, y interleaved). */
+static double mean_nn(const float *xy, int n) {
+  double sum = 0.0;
+  for (int i = 0; i < n; i++) {
+    double best = INFINITY;
+    for (int j = 0; j < n; j++) {
+      if (j == i)
+        continue;
+      double dx = xy[2 * i] - xy[2 * j], dy = xy[2 * i + 1] - xy[2 * j + 1];
+      double d = dx * dx + dy * dy;
+      best = d < best ? d : best;
+    }
+    sum += sqrt(best);
+  }
+  return sum / n;
+}
+
+/* The ratio E[v] / sqrt(2 E[v^2]) for a disk whose density goes as
+ * 1 + g (v - 1/2): it does not depend on the disk's radius, so it can be
+ * measured without knowing where the hair really ends. */
+static double gradient_ratio(double g) {
+  double ev = (2.0 / 3.0 + g / 6.0) / (1.0 + g / 6.0);
+  double ev2 = (0.5 + 3.0 * g / 20.0) / (1.0 + g / 6.0);
+  return ev / sqrt(2.0 * ev2);
+}
+
+void satf_import_estimate_density(const satf_import_projection *proj,
+                                  satf_import_fit *fit) {
+  int n = proj->n_strands;
+  int m = n < WIDTH_PROBES ? n : WIDTH_PROBES;
+  float *xy = malloc(2 * (size_t)(m ? m : 1) * sizeof(float));
+  double width_sum = 0.0;
+  int width_count = 0;
+  for (int s = 0; xy && s < WIDTH_SLICES; s++) {
+    float t = 0.2f + 0.6f * (float)s / (WIDTH_SLICES - 1);
+    int got = 0, crossing = 0;
+    for (int i = 0; i < n; i++) {
+      float p[2];
+      if (!satf_import_projection_at(proj, i, t, p))
+        continue;
+      crossing++;
+      /* an even subsample of the crossing strands */
+      if ((int64_t)got * n <= (int64_t)i * m && got < m) {
+        xy[2 * got] = p[0];
+        xy[2 * got + 1] = p[1];
+        got++;
+      }
+    }
+    if (got < 2)
+      continue;
+    /* a subsample of got of `crossing` points is sqrt(crossing/got) times
+     * sparser */
+    width_sum += 2.0 * mean_nn(xy, got) * sqrt((double)got / crossing);
+    width_count++;
+  }
+  free(xy);
+  float w = width_count ? (float)(width_sum / width_count) : 0.5f;
+  fit->strand_width = w < 0.01f ? 0.01f : w > 0.5f ? 0.5f : w;
+  double ma = 0.0, mb = 0.0;
+  for (int j = 0; j < fit->n_radius; j++) {
+    ma += fit->a[j];
+    mb += fit->b[j];
+  }
+  fit->radius = (float)(sqrt(ma * mb) / fit->n_radius);
+  /* radial profile */
+  double sv = 0.0, sv2 = 0.0;
+  size_t np = proj->offset[n];
+  for (size_t k = 0; k < np; k++) {
+    double x = proj->txy[3 * k + 1], y = proj->txy[3 * k + 2];
+    double v2 = x * x + y * y;
+    sv += sqrt(v2);
+    sv2 += v2;
+  }
+  fit->layout = SATF_SCENE_LAYOUT_UNIFORM;
+  fit->gradient = 0.0f;
+  if (np < 64 || sv2 <= 0.0)
+    return;
+  double r = (sv / np) / sqrt(2.0 * sv2 / np);
+  double lo = -1.0, hi = 1.0; /* gradient_ratio grows with g */
+  if (r <= gradient_ratio(lo) || r >= gradient_ratio(hi)) {
+    fit->gradient = r <= gradient_ratio(lo) ? -1.0f : 1.0f;
+  } else {
+    for (int it = 0; it < 50; it++) {
+      double mid = 0.5 * (lo + hi);
+      if (gradient_ratio(mid) < r)
+        lo = mid;
+      else
+        hi = mid;
+    }
+    fit->gradient = (float)(0.5 * (lo + hi));
+  }
+  if (fabsf(fit->gradient) >= 0.4f)
+    fit->layout = SATF_SCENE_LAYOUT_GRADIENT;
+  else
+    fit->gradient = 0.0f;
+}
+
+void satf_import_density_free(satf_import_density *d) {
+  if (d) {
+    free(d->values);
+    memset(d, 0, sizeof *d);
+  }
+}
+
+double satf_import_density_slice_mass(const satf_import_density *d, int i) {
+  double h = 2.0 * d->extent / d->n, sum = 0.0;
+  const float *v = d->values + (size_t)i * d->n * d->n;
+  for (int k = 0; k < d->n * d->n; k++)
+    sum += v[k];
+  return sum * h * h;
+}
+
+/* SATF sec. 3.3: adds one strand's circular Gaussian cross-section, its
+ * discrete weights renormalised so the slice gains exactly pi sigma^2. */
+static void add_cross_section(float *slice, int n, float extent, float sigma,
+                              const float c[2]) {
+  float h = 2.0f * extent / n;
+  float fx = (c[0] + extent) / h - 0.5f, fy = (c[1] + extent) / h - 0.5f;
+  int r = (int)ceilf(3.0f * sigma / h);
+  int cx = (int)lroundf(fx), cy = (int)lroundf(fy);
+  double total = 0.0;
+  for (int pass = 0; pass < 2; pass++) {
+    double k = pass ? PI_F * sigma * sigma / (total * h * h) : 0.0;
+    for (int y = cy - r; y <= cy + r; y++) {
+      if (y < 0 || y >= n)
+        continue;
+      for (int x = cx - r; x <= cx + r; x++) {
+        if (x < 0 || x >= n)
+          continue;
+        float dx = ((float)x - fx) * h, dy = ((float)y - fy) * h;
+        double g = exp(-(dx * dx + dy * dy) / (2.0 * sigma * sigma));
+        if (pass)
+          slice[y * n + x] += (float)(k * g);
+        else
+          total += g;
+      }
+    }
+    if (!(total > 0.0)) { /* narrower than a cell: all in the nearest */
+      if (cx >= 0 && cx < n && cy >= 0 && cy < n)
+        slice[cy * n + cx] += PI_F * sigma * sigma / (h * h);
+      return;
+    }
+  }
+}
+
+satf_status satf_import_cluster_density(const satf_import_projection *proj,
+                                        int nt, int n, float extent,
+                                        float sigma, satf_import_density *out,
+                                        satf_error *err) {
+  memset(out, 0, sizeof *out);
+  if (nt < 1 || nt > 4096 || n < 2 || n > 4096 || !(extent > 0.0f) ||
+      !(sigma > 0.0f) || !isfinite(extent) || !isfinite(sigma))
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "cluster density: %d slices (1..4096) of %d x %d "
+                          "cells (2..4096), extent %g and sigma %g (> 0)",
+                          nt, n, n, (double)extent, (double)sigma);
+  if ((size_t)nt * n * n > (256u << 20))
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "cluster density: %d x %d x %d cells is too many",
+                          nt, n, n);
+  out->values = calloc((size_t)nt * n * n, sizeof(float));
+  if (!out->values)
+    return satf_error_set(err, SATF_ERR_NOMEM, "cluster density: out of memory");
+  out->nt = nt;
+  out->n = n;
+  out->extent = extent;
+  out->sigma = sigma;
+  for (int i = 0; i < nt; i++) {
+    float t = ((float)i + 0.5f) / nt;
+    float *slice = out->values + (size_t)i * n * n;
+    for (int s = 0; s < proj->n_strands; s++) {
+      float c[2];
+      if (satf_import_projection_at(proj, s, t, c) && fabsf(c[0]) < extent &&
+          fabsf(c[1]) < extent)
+        add_cross_section(slice, n, extent, sigma, c);
+    }
+  }
+  return SATF_OK;
+}
+
+float satf_import_world_sigma(const satf_import_fit *fit) {
+  return 0.5f * fit->strand_width * fit->radius;
+}
+
+satf_status satf_import_build_vdb(const satf_strand_set *s, const int *labels,
+                                  const satf_import_fit *fits, float voxel,
+                                  satf_vdb_builder **out,
+                                  satf_import_progress_fn progress,
+                                  void *progress_ctx, satf_error *err) {
+  *out = NULL;
+  satf_vdb_builder *b;
+  satf_status st = satf_vdb_builder_create(voxel, &b, err);
+  if (st != SATF_OK)
+    return st;
+  int n = satf_strand_set_count(s);
+  for (int i = 0; i < n && st == SATF_OK; i++) {
+    float sigma = satf_import_world_sigma(&fits[labels[i]]);
+    float mpl = PI_F * sigma * sigma;
+    int m;
+    const float *p = satf_strand_set_strand(s, i, &m);
+    for (int k = 0; k + 1 < m && st == SATF_OK; k++)
+      st = satf_vdb_builder_add_tube(b, p + 3 * k, p + 3 * k + 3, sigma, mpl,
+                                     err);
+    if (progress && (i % 256 == 255 || i == n - 1))
+      progress(progress_ctx, (size_t)i + 1, (size_t)n);
+  }
+  if (st != SATF_OK) {
+    satf_vdb_builder_destroy(b);
+    return st;
+  }
+  *out = b;
+  return SATF_OK;
+}
