@@ -19,7 +19,7 @@
 #include "satf/mesh.h"
 #include "satf/vdb.h"
 
-#define DOM_SIZE 128 /* shadows between clusters are soft */
+#define DOM_SIZE 256
 /* Fragments each pixel can keep at first; the arrays grow (up to
  * SATF_MAX_FRAGMENTS) when a frame needs more. */
 #define START_SLOTS 16
@@ -434,8 +434,18 @@ satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
     st = satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &r->dom_depth, err);
   if (st == SATF_OK)
     st = satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &r->dom_opacity, err);
-  if (st == SATF_OK)
+  if (st == SATF_OK) {
+    GLuint dom[2] = {satf_gl_target_depth_texture(r->dom_depth),
+                     satf_gl_target_color_texture(r->dom_opacity, 0)};
+    for (int k = 0; k < 2; k++) {
+      glBindTexture(GL_TEXTURE_2D, dom[k]);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
     st = satf_gl_check("renderer set-up", err);
+  }
   if (st != SATF_OK) {
     satf_renderer_destroy(r);
     return st;
