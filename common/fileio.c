@@ -13,8 +13,7 @@ satf_status satf_temp_path(const char *path, char *tmp, size_t size,
                            satf_error *err) {
   int n = snprintf(tmp, size, "%s.tmp-%ld", path, (long)getpid());
   if (n < 0 || (size_t)n >= size)
-    return satf_error_set(err, SATF_ERR_ARGUMENT, "%s: path is too long",
-                          path);
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "%s: path is too long", path);
   return SATF_OK;
 }
 
@@ -28,8 +27,9 @@ satf_status satf_commit_temp(const char *tmp, const char *path,
   if (rename(tmp, path) != 0) {
     int e = errno;
     remove(tmp);
-    return satf_error_set(err, SATF_ERR_IO, "%s: cannot rename %s into place: %s",
-                          path, tmp, strerror(e));
+    return satf_error_set(err, SATF_ERR_IO,
+                          "%s: cannot rename %s into place: %s", path, tmp,
+                          strerror(e));
   }
   return SATF_OK;
 }

@@ -45,8 +45,8 @@ void satf_progress_update(satf_progress *p, size_t done, size_t total) {
   p->last_print = now;
   double elapsed = now - p->start;
   double frac = (double)done / (double)total;
-  double rate = elapsed > 0 ? (double)done * (double)p->units_per_item / elapsed
-                            : 0.0;
+  double rate =
+      elapsed > 0 ? (double)done * (double)p->units_per_item / elapsed : 0.0;
   char eta[32];
   format_eta(done > 0 ? elapsed * (1.0 - frac) / frac : -1.0, eta, sizeof eta);
   if (p->is_tty) {

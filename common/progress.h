@@ -9,8 +9,8 @@
 
 typedef struct satf_progress {
   FILE *out;
-  const char *label; /* e.g. "building" */
-  const char *unit;  /* e.g. "HRIRs" */
+  const char *label;     /* e.g. "building" */
+  const char *unit;      /* e.g. "HRIRs" */
   size_t units_per_item; /* rate is reported in units: items x this */
   int is_tty;
   int quiet;

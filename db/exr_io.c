@@ -20,7 +20,8 @@ static void capture_error(exr_const_context_t ctxt, exr_result_t code,
   if (exr_get_user_data(ctxt, &ud) == EXR_ERR_SUCCESS && ud) {
     exr_msg *m = ud;
     if (m->text[0] == '\0')
-      snprintf(m->text, sizeof m->text, "%s", msg ? msg : exr_get_error_code_as_string(code));
+      snprintf(m->text, sizeof m->text, "%s",
+               msg ? msg : exr_get_error_code_as_string(code));
   }
 }
 
@@ -126,7 +127,8 @@ satf_status satf_exr_read(const char *path, const char *const *names,
   exr_context_t ctx = NULL;
   exr_result_t rc = exr_start_read(&ctx, path, &init);
   if (rc != EXR_ERR_SUCCESS) {
-    satf_status code = rc == EXR_ERR_FILE_ACCESS ? SATF_ERR_IO : SATF_ERR_FORMAT;
+    satf_status code =
+        rc == EXR_ERR_FILE_ACCESS ? SATF_ERR_IO : SATF_ERR_FORMAT;
     exr_finish(&ctx);
     return satf_error_set(err, code, "%s: not a readable OpenEXR file: %s",
                           path, describe(&msg, rc));
@@ -151,8 +153,8 @@ satf_status satf_exr_read(const char *path, const char *const *names,
    * far more pixels than the file could hold is corrupt: refuse it before
    * allocating anything. */
   long long raw = w * h * 2;
-  if (w <= 0 || h <= 0 || w > (1 << 24) || h > (1 << 24) || w * h > max_pixels ||
-      raw / 1100 > fsize) {
+  if (w <= 0 || h <= 0 || w > (1 << 24) || h > (1 << 24) ||
+      w * h > max_pixels || raw / 1100 > fsize) {
     exr_finish(&ctx);
     return satf_error_set(err, SATF_ERR_CORRUPT,
                           "%s: implausible image size %lldx%lld for a file of "
@@ -182,7 +184,8 @@ satf_status satf_exr_read(const char *path, const char *const *names,
                           "%s: cannot allocate %lldx%lld pixels", path, w, h);
   }
   int32_t lines = 1;
-  if (st == SATF_OK && exr_get_scanlines_per_chunk(ctx, 0, &lines) != EXR_ERR_SUCCESS)
+  if (st == SATF_OK &&
+      exr_get_scanlines_per_chunk(ctx, 0, &lines) != EXR_ERR_SUCCESS)
     st = satf_error_set(err, SATF_ERR_FORMAT, "%s: bad chunk layout", path);
   float *scratch = NULL;
   size_t scratch_size = 0;
@@ -214,8 +217,7 @@ satf_status satf_exr_read(const char *path, const char *const *names,
           dec.channels[e].decode_to_ptr = (uint8_t *)scratch;
           for (int i = 0; i < nnames; i++)
             if (strcmp(names[i], dec.channels[e].channel_name) == 0)
-              dec.channels[e].decode_to_ptr =
-                  (uint8_t *)(planes[i] + row0 * w);
+              dec.channels[e].decode_to_ptr = (uint8_t *)(planes[i] + row0 * w);
           dec.channels[e].user_bytes_per_element = 4;
           dec.channels[e].user_data_type = EXR_PIXEL_FLOAT;
           dec.channels[e].user_pixel_stride = 4;

@@ -40,8 +40,8 @@ satf_status satf_build_params_check(const satf_build_params *p,
   if (st != SATF_OK)
     return st;
   /* Two channels of 4-byte floats in memory; refuse what cannot fit. */
-  double bytes = 8.0 * p->samples * (double)p->n_view * p->n_light *
-                 p->trace.width;
+  double bytes =
+      8.0 * p->samples * (double)p->n_view * p->n_light * p->trace.width;
   if (bytes > 16e9)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "a database of %d samples x %d x %d angles x %d "
@@ -144,7 +144,8 @@ satf_status satf_db_index(satf_db *db, satf_error *err) {
   /* Features are compared after scaling each to [0, 1] over the database,
    * so density and the centroids weigh alike. */
   for (int a = 0; a < SATF_FEATURES; a++)
-    db->scale[a] = db->hi[a] > db->lo[a] ? 1.0f / (db->hi[a] - db->lo[a]) : 1.0f;
+    db->scale[a] =
+        db->hi[a] > db->lo[a] ? 1.0f / (db->hi[a] - db->lo[a]) : 1.0f;
   free(db->norm);
   satf_kdtree_destroy(db->tree);
   db->tree = NULL;
@@ -276,14 +277,24 @@ static uint64_t fnv_words(uint64_t h, const void *data, size_t bytes) {
 uint64_t satf_db_payload_hash(const satf_db *db) {
   const satf_build_params *p = &db->p;
   uint64_t h = 0xCBF29CE484222325ull;
-  int32_t ints[7] = {p->samples, p->n_view, p->n_light, p->grid,
-                     p->trace.width, p->trace.self_shadow,
+  int32_t ints[7] = {p->samples,
+                     p->n_view,
+                     p->n_light,
+                     p->grid,
+                     p->trace.width,
+                     p->trace.self_shadow,
                      SATF_DB_FORMAT_VERSION};
-  float floats[11] = {p->shape.r_inner,   p->shape.r_outer,
-                      p->shape.phase_span, p->trace.extinction,
-                      p->trace.ambient,    p->trace.diffuse,
-                      p->trace.specular,   p->trace.shininess,
-                      p->trace.epsilon,    p->trace.smooth_ratio, 0.0f};
+  float floats[11] = {p->shape.r_inner,
+                      p->shape.r_outer,
+                      p->shape.phase_span,
+                      p->trace.extinction,
+                      p->trace.ambient,
+                      p->trace.diffuse,
+                      p->trace.specular,
+                      p->trace.shininess,
+                      p->trace.epsilon,
+                      p->trace.smooth_ratio,
+                      0.0f};
   uint32_t seed[2] = {(uint32_t)p->seed, (uint32_t)(p->seed >> 32)};
   h = fnv_words(h, ints, sizeof ints);
   h = fnv_words(h, floats, sizeof floats);

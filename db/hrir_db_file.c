@@ -29,20 +29,27 @@ typedef struct float_attr {
 
 /* The one table of scalar attributes, used by both writer and reader. */
 #define INT_ATTRS(p)                                                           \
-  {{"satf:samples", &(p)->samples},       {"satf:nView", &(p)->n_view},        \
-   {"satf:nLight", &(p)->n_light},        {"satf:grid", &(p)->grid},           \
-   {"satf:width", &(p)->trace.width},     {"satf:selfShadow", &(p)->trace.self_shadow}}
+  {                                                                            \
+    {"satf:samples", &(p)->samples}, {"satf:nView", &(p)->n_view},             \
+        {"satf:nLight", &(p)->n_light}, {"satf:grid", &(p)->grid},             \
+        {"satf:width", &(p)->trace.width}, {                                   \
+      "satf:selfShadow", &(p)->trace.self_shadow                               \
+    }                                                                          \
+  }
 #define FLOAT_ATTRS(p)                                                         \
-  {{"satf:rInner", &(p)->shape.r_inner},                                       \
-   {"satf:rOuter", &(p)->shape.r_outer},                                       \
-   {"satf:phaseSpan", &(p)->shape.phase_span},                                 \
-   {"satf:extinction", &(p)->trace.extinction},                                \
-   {"satf:ambient", &(p)->trace.ambient},                                      \
-   {"satf:diffuse", &(p)->trace.diffuse},                                      \
-   {"satf:specular", &(p)->trace.specular},                                    \
-   {"satf:shininess", &(p)->trace.shininess},                                  \
-   {"satf:epsilon", &(p)->trace.epsilon},                                      \
-   {"satf:smoothRatio", &(p)->trace.smooth_ratio}}
+  {                                                                            \
+    {"satf:rInner", &(p)->shape.r_inner},                                      \
+        {"satf:rOuter", &(p)->shape.r_outer},                                  \
+        {"satf:phaseSpan", &(p)->shape.phase_span},                            \
+        {"satf:extinction", &(p)->trace.extinction},                           \
+        {"satf:ambient", &(p)->trace.ambient},                                 \
+        {"satf:diffuse", &(p)->trace.diffuse},                                 \
+        {"satf:specular", &(p)->trace.specular},                               \
+        {"satf:shininess", &(p)->trace.shininess},                             \
+        {"satf:epsilon", &(p)->trace.epsilon}, {                               \
+      "satf:smoothRatio", &(p)->trace.smooth_ratio                             \
+    }                                                                          \
+  }
 #define COUNT(a) ((int)(sizeof(a) / sizeof((a)[0])))
 
 static satf_status write_attrs(void *ctx, exr_context_t exr, int part,
@@ -115,13 +122,13 @@ static satf_status write_image(const satf_db *db, const char *path, int rgba,
   }
   planes_copy(db, db->rec, re, alpha, 1);
   satf_exr_channel db_ch[2] = {{"A", alpha}, {"Y", re}};
-  satf_exr_channel atlas_ch[4] = {{"R", re}, {"G", re}, {"B", re}, {"A", alpha}};
+  satf_exr_channel atlas_ch[4] = {
+      {"R", re}, {"G", re}, {"B", re}, {"A", alpha}};
   satf_exr_write_opts opts = {EXR_PIXEL_HALF, EXR_COMPRESSION_ZIP,
                               rgba ? NULL : write_attrs, (void *)db};
-  satf_status st = satf_exr_write(path, db->p.n_view * db->p.trace.width,
-                                  db->p.samples * db->p.n_light,
-                                  rgba ? atlas_ch : db_ch, rgba ? 4 : 2, &opts,
-                                  err);
+  satf_status st = satf_exr_write(
+      path, db->p.n_view * db->p.trace.width, db->p.samples * db->p.n_light,
+      rgba ? atlas_ch : db_ch, rgba ? 4 : 2, &opts, err);
   free(re);
   free(alpha);
   return st;
@@ -149,10 +156,13 @@ static satf_status parse_hex64(const char *path, const char *what,
                                satf_error *err) {
   uint64_t v = 0;
   if (len != 16)
-    return satf_error_set(err, SATF_ERR_CORRUPT, "%s: malformed %s", path, what);
+    return satf_error_set(err, SATF_ERR_CORRUPT, "%s: malformed %s", path,
+                          what);
   for (int i = 0; i < 16; i++) {
     char c = s[i];
-    int d = c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
+    int d = c >= '0' && c <= '9'   ? c - '0'
+            : c >= 'a' && c <= 'f' ? c - 'a' + 10
+                                   : -1;
     if (d < 0)
       return satf_error_set(err, SATF_ERR_CORRUPT, "%s: malformed %s", path,
                             what);
@@ -170,7 +180,8 @@ static satf_status read_attrs(void *vctx, exr_const_context_t exr, int part,
   int32_t len = 0, version = 0;
   if (exr_attr_get_string(exr, part, "satf:format", &len, &s) !=
           EXR_ERR_SUCCESS ||
-      len != (int32_t)strlen(FORMAT_NAME) || memcmp(s, FORMAT_NAME, (size_t)len) != 0)
+      len != (int32_t)strlen(FORMAT_NAME) ||
+      memcmp(s, FORMAT_NAME, (size_t)len) != 0)
     return satf_error_set(err, SATF_ERR_FORMAT,
                           "%s: an OpenEXR image, but not an satf HRIR "
                           "database (no satf:format attribute)",
@@ -237,8 +248,8 @@ satf_status satf_db_read(const char *path, satf_db **out, satf_error *err) {
   const char *names[2] = {"A", "Y"};
   float *planes[2] = {NULL, NULL};
   int w = 0, h = 0;
-  satf_status st = satf_exr_read(path, names, 2, 1LL << 31, read_attrs, &rc,
-                                 &w, &h, planes, err);
+  satf_status st = satf_exr_read(path, names, 2, 1LL << 31, read_attrs, &rc, &w,
+                                 &h, planes, err);
   if (st != SATF_OK) {
     free(rc.features);
     return st;

@@ -8,10 +8,10 @@
 
 struct satf_db {
   satf_build_params p;
-  float *rec;        /* samples x n_light x n_view x (width re, width alpha) */
-  float *features;   /* samples x SATF_FEATURES */
+  float *rec;      /* samples x n_light x n_view x (width re, width alpha) */
+  float *features; /* samples x SATF_FEATURES */
   float lo[SATF_FEATURES], hi[SATF_FEATURES], scale[SATF_FEATURES];
-  float *norm;       /* features scaled to [0, 1], for the tree */
+  float *norm; /* features scaled to [0, 1], for the tree */
   satf_kdtree *tree;
 };
 

@@ -7,8 +7,8 @@
 
 struct satf_kdtree {
   int n;
-  float *pts;   /* reordered points, n x 3 */
-  int *ids;     /* original index of each reordered point */
+  float *pts;          /* reordered points, n x 3 */
+  int *ids;            /* original index of each reordered point */
   unsigned char *axis; /* split axis of the node at each median slot */
 };
 

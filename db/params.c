@@ -70,11 +70,12 @@ satf_status satf_trace_params_check(const satf_trace_params *p,
  * linear function over the region lie at its corners or where an arc's
  * tangent is perpendicular to e. */
 void satf_sector_extent(const satf_sector_shape *sh, const float e[2],
-                           float *lo, float *hi) {
+                        float *lo, float *hi) {
   float half = 0.5f * sh->phase_span;
   float radii[2] = {sh->r_inner, sh->r_outer};
   float phis[4] = {-half, half, atan2f(e[1], e[0]), 0.0f};
-  phis[3] = phis[2] > 0.0f ? phis[2] - TWO_PI_F * 0.5f : phis[2] + TWO_PI_F * 0.5f;
+  phis[3] =
+      phis[2] > 0.0f ? phis[2] - TWO_PI_F * 0.5f : phis[2] + TWO_PI_F * 0.5f;
   float mn = INFINITY, mx = -INFINITY;
   for (int r = 0; r < 2; r++) {
     for (int k = 0; k < 4; k++) {
@@ -94,4 +95,3 @@ void satf_trace_extent(const satf_sector_shape *shape, float theta_v,
   float e[2] = {-sinf(theta_v), cosf(theta_v)};
   satf_sector_extent(shape, e, pmin, pmax);
 }
-

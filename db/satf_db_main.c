@@ -14,20 +14,22 @@
 static const char *PROG = "satf-db";
 
 static void usage(FILE *out) {
-  fprintf(out,
-          "usage: %s COMMAND DATABASE [options]\n"
-          "\n"
-          "commands:\n"
-          "  info FILE             print the build parameters and a summary\n"
-          "  verify FILE           check the file's integrity; exit 0 if intact,\n"
-          "                        1 if damaged or unreadable\n"
-          "  atlas FILE -o OUT.exr write an RGBA atlas (R=G=B reflectance, A alpha)\n"
-          "                        for viewers that do not show Y/A images; the\n"
-          "                        database itself is already an EXR image\n"
-          "  lookup FILE --rho D,S,T --view DEG --light DEG [--k N]\n"
-          "                        print one SATF look-up (eq. 4)\n"
-          "  -h, --help            this help\n",
-          PROG);
+  fprintf(
+      out,
+      "usage: %s COMMAND DATABASE [options]\n"
+      "\n"
+      "commands:\n"
+      "  info FILE             print the build parameters and a summary\n"
+      "  verify FILE           check the file's integrity; exit 0 if intact,\n"
+      "                        1 if damaged or unreadable\n"
+      "  atlas FILE -o OUT.exr write an RGBA atlas (R=G=B reflectance, A "
+      "alpha)\n"
+      "                        for viewers that do not show Y/A images; the\n"
+      "                        database itself is already an EXR image\n"
+      "  lookup FILE --rho D,S,T --view DEG --light DEG [--k N]\n"
+      "                        print one SATF look-up (eq. 4)\n"
+      "  -h, --help            this help\n",
+      PROG);
 }
 
 static int load(const char *path, satf_db **db) {
@@ -186,9 +188,12 @@ int main(int argc, char **argv) {
   }
   const char *path = argv[2];
   if (!strcmp(cmd, "info"))
-    return argc == 3 ? cmd_info(path) : (fprintf(stderr, "%s: info takes one file\n", PROG), 2);
+    return argc == 3 ? cmd_info(path)
+                     : (fprintf(stderr, "%s: info takes one file\n", PROG), 2);
   if (!strcmp(cmd, "verify"))
-    return argc == 3 ? cmd_verify(path) : (fprintf(stderr, "%s: verify takes one file\n", PROG), 2);
+    return argc == 3
+               ? cmd_verify(path)
+               : (fprintf(stderr, "%s: verify takes one file\n", PROG), 2);
   if (!strcmp(cmd, "atlas")) {
     if (argc != 5 || (strcmp(argv[3], "-o") && strcmp(argv[3], "--output"))) {
       fprintf(stderr, "%s: usage: atlas FILE -o OUT.exr\n", PROG);

@@ -13,28 +13,30 @@ static const char *PROG = "satf-build";
 
 static void usage(FILE *out) {
   satf_build_params d = satf_build_params_default();
-  fprintf(out,
-          "usage: %s [options] -o DATABASE.exr\n"
-          "\n"
-          "Builds an HRIR database: random generalized sectors are ray traced in\n"
-          "their own plane under every view x light azimuth pair (SATF paper\n"
-          "sec. 5). The output is an OpenEXR image whose pixels are the records.\n"
-          "\n"
-          "options:\n"
-          "  -o, --output PATH   database file to write (required)\n"
-          "  --samples N         random sectors (default %d)\n"
-          "  --angles N|VxL      view x light azimuths over the circle (default %dx%d)\n"
-          "  --width N           samples per HRIR record (default %d)\n"
-          "  --grid N            density grid nodes per side (default %d)\n"
-          "  --seed S            random seed (default %" PRIu64 ")\n"
-          "  --threads N         worker threads, 0 = all cores (default 0)\n"
-          "  --extinction K      opacity per unit density and length (default %g)\n"
-          "  --no-shadow         no in-sector self-shadowing (the paper's plain\n"
-          "                      version)\n"
-          "  -q, --quiet         no progress output\n"
-          "  -h, --help          this help\n",
-          PROG, d.samples, d.n_view, d.n_light, d.trace.width, d.grid, d.seed,
-          (double)d.trace.extinction);
+  fprintf(
+      out,
+      "usage: %s [options] -o DATABASE.exr\n"
+      "\n"
+      "Builds an HRIR database: random generalized sectors are ray traced in\n"
+      "their own plane under every view x light azimuth pair (SATF paper\n"
+      "sec. 5). The output is an OpenEXR image whose pixels are the records.\n"
+      "\n"
+      "options:\n"
+      "  -o, --output PATH   database file to write (required)\n"
+      "  --samples N         random sectors (default %d)\n"
+      "  --angles N|VxL      view x light azimuths over the circle (default "
+      "%dx%d)\n"
+      "  --width N           samples per HRIR record (default %d)\n"
+      "  --grid N            density grid nodes per side (default %d)\n"
+      "  --seed S            random seed (default %" PRIu64 ")\n"
+      "  --threads N         worker threads, 0 = all cores (default 0)\n"
+      "  --extinction K      opacity per unit density and length (default %g)\n"
+      "  --no-shadow         no in-sector self-shadowing (the paper's plain\n"
+      "                      version)\n"
+      "  -q, --quiet         no progress output\n"
+      "  -h, --help          this help\n",
+      PROG, d.samples, d.n_view, d.n_light, d.trace.width, d.grid, d.seed,
+      (double)d.trace.extinction);
 }
 
 static void on_progress(void *ctx, size_t done, size_t total) {
@@ -135,14 +137,15 @@ int main(int argc, char **argv) {
   }
   char size[32];
   double records = (double)per * p.samples;
-  printf("%s: wrote %s\n"
-         "  records   %.0f HRIRs (%d samples x %dx%d azimuths), %d values each\n"
-         "  file      %s\n"
-         "  time      %.2f s (trace %.2f s, write %.2f s)\n"
-         "  speed     %.0f HRIRs/s on %d thread%s\n",
-         PROG, out, records, p.samples, p.n_view, p.n_light, p.trace.width,
-         satf_format_bytes((double)satf_file_size(out), size, sizeof size),
-         t_total, t_build, t_total - t_build, records / t_build, nthreads,
-         nthreads == 1 ? "" : "s");
+  printf(
+      "%s: wrote %s\n"
+      "  records   %.0f HRIRs (%d samples x %dx%d azimuths), %d values each\n"
+      "  file      %s\n"
+      "  time      %.2f s (trace %.2f s, write %.2f s)\n"
+      "  speed     %.0f HRIRs/s on %d thread%s\n",
+      PROG, out, records, p.samples, p.n_view, p.n_light, p.trace.width,
+      satf_format_bytes((double)satf_file_size(out), size, sizeof size),
+      t_total, t_build, t_total - t_build, records / t_build, nthreads,
+      nthreads == 1 ? "" : "s");
   return 0;
 }

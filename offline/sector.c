@@ -8,7 +8,6 @@
 
 #include "common/rng.h"
 
-
 satf_status satf_sector_create(const satf_sector_shape *shape, int ns, int nt,
                                float strand_sigma, satf_sector **out,
                                satf_error *err) {
@@ -160,24 +159,25 @@ void satf_sector_recipe_random(uint64_t seed, uint64_t index,
    * range. The strand count follows from coverage, sector area and strand
    * mass pi sigma^2. */
   double u = satf_rng_uniform(&rng);
-  double coverage = exp(log(0.01) + (u - 0.025) / 0.975 * (log(2.5) - log(0.01)));
+  double coverage =
+      exp(log(0.01) + (u - 0.025) / 0.975 * (log(2.5) - log(0.01)));
   satf_sector_shape sh = satf_sector_shape_default();
-  double area = 0.5 * sh.phase_span *
-                (sh.r_outer * sh.r_outer - sh.r_inner * sh.r_inner);
+  double area =
+      0.5 * sh.phase_span * (sh.r_outer * sh.r_outer - sh.r_inner * sh.r_inner);
   double mass = 3.14159265358979 * r->strand_sigma * r->strand_sigma;
   r->strands = u < 0.025 ? 0 : 1 + (int)(coverage * area / mass);
   switch (r->layout) {
   case SATF_LAYOUT_CLUMPED:
-    r->param[0] = (float)(1 + satf_rng_below(&rng, 4));      /* clumps */
-    r->param[1] = (float)satf_rng_range(&rng, 0.05, 0.25);   /* spread */
+    r->param[0] = (float)(1 + satf_rng_below(&rng, 4));    /* clumps */
+    r->param[1] = (float)satf_rng_range(&rng, 0.05, 0.25); /* spread */
     break;
   case SATF_LAYOUT_GRADIENT_S:
   case SATF_LAYOUT_GRADIENT_T:
     r->param[0] = (float)satf_rng_range(&rng, -1.0, 1.0); /* slope */
     break;
   case SATF_LAYOUT_HOLES:
-    r->param[0] = (float)(1 + satf_rng_below(&rng, 3));    /* holes */
-    r->param[1] = (float)satf_rng_range(&rng, 0.1, 0.35);  /* radius */
+    r->param[0] = (float)(1 + satf_rng_below(&rng, 3));   /* holes */
+    r->param[1] = (float)satf_rng_range(&rng, 0.1, 0.35); /* radius */
     break;
   default: break;
   }

@@ -36,7 +36,8 @@ float satf_phong(const satf_trace_params *p, const float n[2], const float l[2],
   float r[2] = {2.0f * nl * n[0] - l[0], 2.0f * nl * n[1] - l[1]};
   float rv = r[0] * v[0] + r[1] * v[1];
   float spec = rv > 0.0f && nl > 0.0f ? powf(rv, p->shininess) : 0.0f;
-  return p->ambient + transmittance * (p->diffuse * diffuse + p->specular * spec);
+  return p->ambient +
+         transmittance * (p->diffuse * diffuse + p->specular * spec);
 }
 
 /* The gradient of density is converted into a normal of length < 1: a
@@ -85,7 +86,8 @@ static void compute_normals(grid_ctx *g) {
       /* chain rule through s = (r - r_inner)/dr, t = phi/span + 1/2 */
       float gx = drho_ds * c / dr - drho_dt * sn / (r * sh->phase_span);
       float gy = drho_ds * sn / dr + drho_dt * c / (r * sh->phase_span);
-      float len = sqrtf(gx * gx + gy * gy + GRADIENT_SOFTNESS * GRADIENT_SOFTNESS);
+      float len =
+          sqrtf(gx * gx + gy * gy + GRADIENT_SOFTNESS * GRADIENT_SOFTNESS);
       g->gx[j * ns + i] = -gx / len;
       g->gy[j * ns + i] = -gy / len;
     }
@@ -121,9 +123,9 @@ static void light_transmittance(const grid_ctx *g, const satf_trace_params *p,
 }
 
 typedef struct ray_sample {
-  float w;     /* front-to-back weight alpha_k (1 - accumulated alpha) */
-  float s, t;  /* where, for the transmittance look-up */
-  float n[2];  /* soft normal */
+  float w;    /* front-to-back weight alpha_k (1 - accumulated alpha) */
+  float s, t; /* where, for the transmittance look-up */
+  float n[2]; /* soft normal */
 } ray_sample;
 
 typedef struct view_pass {
@@ -239,9 +241,9 @@ typedef struct trace_job {
   const float *theta_v, *theta_l;
 } trace_job;
 
-static satf_status trace_grid(const satf_sector *sec, const satf_trace_params *p,
-                              const trace_job *job, float *re, float *alpha,
-                              satf_error *err) {
+static satf_status trace_grid(const satf_sector *sec,
+                              const satf_trace_params *p, const trace_job *job,
+                              float *re, float *alpha, satf_error *err) {
   satf_status st = satf_trace_params_check(p, err);
   if (st != SATF_OK)
     return st;

@@ -69,13 +69,12 @@ static void place(const satf_scene_density *d, satf_rng *rng,
         return;
     }
     return;
-  default:
-    disk_uniform(rng, xy);
+  default: disk_uniform(rng, xy);
   }
 }
 
-satf_status satf_strands_create(const satf_scene_density *d,
-                                satf_strands **out, satf_error *err) {
+satf_status satf_strands_create(const satf_scene_density *d, satf_strands **out,
+                                satf_error *err) {
   *out = NULL;
   if (d->strands < 0 || d->strands > 10000000 || !(d->strand_width > 0.0f))
     return satf_error_set(err, SATF_ERR_ARGUMENT,
@@ -156,8 +155,7 @@ void satf_strands_destroy(satf_strands *s) {
 
 int satf_strands_count(const satf_strands *s) { return s->n; }
 
-void satf_strands_position(const satf_strands *s, int i, float t,
-                           float xy[2]) {
+void satf_strands_position(const satf_strands *s, int i, float t, float xy[2]) {
   const float *w = s->wobble + 4 * i;
   float k = sinf(TWO_PI_F * w[2] * t + w[3]);
   xy[0] = s->base[2 * i] + w[0] * k;
@@ -220,7 +218,7 @@ static int features_slice(void *vctx, size_t i, int thread) {
     for (int j = 0; j < sh->su; j++) {
       float u0 = TWO_PI_F * (float)j / (float)sh->su;
       float du = TWO_PI_F / (float)sh->su;
-      for (int b = 0; b < G; b++) {   /* t of the sector: along the phase */
+      for (int b = 0; b < G; b++) { /* t of the sector: along the phase */
         float u = u0 + du * (float)b / (float)(G - 1);
         for (int a = 0; a < G; a++) { /* s of the sector: along the radius */
           float v = v0 + (v1 - v0) * (float)a / (float)(G - 1);
@@ -239,7 +237,8 @@ static int features_slice(void *vctx, size_t i, int thread) {
           dens[b * G + a] = d;
         }
       }
-      float *f = job->features + (((size_t)i * sh->layers + k) * sh->su + j) * 3;
+      float *f =
+          job->features + (((size_t)i * sh->layers + k) * sh->su + j) * 3;
       satf_density_features(dens, G, G, f); /* SATF sec. 5.2 */
     }
   }
@@ -249,9 +248,9 @@ static int features_slice(void *vctx, size_t i, int thread) {
 satf_status satf_sector_features(const satf_cluster *cluster,
                                  const satf_shell_params *shell,
                                  const satf_strands *strands,
-                                 const satf_vdb_grid *vdb, const float *instance,
-                                 int threads, float *features,
-                                 satf_error *err) {
+                                 const satf_vdb_grid *vdb,
+                                 const float *instance, int threads,
+                                 float *features, satf_error *err) {
   if (!strands && !vdb)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "sector features need strands or a VDB grid");

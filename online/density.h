@@ -18,8 +18,8 @@ typedef struct satf_strands satf_strands;
  * cross-section coordinates (x, y) = v (cos u, sin u), following d->layout.
  * Each strand drifts slowly along t so the density is not constant along
  * the cluster. */
-satf_status satf_strands_create(const satf_scene_density *d,
-                                satf_strands **out, satf_error *err);
+satf_status satf_strands_create(const satf_scene_density *d, satf_strands **out,
+                                satf_error *err);
 void satf_strands_destroy(satf_strands *s);
 int satf_strands_count(const satf_strands *s);
 /* Position of strand i at t, in normalised cross-section coordinates. */
@@ -37,8 +37,8 @@ float satf_strands_density(const satf_strands *s, float t, float x, float y);
 satf_status satf_sector_features(const satf_cluster *cluster,
                                  const satf_shell_params *shell,
                                  const satf_strands *strands,
-                                 const satf_vdb_grid *vdb, const float *instance,
-                                 int threads, float *features,
-                                 satf_error *err);
+                                 const satf_vdb_grid *vdb,
+                                 const float *instance, int threads,
+                                 float *features, satf_error *err);
 
 #endif

@@ -11,7 +11,8 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
   if (st != SATF_OK)
     return st;
   for (int i = 0; i < satf_scene_warning_count(fe->scene); i++)
-    fprintf(stderr, "%s: warning: %s\n", prog, satf_scene_warning(fe->scene, i));
+    fprintf(stderr, "%s: warning: %s\n", prog,
+            satf_scene_warning(fe->scene, i));
   const char *db = db_path ? db_path : fe->scene->database;
   if (!db) {
     satf_frontend_free(fe);
@@ -33,7 +34,8 @@ void satf_frontend_free(satf_frontend *fe) {
 }
 
 const char *const satf_frontend_effect_help =
-    "  --no-satf            plain Kajiya-Kay with shifted highlights (paper 002,\n"
+    "  --no-satf            plain Kajiya-Kay with shifted highlights (paper "
+    "002,\n"
     "                       Fig. 4a)\n"
     "  --no-secondary       no secondary highlight (Fig. 4b)\n"
     "  --no-self-shadow     no s-map self-shadowing (Fig. 4c)\n"
@@ -66,14 +68,15 @@ int satf_frontend_composite(const char *value) {
 
 void satf_frontend_table_header(FILE *out) {
   fprintf(out, "%-16s %4s %4s %6s %6s %7s %7s %7s %7s %7s %7s\n", "scene", "C#",
-          "L#", "S#(K)", "H#(K)", "I ms", "C ms", "M ms", "L ms", "S ms", "FPS");
+          "L#", "S#(K)", "H#(K)", "I ms", "C ms", "M ms", "L ms", "S ms",
+          "FPS");
 }
 
 void satf_frontend_table_row(FILE *out, const char *name,
                              const satf_render_stats *s,
                              const satf_frame_timing *m, double fps) {
-  fprintf(out, "%-16s %4ld %4ld %6.1f %6.1f %7.1f %7.1f %7.1f %7.1f %7.1f %7.1f\n",
-          name, s->clusters, s->layers, s->strands / 1000.0, s->hsvs / 1000.0,
-          m->index_ms, m->maps_ms, m->upload_ms, m->lighting_ms, m->shadow_ms,
-          fps);
+  fprintf(
+      out, "%-16s %4ld %4ld %6.1f %6.1f %7.1f %7.1f %7.1f %7.1f %7.1f %7.1f\n",
+      name, s->clusters, s->layers, s->strands / 1000.0, s->hsvs / 1000.0,
+      m->index_ms, m->maps_ms, m->upload_ms, m->lighting_ms, m->shadow_ms, fps);
 }

@@ -15,7 +15,8 @@ size_t satf_shell_sector_count(const satf_shell_params *s) {
 }
 
 static size_t sector_index(const satf_shell_params *s, int i, int k, int j) {
-  return ((size_t)i * (size_t)s->layers + (size_t)k) * (size_t)s->su + (size_t)j;
+  return ((size_t)i * (size_t)s->layers + (size_t)k) * (size_t)s->su +
+         (size_t)j;
 }
 
 static void normalize3(float v[3]) {
@@ -40,7 +41,8 @@ satf_status satf_shell_geom_create(const satf_cluster *cluster,
   g->features = calloc(n * 3, sizeof(float));
   if (!g->frames || !g->features) {
     satf_shell_geom_destroy(g);
-    return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate %zu sectors", n);
+    return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate %zu sectors",
+                          n);
   }
   for (int i = 0; i <= shell->st; i++) {
     satf_cluster_section sec;
@@ -121,7 +123,8 @@ satf_status satf_maps_create(const satf_db *db, satf_maps **out,
     free(m);
     return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
                           "database records of %d samples: the renderer "
-                          "supports 2 to 512", w);
+                          "supports 2 to 512",
+                          w);
   }
   m->db = db;
   m->width = w;
@@ -269,7 +272,8 @@ int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
   for (int j = 0; j < sh->su; j++) {
     int have_top = 0; /* the previous HSV's bottom record is this top's */
     for (int i = 0; i < sh->st; i++) {
-      size_t st0 = sector_index(sh, i, k, j), st1 = sector_index(sh, i + 1, k, j);
+      size_t st0 = sector_index(sh, i, k, j),
+             st1 = sector_index(sh, i + 1, k, j);
       params top, bot;
       memcpy(top.f, g->features + 3 * st0, sizeof top.f);
       memcpy(bot.f, g->features + 3 * st1, sizeof bot.f);

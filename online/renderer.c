@@ -31,7 +31,8 @@ typedef struct proto {
   satf_vdb_grid *vdb;
   int layers;
   GLuint *vao, *vbo, *ibo;
-  GLuint frame_vbo; /* the outermost shell's local frames (satf_glsl_cluster_vs) */
+  GLuint
+      frame_vbo; /* the outermost shell's local frames (satf_glsl_cluster_vs) */
   GLsizei *count;
 } proto;
 
@@ -63,7 +64,8 @@ struct satf_renderer {
   satf_render_stats stats;
   /* GL */
   satf_composite composite;
-  GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve, prog_display;
+  GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve,
+      prog_display;
   GLuint empty_vao, counts_tex, frags_tex, list_fbo;
   int slots; /* fragments kept per pixel */
   satf_gl_target *out, *dom_depth, *dom_opacity;
@@ -101,13 +103,15 @@ static satf_status upload_layer(proto *p, int k, const satf_mesh *mesh) {
   glGenBuffers(1, &p->ibo[k]);
   glBindVertexArray(p->vao[k]);
   glBindBuffer(GL_ARRAY_BUFFER, p->vbo[k]);
-  glBufferData(GL_ARRAY_BUFFER,
-               (GLsizeiptr)(satf_mesh_vertex_count(mesh) * sizeof(satf_mesh_vertex)),
-               satf_mesh_vertices(mesh), GL_STATIC_DRAW);
+  glBufferData(
+      GL_ARRAY_BUFFER,
+      (GLsizeiptr)(satf_mesh_vertex_count(mesh) * sizeof(satf_mesh_vertex)),
+      satf_mesh_vertices(mesh), GL_STATIC_DRAW);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, p->ibo[k]);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-               (GLsizeiptr)(satf_mesh_triangle_count(mesh) * 3 * sizeof(uint32_t)),
-               satf_mesh_indices(mesh), GL_STATIC_DRAW);
+  glBufferData(
+      GL_ELEMENT_ARRAY_BUFFER,
+      (GLsizeiptr)(satf_mesh_triangle_count(mesh) * 3 * sizeof(uint32_t)),
+      satf_mesh_indices(mesh), GL_STATIC_DRAW);
   GLsizei stride = (GLsizei)sizeof(satf_mesh_vertex);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride,
@@ -165,17 +169,37 @@ static satf_status upload_frames(proto *p, const satf_shell_params *sh,
   for (int a = 0; a < 5; a++) {
     glEnableVertexAttribArray((GLuint)(4 + a));
     glVertexAttribPointer((GLuint)(4 + a), sizes[a], GL_FLOAT, GL_FALSE,
-                          16 * sizeof(float), (void *)(offs[a] * sizeof(float)));
+                          16 * sizeof(float),
+                          (void *)(offs[a] * sizeof(float)));
   }
   glBindVertexArray(0);
   return satf_gl_check("shell frames", err);
 }
 
-static satf_status build_proto(satf_renderer *r, int index,
-                               const satf_scene_macro_cluster *mc,
-                               satf_error *err) {
+/* Deletes a prototype's GL geometry (not its density). */
+static void release_geometry(proto *p) {
+  if (p->vao) {
+    glDeleteVertexArrays(p->layers, p->vao);
+    glDeleteBuffers(p->layers, p->vbo);
+    glDeleteBuffers(p->layers, p->ibo);
+    memset(p->vao, 0, (size_t)p->layers * sizeof(GLuint));
+    memset(p->vbo, 0, (size_t)p->layers * sizeof(GLuint));
+    memset(p->ibo, 0, (size_t)p->layers * sizeof(GLuint));
+  }
+  if (p->frame_vbo)
+    glDeleteBuffers(1, &p->frame_vbo);
+  p->frame_vbo = 0;
+  satf_cluster_destroy(p->cluster);
+  p->cluster = NULL;
+}
+
+/* The generalized cylinder of a scene cluster, its shell geometry (sector
+ * frames; features are kept when `keep` holds them), layer meshes and
+ * frames on the GPU. Used at creation and when an animation moves it. */
+static satf_status build_geometry(satf_renderer *r, int index,
+                                  const satf_scene_cluster *c,
+                                  const float *keep, satf_error *err) {
   proto *p = &r->protos[index];
-  const satf_scene_cluster *c = &mc->prototype;
   const char *name = r->scene->name ? r->scene->name : "scene";
   int n = c->a.count;
   if (c->b.count > n)
@@ -189,41 +213,34 @@ static satf_status build_proto(satf_renderer *r, int index,
   resample_curve(&c->b, n, radii + n);
   resample_curve(&c->twist, n, radii + 2 * n);
   satf_cluster_desc desc = {c->n_points, c->trajectory, n,
-                            radii, radii + n, radii + 2 * n};
+                            radii,       radii + n,     radii + 2 * n};
   satf_error cerr;
   satf_status st = satf_cluster_create(&desc, &p->cluster, &cerr);
   free(radii);
   if (st != SATF_OK)
-    return satf_error_set(err, st, "%s: macro_clusters[%d].prototype: %s",
-                          name, index, cerr.message);
+    return satf_error_set(err, st, "%s: macro_clusters[%d].prototype: %s", name,
+                          index, cerr.message);
   satf_shell_params shell = {c->shell.layers, c->shell.st, c->shell.su,
                              c->shell.core};
-  st = satf_shell_geom_create(p->cluster, &shell, &p->geom, &cerr);
+  satf_shell_geom geom;
+  st = satf_shell_geom_create(p->cluster, &shell, &geom, &cerr);
   if (st != SATF_OK)
     return satf_error_set(err, st, "%s: macro_clusters[%d].prototype.shell: %s",
                           name, index, cerr.message);
+  if (keep)
+    memcpy(geom.features, keep,
+           satf_shell_sector_count(&shell) * 3 * sizeof(float));
+  satf_shell_geom_destroy(&p->geom);
+  p->geom = geom;
   p->layers = shell.layers;
-  if (c->density.type == SATF_SCENE_DENSITY_VDB) {
-    st = satf_vdb_read(c->density.vdb_file, c->density.vdb_grid, &p->vdb, &cerr);
-    if (st != SATF_OK)
-      return satf_error_set(err, st, "%s: macro_clusters[%d].prototype.density: %s",
-                            name, index, cerr.message);
-  } else {
-    st = satf_strands_create(&c->density, &p->strands, &cerr);
-    if (st == SATF_OK) /* once per prototype (SATF sec. 3.1) */
-      st = satf_sector_features(p->cluster, &shell, p->strands, NULL, NULL,
-                                r->threads, p->geom.features, &cerr);
-    if (st != SATF_OK)
-      return satf_error_set(err, st, "%s: macro_clusters[%d].prototype.density: %s",
-                            name, index, cerr.message);
-    r->stats.strands += (long)c->density.strands * mc->n_instances;
+  if (!p->vao) {
+    p->vao = calloc((size_t)p->layers, sizeof(GLuint));
+    p->vbo = calloc((size_t)p->layers, sizeof(GLuint));
+    p->ibo = calloc((size_t)p->layers, sizeof(GLuint));
+    p->count = calloc((size_t)p->layers, sizeof(GLsizei));
+    if (!p->vao || !p->vbo || !p->ibo || !p->count)
+      return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }
-  p->vao = calloc((size_t)p->layers, sizeof(GLuint));
-  p->vbo = calloc((size_t)p->layers, sizeof(GLuint));
-  p->ibo = calloc((size_t)p->layers, sizeof(GLuint));
-  p->count = calloc((size_t)p->layers, sizeof(GLsizei));
-  if (!p->vao || !p->vbo || !p->ibo || !p->count)
-    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   for (int k = 0; k < p->layers; k++) {
     satf_mesh *mesh = NULL;
     st = satf_cluster_build_layer_mesh(p->cluster, &shell, k, &mesh, &cerr);
@@ -236,45 +253,89 @@ static satf_status build_proto(satf_renderer *r, int index,
   return upload_frames(p, &shell, err);
 }
 
-static satf_status build_inst(satf_renderer *r, inst *in, int pi,
-                              const satf_scene_instance *si, satf_error *err) {
-  proto *p = &r->protos[pi];
-  in->proto = pi;
-  memcpy(in->m, si->m, sizeof in->m);
+static satf_status build_proto(satf_renderer *r, int index,
+                               const satf_scene_macro_cluster *mc,
+                               satf_error *err) {
+  proto *p = &r->protos[index];
+  const satf_scene_cluster *c = &mc->prototype;
+  const char *name = r->scene->name ? r->scene->name : "scene";
+  satf_status st = build_geometry(r, index, c, NULL, err);
+  if (st != SATF_OK)
+    return st;
+  satf_error cerr;
+  if (c->density.type == SATF_SCENE_DENSITY_VDB) {
+    st =
+        satf_vdb_read(c->density.vdb_file, c->density.vdb_grid, &p->vdb, &cerr);
+    if (st != SATF_OK)
+      return satf_error_set(err, st,
+                            "%s: macro_clusters[%d].prototype.density: %s",
+                            name, index, cerr.message);
+  } else {
+    st = satf_strands_create(&c->density, &p->strands, &cerr);
+    if (st == SATF_OK) /* once per prototype (SATF sec. 3.1) */
+      st = satf_sector_features(p->cluster, &p->geom.shell, p->strands, NULL,
+                                NULL, r->threads, p->geom.features, &cerr);
+    if (st != SATF_OK)
+      return satf_error_set(err, st,
+                            "%s: macro_clusters[%d].prototype.density: %s",
+                            name, index, cerr.message);
+    r->stats.strands += (long)c->density.strands * mc->n_instances;
+  }
+  return SATF_OK;
+}
+
+/* Everything of an instance that follows its prototype's geometry and its
+ * transform: the shell view, the sorting centre and, for world-space (VDB)
+ * density, the features. */
+static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
+  proto *p = &r->protos[in->proto];
   if (!satf_mat4_invert(in->m, in->inv))
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "%s: an instance transform of macro cluster %d is "
-                          "singular", r->scene->name ? r->scene->name : "scene",
-                          pi);
+                          "singular",
+                          r->scene->name ? r->scene->name : "scene", in->proto);
   satf_mat4_normal_matrix(in->m, in->nmat);
+  float *own = in->own_features ? in->geom.features : NULL;
   in->geom = p->geom;
+  if (own)
+    in->geom.features = own;
   size_t sectors = satf_shell_sector_count(&p->geom.shell);
   float local[3] = {0, 0, 0};
   for (size_t q = 0; q < sectors; q++)
     for (int a = 0; a < 3; a++)
       local[a] += p->geom.frames[9 * q + a] / (float)sectors;
   satf_mat4_point(in->m, local, in->centre);
+  if (p->vdb)
+    return satf_sector_features(p->cluster, &p->geom.shell, NULL, p->vdb, in->m,
+                                r->threads, in->geom.features, err);
+  return SATF_OK;
+}
+
+static satf_status build_inst(satf_renderer *r, inst *in, int pi,
+                              const satf_scene_instance *si, satf_error *err) {
+  proto *p = &r->protos[pi];
+  in->proto = pi;
+  memcpy(in->m, si->m, sizeof in->m);
+  size_t sectors = satf_shell_sector_count(&p->geom.shell);
   if (p->vdb) { /* world-space density: features differ per instance */
-    in->geom.features = malloc(sectors * 3 * sizeof(float));
     in->own_features = 1;
+    in->geom.features = malloc(sectors * 3 * sizeof(float));
     if (!in->geom.features)
       return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-    satf_status st = satf_sector_features(p->cluster, &p->geom.shell, NULL,
-                                          p->vdb, in->m, r->threads,
-                                          in->geom.features, err);
-    if (st != SATF_OK)
-      return st;
   }
+  satf_status st = place_inst(r, in, err);
+  if (st != SATF_OK)
+    return st;
   size_t texels = satf_maps_layer_texels(&p->geom, r->w) * (size_t)p->layers;
   in->angles = malloc(sectors * 2 * sizeof(float));
   in->texels = calloc(texels * 4, sizeof(float));
   if (!in->angles || !in->texels)
-    return satf_error_set(err, SATF_ERR_NOMEM,
-                          "cannot allocate %zu map texels", texels);
+    return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate %zu map texels",
+                          texels);
   glGenTextures(1, &in->tex);
   glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
-  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32F,
-                 p->geom.shell.su * r->w, 2 * p->geom.shell.st, p->layers);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32F, p->geom.shell.su * r->w,
+                 2 * p->geom.shell.st, p->layers);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
@@ -359,14 +420,16 @@ static satf_status alloc_screen(satf_renderer *r, satf_error *err) {
   if (!r->list_fbo)
     glGenFramebuffers(1, &r->list_fbo);
   glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
-  glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_WIDTH, r->width);
+  glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_WIDTH,
+                          r->width);
   glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_HEIGHT,
                           r->height);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   if (r->out)
     satf_gl_target_destroy(r->out);
   r->out = NULL;
-  satf_status st = satf_gl_target_create(r->width, r->height, 1, &out_format, &r->out, err);
+  satf_status st =
+      satf_gl_target_create(r->width, r->height, 1, &out_format, &r->out, err);
   if (st == SATF_OK)
     st = alloc_lists(r, r->slots > 0 ? r->slots : START_SLOTS, err);
   return st;
@@ -398,7 +461,8 @@ satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
   r->camera = scene->camera;
   r->effects = scene->effects;
   r->nlights = scene->n_lights < 4 ? scene->n_lights : 4;
-  memcpy(r->lights, scene->lights, (size_t)r->nlights * sizeof(satf_scene_light));
+  memcpy(r->lights, scene->lights,
+         (size_t)r->nlights * sizeof(satf_scene_light));
   r->map_opt = satf_map_options_default();
   satf_scene_bounds(scene, r->lo, r->hi);
   satf_status st = satf_maps_create(db, &r->maps, err);
@@ -433,7 +497,8 @@ satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
   if (st == SATF_OK)
     st = satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &r->dom_depth, err);
   if (st == SATF_OK)
-    st = satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &r->dom_opacity, err);
+    st = satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &r->dom_opacity,
+                               err);
   if (st == SATF_OK) {
     GLuint dom[2] = {satf_gl_target_depth_texture(r->dom_depth),
                      satf_gl_target_color_texture(r->dom_opacity, 0)};
@@ -468,26 +533,19 @@ void satf_renderer_destroy(satf_renderer *r) {
   }
   for (int m = 0; r->protos && m < r->nprotos; m++) {
     proto *p = &r->protos[m];
-    if (p->vao) {
-      glDeleteVertexArrays(p->layers, p->vao);
-      glDeleteBuffers(p->layers, p->vbo);
-      glDeleteBuffers(p->layers, p->ibo);
-    }
+    release_geometry(p);
     free(p->vao);
     free(p->vbo);
     free(p->ibo);
     free(p->count);
-    if (p->frame_vbo)
-      glDeleteBuffers(1, &p->frame_vbo);
     satf_shell_geom_destroy(&p->geom);
     satf_strands_destroy(p->strands);
     satf_vdb_grid_destroy(p->vdb);
-    satf_cluster_destroy(p->cluster);
   }
   free(r->protos);
   free(r->insts);
   GLuint progs[6] = {r->prog_shade, r->prog_shade_ordered, r->prog_depth,
-                     r->prog_dom, r->prog_resolve, r->prog_display};
+                     r->prog_dom,   r->prog_resolve,       r->prog_display};
   for (int i = 0; i < 6; i++)
     if (progs[i])
       glDeleteProgram(progs[i]);
@@ -584,9 +642,9 @@ static int layer_job(void *ctx, size_t i, int thread) {
   inst *in = &r->insts[j->inst_of[i]];
   int k = j->layer_of[i];
   size_t n = satf_maps_layer_texels(&in->geom, r->w) * 4;
-  j->lookups[thread] += satf_maps_build_layer(r->maps, &in->geom, in->angles,
-                                              &r->map_opt, k,
-                                              in->texels + (size_t)k * n);
+  j->lookups[thread] +=
+      satf_maps_build_layer(r->maps, &in->geom, in->angles, &r->map_opt, k,
+                            in->texels + (size_t)k * n);
   return 0;
 }
 
@@ -689,7 +747,8 @@ static void bind_instance(const satf_renderer *r, GLuint prog, const inst *in,
       lights[4 * k + 3] = lv[3];
     }
     glUniform3fv(eye, 1, in->eye);
-    glUniform4fv(glGetUniformLocation(prog, "u_light_local"), r->nlights, lights);
+    glUniform4fv(glGetUniformLocation(prog, "u_light_local"), r->nlights,
+                 lights);
   }
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
@@ -818,7 +877,8 @@ static void set_shading_uniforms(satf_renderer *r, GLuint p, satf_aov aov) {
   glUniform3fv(glGetUniformLocation(p, "u_fspe2"), 1, m->f_speII);
   glUniform1f(glGetUniformLocation(p, "u_kshadow"), m->k_shadow);
   glUniform1f(glGetUniformLocation(p, "u_noise"), m->noise);
-  glUniform1i(glGetUniformLocation(p, "u_secondary"), r->effects.secondary_highlight);
+  glUniform1i(glGetUniformLocation(p, "u_secondary"),
+              r->effects.secondary_highlight);
   glUniform1i(glGetUniformLocation(p, "u_self_shadow"), r->effects.self_shadow);
   glUniform1i(glGetUniformLocation(p, "u_cluster_shadow"),
               r->effects.cluster_shadows);
@@ -852,7 +912,8 @@ static void screen_box(const satf_renderer *r, const float viewproj[16],
     }
     for (int a = 0; a < 2; a++) {
       float q = (viewproj[4 * a] * p[0] + viewproj[4 * a + 1] * p[1] +
-                 viewproj[4 * a + 2] * p[2] + viewproj[4 * a + 3]) / w;
+                 viewproj[4 * a + 2] * p[2] + viewproj[4 * a + 3]) /
+                w;
       mn[a] = q < mn[a] ? q : mn[a];
       mx[a] = q > mx[a] ? q : mx[a];
     }
@@ -1048,9 +1109,9 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
                                        satf_error *err) {
   *out = NULL;
   static const char *const names[] = {
-      "R",         "G",         "B",          "A",          "diffuse.R",
-      "diffuse.G", "diffuse.B", "specI.R",    "specI.G",    "specI.B",
-      "specII.R",  "specII.G",  "specII.B",   "shadow",     "alpha"};
+      "R",         "G",         "B",        "A",       "diffuse.R",
+      "diffuse.G", "diffuse.B", "specI.R",  "specI.G", "specI.B",
+      "specII.R",  "specII.G",  "specII.B", "shadow",  "alpha"};
   int n = aovs ? 15 : 4;
   satf_image *img = NULL;
   satf_status st = satf_image_create(r->width, r->height, names, n, &img, err);
@@ -1087,4 +1148,105 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
   }
   *out = img;
   return SATF_OK;
+}
+
+satf_status satf_renderer_export_meshes(const satf_renderer *r,
+                                        const char *path, int *written,
+                                        satf_error *err) {
+  *written = 0;
+  const char *dot = strrchr(path, '.');
+  if (!dot || (strcmp(dot, ".obj") && strcmp(dot, ".ply")))
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "%s: mesh files must end in .obj or .ply", path);
+  for (int m = 0; m < r->nprotos; m++) {
+    const proto *p = &r->protos[m];
+    for (int k = 0; k < p->layers; k++) {
+      char file[4096];
+      int n = snprintf(file, sizeof file, "%.*s-m%d-l%d%s", (int)(dot - path),
+                       path, m, k, dot);
+      if (n < 0 || (size_t)n >= sizeof file)
+        return satf_error_set(err, SATF_ERR_ARGUMENT, "%s: path too long",
+                              path);
+      satf_mesh *mesh = NULL;
+      satf_status st = satf_cluster_build_layer_mesh(p->cluster, &p->geom.shell,
+                                                     k, &mesh, err);
+      if (st == SATF_OK)
+        st = satf_mesh_write(mesh, file, err);
+      satf_mesh_destroy(mesh);
+      if (st != SATF_OK)
+        return st;
+      (*written)++;
+    }
+  }
+  return SATF_OK;
+}
+
+static int curve_equal(const satf_scene_curve *a, const satf_scene_curve *b) {
+  return a->count == b->count &&
+         !memcmp(a->values, b->values, (size_t)a->count * sizeof(float));
+}
+
+/* Same generalized cylinder (trajectory, A, B, twist, shells). */
+static int cluster_geometry_equal(const satf_scene_cluster *a,
+                                  const satf_scene_cluster *b) {
+  return a->n_points == b->n_points &&
+         !memcmp(a->trajectory, b->trajectory,
+                 3 * (size_t)a->n_points * sizeof(float)) &&
+         curve_equal(&a->a, &b->a) && curve_equal(&a->b, &b->b) &&
+         curve_equal(&a->twist, &b->twist) &&
+         !memcmp(&a->shell, &b->shell, sizeof a->shell);
+}
+
+satf_status satf_renderer_set_scene(satf_renderer *r, const satf_scene *scene,
+                                    int *rebuilt, satf_error *err) {
+  int moved = 0;
+  if (scene->n_macro_clusters != r->nprotos)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "%s: %d macro-clusters, the renderer has %d",
+                          scene->name ? scene->name : "scene",
+                          scene->n_macro_clusters, r->nprotos);
+  for (int m = 0; m < r->nprotos; m++) {
+    const satf_scene_macro_cluster *a = &r->scene->macro_clusters[m];
+    const satf_scene_macro_cluster *b = &scene->macro_clusters[m];
+    if (a->n_instances != b->n_instances ||
+        memcmp(&a->prototype.shell, &b->prototype.shell,
+               sizeof a->prototype.shell))
+      return satf_error_set(err, SATF_ERR_ARGUMENT,
+                            "%s: macro_clusters[%d] changed its instances or "
+                            "shells; only geometry and transforms can animate",
+                            scene->name ? scene->name : "scene", m);
+  }
+  const satf_scene *old = r->scene;
+  r->scene = scene;
+  int ii = 0;
+  satf_status st = SATF_OK;
+  for (int m = 0; m < r->nprotos && st == SATF_OK; m++) {
+    const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
+    int changed = !cluster_geometry_equal(&old->macro_clusters[m].prototype,
+                                          &mc->prototype);
+    if (changed) { /* the density, in the cluster's own frame, stays */
+      proto *p = &r->protos[m];
+      float *features = p->geom.features;
+      p->geom.features = NULL;
+      release_geometry(p);
+      st = build_geometry(r, m, &mc->prototype, features, err);
+      free(features);
+      moved++;
+    }
+    for (int i = 0; i < mc->n_instances && st == SATF_OK; i++, ii++) {
+      inst *in = &r->insts[ii];
+      if (changed || memcmp(in->m, mc->instances[i].m, sizeof in->m)) {
+        memcpy(in->m, mc->instances[i].m, sizeof in->m);
+        st = place_inst(r, in, err);
+      }
+    }
+  }
+  r->camera = scene->camera;
+  r->nlights = scene->n_lights < 4 ? scene->n_lights : 4;
+  memcpy(r->lights, scene->lights,
+         (size_t)r->nlights * sizeof(satf_scene_light));
+  satf_scene_bounds(scene, r->lo, r->hi);
+  if (rebuilt)
+    *rebuilt = moved;
+  return st;
 }

@@ -46,7 +46,7 @@ typedef struct satf_frame_timing {
   double shadow_ms;   /* S: deep opacity map passes (GPU) */
   double total_ms;
   long lookups;
-  long fragments;     /* fragments stored in the per-pixel lists */
+  long fragments; /* fragments stored in the per-pixel lists */
 } satf_frame_timing;
 
 typedef struct satf_render_stats {
@@ -87,6 +87,22 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
                                        satf_image **out,
                                        satf_frame_timing *timing,
                                        satf_error *err);
+
+/* Switches to another state of the same scene (an animation frame): same
+ * macro-clusters, instance counts and shells. Only prototypes whose
+ * geometry changed are rebuilt (their density features are kept: density
+ * lives in the cluster's own frame), only moved instances re-placed; camera
+ * and lights are taken from `scene`, which must outlive its use. *rebuilt
+ * (may be NULL) is the number of prototypes rebuilt. */
+satf_status satf_renderer_set_scene(satf_renderer *r, const satf_scene *scene,
+                                    int *rebuilt, satf_error *err);
+
+/* Writes every shell layer mesh of every prototype (OpenMesh, by the
+ * extension of `path`: .obj or .ply) as PATH-m<macro>-l<layer>.EXT; sets
+ * *written to the number of files. */
+satf_status satf_renderer_export_meshes(const satf_renderer *r,
+                                        const char *path, int *written,
+                                        satf_error *err);
 
 /* Draws the target to the bound framebuffer (viewport already set),
  * converting linear to sRGB. */

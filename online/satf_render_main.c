@@ -12,29 +12,32 @@
 static const char *PROG = "satf-render";
 
 static void usage(FILE *out) {
-  fprintf(out,
-          "usage: %s SCENE.json [--db DB.exr] -o FRAME.exr [options]\n"
-          "\n"
-          "Renders a hair scene with the SATF method (EGL surfaceless, no X "
-          "needed).\n"
-          "\n"
-          "options:\n"
-          "  -o, --output PATH    OpenEXR frame (RGBA half; with --aov also\n"
-          "                       diffuse, specI, specII, shadow, alpha)\n"
-          "  --png PATH           sRGB PNG preview\n"
-          "  --db PATH            HRIR database (default: the scene's "
-          "\"database\")\n"
-          "  --size WxH           image size (default: the scene's, else "
-          "640x480)\n"
-          "  --aov                also write the AOV layers\n"
-          "  --bench N            render N frames of an orbiting camera and "
-          "print\n"
-          "                       the paper's Table 1 row (ms per stage, FPS)\n"
-          "  --threads N          CPU threads for the map stage (0 = all)\n"
-          "%s"
-          "  -q, --quiet          no summary\n"
-          "  -h, --help           this help\n",
-          PROG, satf_frontend_effect_help);
+  fprintf(
+      out,
+      "usage: %s SCENE.json [--db DB.exr] -o FRAME.exr [options]\n"
+      "\n"
+      "Renders a hair scene with the SATF method (EGL surfaceless, no X "
+      "needed).\n"
+      "\n"
+      "options:\n"
+      "  -o, --output PATH    OpenEXR frame (RGBA half; with --aov also\n"
+      "                       diffuse, specI, specII, shadow, alpha)\n"
+      "  --png PATH           sRGB PNG preview\n"
+      "  --db PATH            HRIR database (default: the scene's "
+      "\"database\")\n"
+      "  --size WxH           image size (default: the scene's, else "
+      "640x480)\n"
+      "  --aov                also write the AOV layers\n"
+      "  --export-mesh PATH   write every shell layer mesh as\n"
+      "                       PATH-m<macro>-l<layer>.obj or .ply (OpenMesh)\n"
+      "  --bench N            render N frames of an orbiting camera and "
+      "print\n"
+      "                       the paper's Table 1 row (ms per stage, FPS)\n"
+      "  --threads N          CPU threads for the map stage (0 = all)\n"
+      "%s"
+      "  -q, --quiet          no summary\n"
+      "  -h, --help           this help\n",
+      PROG, satf_frontend_effect_help);
 }
 
 static void orbit(satf_scene_camera *cam, const satf_scene_camera *start,
@@ -54,6 +57,7 @@ static void orbit(satf_scene_camera *cam, const satf_scene_camera *start,
 
 int main(int argc, char **argv) {
   const char *scene_path = NULL, *db_path = NULL, *exr = NULL, *png = NULL;
+  const char *mesh_path = NULL;
   long w = 0, h = 0, bench = 0, threads = 0;
   int aov = 0, quiet = 0;
   satf_scene_effects off = {1, 1, 1, 1};
@@ -73,6 +77,8 @@ int main(int argc, char **argv) {
       NEED_VALUE exr = val;
     } else if (!strcmp(a, "--png")) {
       NEED_VALUE png = val;
+    } else if (!strcmp(a, "--export-mesh")) {
+      NEED_VALUE mesh_path = val;
     } else if (!strcmp(a, "--db")) {
       NEED_VALUE db_path = val;
     } else if (!strcmp(a, "--size")) {
@@ -84,8 +90,9 @@ int main(int argc, char **argv) {
     } else if (!strcmp(a, "--composite")) {
       NEED_VALUE composite = satf_frontend_composite(val);
       if (composite < 0) {
-        fprintf(stderr, "%s: --composite: expected exact or ordered, got '%s'\n",
-                PROG, val);
+        fprintf(stderr,
+                "%s: --composite: expected exact or ordered, got '%s'\n", PROG,
+                val);
         return 2;
       }
     } else if (!strcmp(a, "--aov")) {
@@ -109,8 +116,10 @@ int main(int argc, char **argv) {
     fprintf(stderr, "%s: no scene given (see --help)\n", PROG);
     return 2;
   }
-  if (!exr && !png && !bench) {
-    fprintf(stderr, "%s: nothing to do: give -o FRAME.exr, --png or --bench\n",
+  if (!exr && !png && !bench && !mesh_path) {
+    fprintf(stderr,
+            "%s: nothing to do: give -o FRAME.exr, --png, --bench or "
+            "--export-mesh\n",
             PROG);
     return 2;
   }
@@ -143,6 +152,13 @@ int main(int argc, char **argv) {
   satf_renderer_set_composite(r, (satf_composite)composite);
   satf_render_stats stats;
   satf_renderer_stats(r, &stats);
+  if (mesh_path) {
+    int files = 0;
+    if (satf_renderer_export_meshes(r, mesh_path, &files, &err) != SATF_OK)
+      goto done;
+    if (!quiet)
+      printf("%s: wrote %d layer meshes (%s)\n", PROG, files, mesh_path);
+  }
   satf_frame_timing t;
   if (exr || png) {
     if (satf_renderer_render_image(r, aov, &img, &t, &err) != SATF_OK)
@@ -157,7 +173,8 @@ int main(int argc, char **argv) {
         goto done;
       for (int c = 0; c < 3; c++)
         memcpy(satf_image_plane(rgb, c),
-               satf_image_const_plane(img, satf_image_channel_index(img, names[c])),
+               satf_image_const_plane(img,
+                                      satf_image_channel_index(img, names[c])),
                (size_t)w * (size_t)h * sizeof(float));
       satf_status st = satf_image_write_png(rgb, png, &err);
       satf_image_destroy(rgb);

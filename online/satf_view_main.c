@@ -21,27 +21,28 @@
 static const char *PROG = "satf-view";
 
 static void usage(FILE *out) {
-  fprintf(out,
-          "usage: %s SCENE.json [--db DB.exr] [options]\n"
-          "\n"
-          "Interactive SATF hair preview.\n"
-          "  mouse: left drag orbit, wheel zoom, right drag move the key light\n"
-          "  keys:  1 SATF maps  2 secondary highlight  3 self-shadow\n"
-          "         4 cluster shadows  O exact/ordered compositing\n"
-          "         S save frame (EXR + PNG)  R reset view\n"
-          "         Q / Esc quit\n"
-          "\n"
-          "options:\n"
-          "  --db PATH            HRIR database (default: the scene's)\n"
-          "  --size WxH           window size (default: the scene's image size)\n"
-          "  --save-prefix P      saved frames are P-NNNN.exr/.png (default\n"
-          "                       satf-view)\n"
-          "  --screenshot PATH    render --frames frames, save the window's\n"
-          "                       last frame as PATH (.png or .exr), and exit\n"
-          "  --frames N           frames before --screenshot (default 3)\n"
-          "%s"
-          "  -h, --help           this help\n",
-          PROG, satf_frontend_effect_help);
+  fprintf(
+      out,
+      "usage: %s SCENE.json [--db DB.exr] [options]\n"
+      "\n"
+      "Interactive SATF hair preview.\n"
+      "  mouse: left drag orbit, wheel zoom, right drag move the key light\n"
+      "  keys:  1 SATF maps  2 secondary highlight  3 self-shadow\n"
+      "         4 cluster shadows  O exact/ordered compositing\n"
+      "         S save frame (EXR + PNG)  R reset view\n"
+      "         Q / Esc quit\n"
+      "\n"
+      "options:\n"
+      "  --db PATH            HRIR database (default: the scene's)\n"
+      "  --size WxH           window size (default: the scene's image size)\n"
+      "  --save-prefix P      saved frames are P-NNNN.exr/.png (default\n"
+      "                       satf-view)\n"
+      "  --screenshot PATH    render --frames frames, save the window's\n"
+      "                       last frame as PATH (.png or .exr), and exit\n"
+      "  --frames N           frames before --screenshot (default 3)\n"
+      "%s"
+      "  -h, --help           this help\n",
+      PROG, satf_frontend_effect_help);
 }
 
 typedef struct viewer {
@@ -353,17 +354,16 @@ int main(int argc, char **argv) {
       fps_t0 = now;
       fps_frames = 0;
       char title[256];
-      snprintf(title, sizeof title,
-               "satf-view  %.1f FPS | I %.1f C %.1f M %.1f L %.1f S %.1f ms | "
-               "[1]satf %s [2]specII %s [3]self-shadow %s [4]cluster shadows %s "
-               "[O]%s",
-               fps, t.index_ms, t.maps_ms, t.upload_ms, t.lighting_ms,
-               t.shadow_ms, e->satf ? "on" : "off",
-               e->secondary_highlight ? "on" : "off",
-               e->self_shadow ? "on" : "off",
-               e->cluster_shadows ? "on" : "off",
-               satf_renderer_composite(v.r) == SATF_COMPOSITE_EXACT ? "exact"
-                                                                    : "ordered");
+      snprintf(
+          title, sizeof title,
+          "satf-view  %.1f FPS | I %.1f C %.1f M %.1f L %.1f S %.1f ms | "
+          "[1]satf %s [2]specII %s [3]self-shadow %s [4]cluster shadows %s "
+          "[O]%s",
+          fps, t.index_ms, t.maps_ms, t.upload_ms, t.lighting_ms, t.shadow_ms,
+          e->satf ? "on" : "off", e->secondary_highlight ? "on" : "off",
+          e->self_shadow ? "on" : "off", e->cluster_shadows ? "on" : "off",
+          satf_renderer_composite(v.r) == SATF_COMPOSITE_EXACT ? "exact"
+                                                               : "ordered");
       glfwSetWindowTitle(gw, title);
     }
     satf_gl_window_poll(win);

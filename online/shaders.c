@@ -28,7 +28,7 @@
   " * (paper 002: T' = normalize(T + s N)). The extracted eq. 10 reads\n"      \
   " * (t.l)(t.v) + sin sin; with v pointing to the viewer that peaks at\n"     \
   " * retro-reflection, so we use the mirror form sin sin - (t.l)(t.v)\n"      \
-  " * (Kajiya-Kay measure the eye vector towards the surface). */\n"          \
+  " * (Kajiya-Kay measure the eye vector towards the surface). */\n"           \
   "float kk_specular_cosine(vec3 t, vec3 l, vec3 v) {\n"                       \
   "  return sin_between(t, l) * sin_between(t, v) - dot(t, l) * dot(t, v);\n"  \
   "}\n"                                                                        \
@@ -46,17 +46,18 @@ const char *const satf_glsl_lighting = LIGHTING;
   "uniform int u_st;\n"                                                        \
   "uniform int u_satf;\n"                                                      \
   "uniform float u_plain_opacity;\n"                                           \
-  "uniform int u_map_width;  /* texels around the cluster */\n"               \
+  "uniform int u_map_width;  /* texels around the cluster */\n"                \
   "vec4 fetch_map(float u_turns, float t, int layer) {\n"                      \
   "  float ts = clamp(t, 0.0, 1.0) * float(u_st);\n"                           \
   "  int i = min(int(ts), u_st - 1);\n"                                        \
-  "  int x = min(int(fract(u_turns) * float(u_map_width)), u_map_width - 1);\n" \
+  "  int x = min(int(fract(u_turns) * float(u_map_width)), u_map_width - "     \
+  "1);\n"                                                                      \
   "  vec4 a = texelFetch(u_maps, ivec3(x, 2 * i, layer), 0);\n"                \
   "  vec4 b = texelFetch(u_maps, ivec3(x, 2 * i + 1, layer), 0);\n"            \
   "  return mix(a, b, ts - float(i));\n"                                       \
   "}\n"                                                                        \
   "/* SATF maps give reflectance and alpha; the plain mode (paper 002) has\n"  \
-  " * unit reflectance and an opacity from the mean density alone */\n"       \
+  " * unit reflectance and an opacity from the mean density alone */\n"        \
   "vec2 reflectance_alpha(vec4 m) {\n"                                         \
   "  if (u_satf != 0) return m.rg;\n"                                          \
   "  return vec2(1.0, 1.0 - exp(-u_plain_opacity * m.a));\n"                   \
@@ -64,22 +65,20 @@ const char *const satf_glsl_lighting = LIGHTING;
 
 /* Outermost shell only, for the light's passes. */
 const char *const satf_glsl_layer_vs =
-    GLSL_VERSION
-    "layout(location = 0) in vec3 a_pos;\n"
-    "layout(location = 3) in vec2 a_uv;\n"
-    "uniform mat4 u_model;\n"
-    "uniform mat4 u_viewproj;\n"
-    "out vec2 v_uv;\n"
-    "void main() {\n"
-    "  v_uv = a_uv;\n"
-    "  gl_Position = u_viewproj * (u_model * vec4(a_pos, 1.0));\n"
-    "}\n";
+    GLSL_VERSION "layout(location = 0) in vec3 a_pos;\n"
+                 "layout(location = 3) in vec2 a_uv;\n"
+                 "uniform mat4 u_model;\n"
+                 "uniform mat4 u_viewproj;\n"
+                 "out vec2 v_uv;\n"
+                 "void main() {\n"
+                 "  v_uv = a_uv;\n"
+                 "  gl_Position = u_viewproj * (u_model * vec4(a_pos, 1.0));\n"
+                 "}\n";
 
 /* The outermost shell with the cluster's local frame at each vertex: the
  * trajectory point C(t), the normal-plane frame n1, n2, the trajectory's
  * unit tangent and |dT/dt|, and A, B, theta, all in the prototype's frame. */
-const char *const satf_glsl_cluster_vs =
-    GLSL_VERSION
+const char *const satf_glsl_cluster_vs = GLSL_VERSION
     "layout(location = 0) in vec3 a_pos;\n"
     "layout(location = 2) in vec3 a_tangent;\n"
     "layout(location = 3) in vec2 a_uv;\n"
@@ -117,16 +116,13 @@ const char *const satf_glsl_cluster_vs =
  * composite along the pixel's ray) goes to per-pixel arrays resolved by
  * satf_glsl_resolve_fs; without, it is written for fixed-function "over"
  * blending of clusters drawn far to near. */
-const char *const satf_glsl_shade_fs =
-    GLSL_VERSION
+const char *const satf_glsl_shade_fs = GLSL_VERSION
     "#ifndef EXACT\n"
     "#define EXACT 1\n"
     "#endif\n"
     "#ifndef NLIGHTS /* the renderer defines the scene's light count */\n"
     "#define NLIGHTS 1\n"
-    "#endif\n"
-    MAP_FETCH LIGHTING
-    "in vec3 v_local;\n"
+    "#endif\n" MAP_FETCH LIGHTING "in vec3 v_local;\n"
     "in vec3 v_world;\n"
     "in vec3 v_hair;\n"
     "in float v_t;\n"
@@ -137,11 +133,13 @@ const char *const satf_glsl_shade_fs =
     "in vec3 v_axis;\n"
     "uniform vec3 u_eye_local;       /* the eye in the prototype's frame */\n"
     "uniform int u_nlights;\n"
-    "uniform vec4 u_light_local[4];  /* xyz, w: 0 direction to light, 1 position */\n"
+    "uniform vec4 u_light_local[4];  /* xyz, w: 0 direction to light, 1 "
+    "position */\n"
     "uniform vec3 u_light_color[4];\n"
     "uniform int u_layers;\n"
     "uniform float u_core;\n"
-    "uniform float u_kdif, u_kspe1, u_kspe2, u_exp1, u_exp2, u_shift1, u_shift2;\n"
+    "uniform float u_kdif, u_kspe1, u_kspe2, u_exp1, u_exp2, u_shift1, "
+    "u_shift2;\n"
     "uniform vec3 u_fdif, u_fspe1, u_fspe2;\n"
     "uniform float u_kshadow, u_noise;\n"
     "uniform int u_secondary, u_self_shadow, u_cluster_shadow;\n"
@@ -150,7 +148,8 @@ const char *const satf_glsl_shade_fs =
     "uniform mat4 u_light_viewproj;\n"
     "uniform float u_dom_slab;\n"
     "uniform float u_kcluster;\n"
-    "uniform int u_aov;  /* 0 beauty, 1 diffuse, 2 specI, 3 specII, 4 shadow, 5 alpha */\n"
+    "uniform int u_aov;  /* 0 beauty, 1 diffuse, 2 specI, 3 specII, 4 shadow, "
+    "5 alpha */\n"
     "#if EXACT\n"
     "uniform int u_slots;\n"
     "layout(binding = 0, r32ui) uniform coherent uimage2D u_counts;\n"
@@ -178,25 +177,31 @@ const char *const satf_glsl_shade_fs =
     "  float ax = abs(x), ay = abs(y);\n"
     "  float a = min(ax, ay) / max(max(ax, ay), 1e-30);\n"
     "  float s = a * a;\n"
-    "  float r = ((-0.0464964749 * s + 0.15931422) * s - 0.327622764) * s * a + a;\n"
+    "  float r = ((-0.0464964749 * s + 0.15931422) * s - 0.327622764) * s * a "
+    "+ a;\n"
     "  if (ay > ax) r = 1.57079637 - r;\n"
     "  if (x < 0.0) r = 3.14159274 - r;\n"
     "  if (y < 0.0) r = -r;\n"
     "  return r * 0.159154943;\n"
     "}\n"
-    "/* Deep opacity map (Yuksel & Keyser 2008): optical depth of hair between\n"
-    " * the key light and this point, from four slabs behind the first hair. */\n"
+    "/* Deep opacity map (Yuksel & Keyser 2008): optical depth of hair "
+    "between\n"
+    " * the key light and this point, from four slabs behind the first hair. "
+    "*/\n"
     "float cluster_transmittance(vec3 world) {\n"
     "  vec4 p = u_light_viewproj * vec4(world, 1.0);\n"
     "  vec3 q = p.xyz / p.w * 0.5 + 0.5;\n"
-    "  if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, vec2(1.0))))\n"
+    "  if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, "
+    "vec2(1.0))))\n"
     "    return 1.0;\n"
     "  /* filtered: the map is coarse, and its texels must not show */\n"
     "  float d0 = texture(u_dom_depth, q.xy).r;\n"
     "  vec4 o = texture(u_dom_opacity, q.xy);\n"
     "  float s = max(q.z - d0, 0.0) / u_dom_slab;\n"
-    "  float depth = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) +\n"
-    "                o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, 0.0, 1.0);\n"
+    "  float depth = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) "
+    "+\n"
+    "                o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, "
+    "0.0, 1.0);\n"
     "  return exp(-u_kcluster * depth);\n"
     "}\n"
     "/* SATF eq. 8-11 for one side of the cluster: diffuse, primary and\n"
@@ -209,7 +214,8 @@ const char *const satf_glsl_shade_fs =
     "    vec3 dl = u_light_local[k].xyz - u_light_local[k].w * v_local;\n"
     "    vec3 l = normalize(dl);\n"
     "    /* point lights fall off as 1 / d^2 (samples/README.md) */\n"
-    "    float fall = u_light_local[k].w > 0.0 ? 1.0 / max(dot(dl, dl), 1e-6) : 1.0;\n"
+    "    float fall = u_light_local[k].w > 0.0 ? 1.0 / max(dot(dl, dl), 1e-6) "
+    ": 1.0;\n"
     "    vec3 c = u_light_color[k] * fall * (k == 0 ? dom : 1.0);\n"
     "    dif += c * u_kdif * kk_diffuse(t, l) * u_fdif;\n"
     "    s1 += c * u_kspe1 * kk_specular(t1, l, v, u_exp1) * u_fspe1;\n"
@@ -225,7 +231,8 @@ const char *const satf_glsl_shade_fs =
     "}\n"
     "void main() {\n"
     "  float A = v_shape.x, B = v_shape.y, theta = v_shape.z;\n"
-    "  vec3 n1 = normalize(v_n1), n2 = normalize(v_n2), axis = normalize(v_axis);\n"
+    "  vec3 n1 = normalize(v_n1), n2 = normalize(v_n2), axis = "
+    "normalize(v_axis);\n"
     "  vec3 d = normalize(v_local - u_eye_local);\n"
     "  vec3 q = v_local - v_centre;\n"
     "  /* the ray in the normal plane, scaled so the shells are circles */\n"
@@ -239,7 +246,8 @@ const char *const satf_glsl_shade_fs =
     "  vec3 n_front = normalize(P.x / A * n1 + P.y / B * n2);\n"
     "  vec3 n_back = normalize(Pout.x / A * n1 + Pout.y / B * n2);\n"
     "  vec3 hair = normalize(v_hair), v = -d;\n"
-    "  float dom = u_cluster_shadow != 0 ? cluster_transmittance(v_world) : 1.0;\n"
+    "  float dom = u_cluster_shadow != 0 ? cluster_transmittance(v_world) : "
+    "1.0;\n"
     "  vec3 df, s1f, s2f, db, s1b, s2b;\n"
     "  lighting(hair, n_front, v, dom, df, s1f, s2f);\n"
     "  lighting(hair, n_back, v, dom, db, s1b, s2b);\n"
@@ -252,7 +260,8 @@ const char *const satf_glsl_shade_fs =
     "    for (int j = 0; j < u_layers; j++) {\n"
     "      int k = pass == 0 ? u_layers - 1 - j : inner + j;\n"
     "      if (k >= u_layers) break;\n"
-    "      float r = u_core + (1.0 - u_core) * float(k + 1) / float(u_layers);\n"
+    "      float r = u_core + (1.0 - u_core) * float(k + 1) / "
+    "float(u_layers);\n"
     "      float disc = b * b - a * (c0 - r * r);\n"
     "      if (disc <= 0.0) { inner = k + 1; break; }\n"
     "      float s = (-b + (pass == 0 ? -1.0 : 1.0) * sqrt(disc)) / a;\n"
@@ -288,7 +297,8 @@ const char *const satf_glsl_shade_fs =
     "  int slot = int(imageAtomicAdd(u_counts, px, 1u));\n"
     "  if (slot >= u_slots) return;\n"
     "  imageStore(u_frags, ivec3(px, slot),\n"
-    "             uvec4(packHalf2x16(col.rg), packHalf2x16(vec2(col.b, alpha)),\n"
+    "             uvec4(packHalf2x16(col.rg), packHalf2x16(vec2(col.b, "
+    "alpha)),\n"
     "                   floatBitsToUint(gl_FragCoord.z), 0u));\n"
     "#else\n"
     "  if (alpha < 1.0 / 1024.0) discard;\n"
@@ -297,12 +307,10 @@ const char *const satf_glsl_shade_fs =
     "}\n";
 
 const char *const satf_glsl_depth_fs =
-    GLSL_VERSION MAP_FETCH
-    "in vec2 v_uv;\n"
-    "void main() {}\n";
+    GLSL_VERSION MAP_FETCH "in vec2 v_uv;\n"
+                           "void main() {}\n";
 
-const char *const satf_glsl_dom_fs =
-    GLSL_VERSION MAP_FETCH
+const char *const satf_glsl_dom_fs = GLSL_VERSION MAP_FETCH
     "in vec2 v_uv;\n"
     "uniform sampler2D u_dom_depth;\n"
     "uniform float u_dom_slab;\n"
@@ -312,7 +320,8 @@ const char *const satf_glsl_dom_fs =
     "  /* drawn for the outermost shell only: the innermost layer's s-map sum\n"
     "   * plus its own alpha is the alpha of every layer at this (u, t) */\n"
     "  vec4 m = fetch_map(v_uv.x, v_uv.y, 0);\n"
-    "  float a = u_satf != 0 ? m.b + m.g : reflectance_alpha(m).y * float(u_layers);\n"
+    "  float a = u_satf != 0 ? m.b + m.g : reflectance_alpha(m).y * "
+    "float(u_layers);\n"
     "  float d0 = texelFetch(u_dom_depth, ivec2(gl_FragCoord.xy), 0).r;\n"
     "  float s = max(gl_FragCoord.z - d0, 0.0) / u_dom_slab;\n"
     "  int slab = int(min(s, 3.0));\n"
@@ -321,8 +330,7 @@ const char *const satf_glsl_dom_fs =
     "  o_opacity = o;\n"
     "}\n";
 
-const char *const satf_glsl_fullscreen_vs =
-    GLSL_VERSION
+const char *const satf_glsl_fullscreen_vs = GLSL_VERSION
     "out vec2 v_uv;\n"
     "void main() {\n"
     "  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
@@ -333,47 +341,56 @@ const char *const satf_glsl_fullscreen_vs =
 #define STR2(x) #x
 #define STR(x) STR2(x)
 
-const char *const satf_glsl_resolve_fs =
-    GLSL_VERSION
-    "#define MAXF " STR(SATF_MAX_FRAGMENTS) "\n"
-    "layout(binding = 0, r32ui) uniform readonly uimage2D u_counts;\n"
-    "layout(binding = 1, rgba32ui) uniform readonly uimage2DArray u_frags;\n"
-    "uniform int u_slots;\n"
-    "uniform vec3 u_background;\n"
-    "uniform int u_use_background;\n"
-    "out vec4 o_color;\n"
-    "/* far before near; equal depths ordered by colour bits so the result\n"
-    " * does not depend on the order fragments arrived in */\n"
-    "bool farther(uvec4 a, uvec4 b) {\n"
-    "  float da = uintBitsToFloat(a.z), db = uintBitsToFloat(b.z);\n"
-    "  if (da != db) return da > db;\n"
-    "  if (a.x != b.x) return a.x > b.x;\n"
-    "  return a.y > b.y;\n"
-    "}\n"
-    "void main() {\n"
-    "  uvec4 f[MAXF];\n"
-    "  ivec2 px = ivec2(gl_FragCoord.xy);\n"
-    "  int n = min(int(imageLoad(u_counts, px).r), min(u_slots, MAXF));\n"
-    "  for (int k = 0; k < n; k++) f[k] = imageLoad(u_frags, ivec3(px, k));\n"
-    "  for (int a = 1; a < n; a++) {\n"
-    "    uvec4 x = f[a];\n"
-    "    int b = a - 1;\n"
-    "    while (b >= 0 && farther(x, f[b])) { f[b + 1] = f[b]; b--; }\n"
-    "    f[b + 1] = x;\n"
-    "  }\n"
-    "  /* SATF eq. 14 over every cluster, back to front */\n"
-    "  vec3 c = u_use_background != 0 ? u_background : vec3(0.0);\n"
-    "  float transmit = 1.0;\n"
-    "  for (int a = 0; a < n; a++) {\n"
-    "    vec4 p = vec4(unpackHalf2x16(f[a].x), unpackHalf2x16(f[a].y));\n"
-    "    c = c * (1.0 - p.a) + p.rgb;\n"
-    "    transmit *= 1.0 - p.a;\n"
-    "  }\n"
-    "  o_color = vec4(c, 1.0 - transmit);\n"
-    "}\n";
+const char *const satf_glsl_resolve_fs = GLSL_VERSION "#define MAXF " STR(
+    SATF_MAX_FRAGMENTS) "\n"
+                        "layout(binding = 0, r32ui) uniform readonly uimage2D "
+                        "u_counts;\n"
+                        "layout(binding = 1, rgba32ui) uniform readonly "
+                        "uimage2DArray u_frags;\n"
+                        "uniform int u_slots;\n"
+                        "uniform vec3 u_background;\n"
+                        "uniform int u_use_background;\n"
+                        "out vec4 o_color;\n"
+                        "/* far before near; equal depths ordered by colour "
+                        "bits so the result\n"
+                        " * does not depend on the order fragments arrived in "
+                        "*/\n"
+                        "bool farther(uvec4 a, uvec4 b) {\n"
+                        "  float da = uintBitsToFloat(a.z), db = "
+                        "uintBitsToFloat(b.z);\n"
+                        "  if (da != db) return da > db;\n"
+                        "  if (a.x != b.x) return a.x > b.x;\n"
+                        "  return a.y > b.y;\n"
+                        "}\n"
+                        "void main() {\n"
+                        "  uvec4 f[MAXF];\n"
+                        "  ivec2 px = ivec2(gl_FragCoord.xy);\n"
+                        "  int n = min(int(imageLoad(u_counts, px).r), "
+                        "min(u_slots, MAXF));\n"
+                        "  for (int k = 0; k < n; k++) f[k] = "
+                        "imageLoad(u_frags, ivec3(px, k));\n"
+                        "  for (int a = 1; a < n; a++) {\n"
+                        "    uvec4 x = f[a];\n"
+                        "    int b = a - 1;\n"
+                        "    while (b >= 0 && farther(x, f[b])) { f[b + 1] = "
+                        "f[b]; b--; }\n"
+                        "    f[b + 1] = x;\n"
+                        "  }\n"
+                        "  /* SATF eq. 14 over every cluster, back to front "
+                        "*/\n"
+                        "  vec3 c = u_use_background != 0 ? u_background : "
+                        "vec3(0.0);\n"
+                        "  float transmit = 1.0;\n"
+                        "  for (int a = 0; a < n; a++) {\n"
+                        "    vec4 p = vec4(unpackHalf2x16(f[a].x), "
+                        "unpackHalf2x16(f[a].y));\n"
+                        "    c = c * (1.0 - p.a) + p.rgb;\n"
+                        "    transmit *= 1.0 - p.a;\n"
+                        "  }\n"
+                        "  o_color = vec4(c, 1.0 - transmit);\n"
+                        "}\n";
 
-const char *const satf_glsl_display_fs =
-    GLSL_VERSION
+const char *const satf_glsl_display_fs = GLSL_VERSION
     "uniform sampler2D u_image;\n"
     "in vec2 v_uv;\n"
     "out vec4 o_color;\n"

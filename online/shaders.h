@@ -6,14 +6,14 @@
  * float kk_diffuse(vec3 t, vec3 l); float kk_specular(vec3 t, vec3 l,
  * vec3 v, float exponent); vec3 shifted(vec3 t, vec3 n, float s). */
 extern const char *const satf_glsl_lighting;
-extern const char *const satf_glsl_layer_vs;    /* outer shell, light passes */
-extern const char *const satf_glsl_cluster_vs;  /* outer shell + local frame */
-extern const char *const satf_glsl_shade_fs;    /* eq. 8-14 along each ray */
-extern const char *const satf_glsl_dom_fs;      /* deep opacity map slabs */
-extern const char *const satf_glsl_depth_fs;    /* light-space depth only */
+extern const char *const satf_glsl_layer_vs;   /* outer shell, light passes */
+extern const char *const satf_glsl_cluster_vs; /* outer shell + local frame */
+extern const char *const satf_glsl_shade_fs;   /* eq. 8-14 along each ray */
+extern const char *const satf_glsl_dom_fs;     /* deep opacity map slabs */
+extern const char *const satf_glsl_depth_fs;   /* light-space depth only */
 extern const char *const satf_glsl_fullscreen_vs;
-extern const char *const satf_glsl_resolve_fs;  /* eq. 14, sorted */
-extern const char *const satf_glsl_display_fs;  /* linear -> sRGB blit */
+extern const char *const satf_glsl_resolve_fs; /* eq. 14, sorted */
+extern const char *const satf_glsl_display_fs; /* linear -> sRGB blit */
 
 /* Fragments (one per cluster a pixel's ray meets) kept by the resolve. */
 #define SATF_MAX_FRAGMENTS 64

@@ -30,10 +30,10 @@ void satf_density_features(const float *density, int ns, int nt,
 /* Everything a build depends on; stored in the file. */
 typedef struct satf_build_params {
   uint64_t seed;
-  int samples;     /* number of random sectors */
-  int n_view;      /* view azimuths over the full circle */
-  int n_light;     /* light azimuths over the full circle */
-  int grid;        /* density grid nodes along s and t */
+  int samples; /* number of random sectors */
+  int n_view;  /* view azimuths over the full circle */
+  int n_light; /* light azimuths over the full circle */
+  int grid;    /* density grid nodes along s and t */
   satf_sector_shape shape;
   satf_trace_params trace;
 } satf_build_params;
@@ -88,8 +88,7 @@ void satf_db_lookup(const satf_db *db, const float feature[SATF_FEATURES],
                     float *alpha);
 
 /* File I/O. Writing goes through a temporary file renamed into place. */
-satf_status satf_db_write(const satf_db *db, const char *path,
-                          satf_error *err);
+satf_status satf_db_write(const satf_db *db, const char *path, satf_error *err);
 satf_status satf_db_read(const char *path, satf_db **out, satf_error *err);
 /* Writes the records as an RGBA image (R = G = B = reflectance, A = alpha)
  * in the file's pixel layout, for viewers that do not show Y/A images. */

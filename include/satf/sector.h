@@ -38,10 +38,10 @@ satf_status satf_sector_shape_check(const satf_sector_shape *shape,
 
 typedef struct satf_sector {
   satf_sector_shape shape;
-  int ns, nt;           /* grid nodes along s and t (>= 2 each) */
-  float strand_sigma;   /* Gaussian width of the strands, sector units */
-  float *density;       /* ns * nt values, owned */
-  float *node_xy;       /* plane positions of the grid nodes, 2*ns*nt, owned */
+  int ns, nt;         /* grid nodes along s and t (>= 2 each) */
+  float strand_sigma; /* Gaussian width of the strands, sector units */
+  float *density;     /* ns * nt values, owned */
+  float *node_xy;     /* plane positions of the grid nodes, 2*ns*nt, owned */
 } satf_sector;
 
 /* Allocates an empty (zero-density) sector. */
