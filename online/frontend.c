@@ -4,27 +4,45 @@
 #include <string.h>
 
 satf_status satf_frontend_load(const char *prog, const char *scene_path,
-                               const char *db_path, satf_frontend *fe,
-                               satf_error *err) {
+                               const char *db_path, long *width, long *height,
+                               satf_frontend *fe) {
   memset(fe, 0, sizeof *fe);
-  satf_status st = satf_scene_load(scene_path, &fe->scene, err);
-  if (st != SATF_OK)
-    return st;
-  for (int i = 0; i < satf_scene_warning_count(fe->scene); i++)
-    fprintf(stderr, "%s: warning: %s\n", prog,
-            satf_scene_warning(fe->scene, i));
-  const char *db = db_path ? db_path : fe->scene->database;
-  if (!db) {
-    satf_frontend_free(fe);
-    return satf_error_set(err, SATF_ERR_ARGUMENT,
-                          "%s: no database: give --db DB.exr or a \"database\" "
-                          "key in the scene",
+  satf_error err;
+  satf_error_clear(&err);
+  satf_status st = satf_scene_load(scene_path, &fe->scene, &err);
+  if (st == SATF_OK) {
+    for (int i = 0; i < satf_scene_warning_count(fe->scene); i++)
+      fprintf(stderr, "%s: warning: %s\n", prog,
+              satf_scene_warning(fe->scene, i));
+    const char *db = db_path ? db_path : fe->scene->database;
+    if (!db)
+      st = satf_error_set(&err, SATF_ERR_ARGUMENT,
+                          "%s: no database: give --db DB.exr or a "
+                          "\"database\" key in the scene",
                           scene_path);
+    else
+      st = satf_db_read(db, &fe->db, &err);
   }
-  st = satf_db_read(db, &fe->db, err);
-  if (st != SATF_OK)
+  if (st != SATF_OK) {
+    fprintf(stderr, "%s: %s\n", prog, err.message);
     satf_frontend_free(fe);
-  return st;
+    return st;
+  }
+  if (*width == 0) {
+    *width = fe->scene->image.width;
+    *height = fe->scene->image.height;
+  }
+  return SATF_OK;
+}
+
+void satf_frontend_apply(satf_renderer *r, const satf_scene_effects *off,
+                         int composite) {
+  satf_scene_effects *e = satf_renderer_effects(r);
+  e->satf &= off->satf;
+  e->secondary_highlight &= off->secondary_highlight;
+  e->self_shadow &= off->self_shadow;
+  e->cluster_shadows &= off->cluster_shadows;
+  satf_renderer_set_composite(r, (satf_composite)composite);
 }
 
 void satf_frontend_free(satf_frontend *fe) {

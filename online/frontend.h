@@ -14,10 +14,15 @@ typedef struct satf_frontend {
 } satf_frontend;
 
 /* Loads SCENE (printing its warnings to stderr) and the database (db_path,
- * or the scene's "database"). Errors name the file. */
+ * or the scene's "database"); a zero *width takes the scene's image size.
+ * On failure prints "PROG: reason" and returns non-OK. */
 satf_status satf_frontend_load(const char *prog, const char *scene_path,
-                               const char *db_path, satf_frontend *fe,
-                               satf_error *err);
+                               const char *db_path, long *width, long *height,
+                               satf_frontend *fe);
+
+/* Turns off the effects cleared in `off` and sets the compositing mode. */
+void satf_frontend_apply(satf_renderer *r, const satf_scene_effects *off,
+                         int composite);
 void satf_frontend_free(satf_frontend *fe);
 
 /* Applies a --no-EFFECT flag; returns 1 if arg was one. */

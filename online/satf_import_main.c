@@ -232,7 +232,8 @@ static int parse_args(int argc, char **argv, options *o) {
     } else if (!strcmp(a, "--threads")) {
       NEED_VALUE if (satf_cli_int(PROG, a, val, 0, 256, &o->threads)) return 2;
     } else if (!strcmp(a, "--voxel")) {
-      NEED_VALUE if (satf_cli_double(PROG, a, val, 1e-6, 1e6, &o->voxel)) return 2;
+      NEED_VALUE if (satf_cli_double(PROG, a, val, 1e-6, 1e6,
+                                     &o->voxel)) return 2;
     } else if (!strcmp(a, "--follow-radius")) {
       NEED_VALUE if (satf_cli_double(PROG, a, val, 0.0, 1e6,
                                      &o->follow_radius)) return 2;
@@ -240,8 +241,8 @@ static int parse_args(int argc, char **argv, options *o) {
       NEED_VALUE if (satf_cli_double(PROG, a, val, 0.0, 100.0,
                                      &o->tip_separation)) return 2;
     } else if (!strcmp(a, "--macro-tol")) {
-      NEED_VALUE if (satf_cli_double(PROG, a, val, 0.0, 1.0, &o->macro_tol))
-          return 2;
+      NEED_VALUE if (satf_cli_double(PROG, a, val, 0.0, 1.0,
+                                     &o->macro_tol)) return 2;
     } else if (!strcmp(a, "--seed")) {
       NEED_VALUE if (satf_cli_u64(PROG, a, val, &o->seed)) return 2;
     } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
@@ -316,10 +317,10 @@ int main(int argc, char **argv) {
   float rms = 0.0f;
   satf_progress bar;
   satf_progress_begin(&bar, stderr, "clustering", "iterations", 1, o.quiet);
-  satf_status st = labels ? satf_import_kmeans(all, &cp, labels, &n_clusters,
-                                               &rms, progress_cb, &bar, &err)
-                          : satf_error_set(&err, SATF_ERR_NOMEM,
-                                           "out of memory");
+  satf_status st = labels
+                       ? satf_import_kmeans(all, &cp, labels, &n_clusters, &rms,
+                                            progress_cb, &bar, &err)
+                       : satf_error_set(&err, SATF_ERR_NOMEM, "out of memory");
   satf_progress_end(&bar);
   if (st != SATF_OK) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
@@ -373,8 +374,8 @@ int main(int argc, char **argv) {
     float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) +
                        (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    voxel = o.voxel > 0.0 ? (float)o.voxel
-                          : default_voxel(fits, n_clusters, diag);
+    voxel =
+        o.voxel > 0.0 ? (float)o.voxel : default_voxel(fits, n_clusters, diag);
     satf_vdb_builder *b = NULL;
     satf_progress_begin(&bar, stderr, "density", "strands", 1, o.quiet);
     st = satf_import_build_vdb(all, labels, fits, voxel, &b, progress_cb, &bar,
@@ -406,8 +407,8 @@ int main(int argc, char **argv) {
            "(%d macro-clusters)",
            o.inputs[0], o.n_inputs > 1 ? " and more" : "", n_strands,
            n_clusters, macro.n_macro);
-  satf_import_scene_options so = {o.vdb ? vdb_name : NULL, "density",
-                                  o.database, desc, 0, 0, o.seed};
+  satf_import_scene_options so = {
+      o.vdb ? vdb_name : NULL, "density", o.database, desc, 0, 0, o.seed};
   st = satf_import_write_scene(o.output, fits, n_clusters, &macro, &so, &err);
   if (st != SATF_OK) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);

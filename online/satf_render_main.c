@@ -123,17 +123,11 @@ int main(int argc, char **argv) {
             PROG);
     return 2;
   }
+  satf_frontend fe;
+  if (satf_frontend_load(PROG, scene_path, db_path, &w, &h, &fe) != SATF_OK)
+    return 1;
   satf_error err;
   satf_error_clear(&err);
-  satf_frontend fe;
-  if (satf_frontend_load(PROG, scene_path, db_path, &fe, &err) != SATF_OK) {
-    fprintf(stderr, "%s: %s\n", PROG, err.message);
-    return 1;
-  }
-  if (!w) {
-    w = fe.scene->image.width;
-    h = fe.scene->image.height;
-  }
   int rc = 1;
   satf_gl_context *ctx = NULL;
   satf_renderer *r = NULL;
@@ -144,12 +138,7 @@ int main(int argc, char **argv) {
                            &err) != SATF_OK)
     goto done;
   double t_setup = satf_now_seconds() - t0;
-  satf_scene_effects *e = satf_renderer_effects(r);
-  e->satf &= off.satf;
-  e->secondary_highlight &= off.secondary_highlight;
-  e->self_shadow &= off.self_shadow;
-  e->cluster_shadows &= off.cluster_shadows;
-  satf_renderer_set_composite(r, (satf_composite)composite);
+  satf_frontend_apply(r, &off, composite);
   satf_render_stats stats;
   satf_renderer_stats(r, &stats);
   if (mesh_path) {

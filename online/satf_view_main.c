@@ -268,17 +268,11 @@ int main(int argc, char **argv) {
     fprintf(stderr, "%s: no scene given (see --help)\n", PROG);
     return 2;
   }
+  satf_frontend fe;
+  if (satf_frontend_load(PROG, scene_path, db_path, &w, &h, &fe) != SATF_OK)
+    return 1;
   satf_error err;
   satf_error_clear(&err);
-  satf_frontend fe;
-  if (satf_frontend_load(PROG, scene_path, db_path, &fe, &err) != SATF_OK) {
-    fprintf(stderr, "%s: %s\n", PROG, err.message);
-    return 1;
-  }
-  if (!w) {
-    w = fe.scene->image.width;
-    h = fe.scene->image.height;
-  }
   int rc = 1;
   satf_gl_window *win = NULL;
   if (satf_gl_window_create((int)w, (int)h, "satf-view", &win, &err) != SATF_OK)
@@ -288,12 +282,8 @@ int main(int argc, char **argv) {
   if (satf_renderer_create(fe.scene, fe.db, fw > 0 ? fw : (int)w,
                            fh > 0 ? fh : (int)h, 0, &v.r, &err) != SATF_OK)
     goto done;
+  satf_frontend_apply(v.r, &off, composite);
   satf_scene_effects *e = satf_renderer_effects(v.r);
-  e->satf &= off.satf;
-  e->secondary_highlight &= off.secondary_highlight;
-  e->self_shadow &= off.self_shadow;
-  e->cluster_shadows &= off.cluster_shadows;
-  satf_renderer_set_composite(v.r, (satf_composite)composite);
   v.home = *satf_renderer_camera(v.r);
   reset_view(&v);
   satf_scene_light *key = satf_renderer_light(v.r, 0);
