@@ -258,6 +258,7 @@ static void lay_row(const satf_maps *m, const float *re, const float *al,
     float *t = row + 4 * x;
     t[0] = a > 1e-4f ? m->re_scale * r / a : 0.0f;
     t[1] = a;
+    t[2] = 0.0f; /* the s-map sum, filled by satf_maps_shadow_sums */
     t[3] = density;
   }
 }

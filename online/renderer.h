@@ -72,7 +72,7 @@ int satf_renderer_light_count(const satf_renderer *r);
 void satf_renderer_set_composite(satf_renderer *r, satf_composite mode);
 satf_composite satf_renderer_composite(const satf_renderer *r);
 
-/* Renders one frame of `aov` into the renderer's RGBA32F target. */
+/* Renders one frame of `aov` into the renderer's RGBA16F target. */
 satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,
                                  satf_frame_timing *timing, satf_error *err);
 /* The target's colour texture (linear RGB, A = hair coverage). */
