@@ -259,8 +259,8 @@ satf_status satf_import_choose_clusters(const satf_strand_set *s,
   int k = 1;
   for (;;) {
     double rms = 0.0;
-    if (kmeans_core(f, m, 3 * p->samples, k, p->seed, p->iterations,
-                    p->threads, labels, &rms, NULL, NULL) != 0) {
+    if (kmeans_core(f, m, 3 * p->samples, k, p->seed, p->iterations, p->threads,
+                    labels, &rms, NULL, NULL) != 0) {
       st = satf_error_set(err, SATF_ERR_NOMEM, "clustering: out of memory");
       break;
     }
@@ -276,8 +276,8 @@ satf_status satf_import_choose_clusters(const satf_strand_set *s,
 }
 
 satf_status satf_import_kmeans(const satf_strand_set *s,
-                               const satf_import_cluster_params *p,
-                               int *labels, int *n_clusters, float *rms,
+                               const satf_import_cluster_params *p, int *labels,
+                               int *n_clusters, float *rms,
                                satf_import_progress_fn progress,
                                void *progress_ctx, satf_error *err) {
   satf_status st = check_params(p, err);

@@ -172,11 +172,12 @@ satf_status satf_import_cluster_density(const satf_import_projection *proj,
                           nt, n, n, (double)extent, (double)sigma);
   if ((size_t)nt * n * n > (256u << 20))
     return satf_error_set(err, SATF_ERR_ARGUMENT,
-                          "cluster density: %d x %d x %d cells is too many",
-                          nt, n, n);
+                          "cluster density: %d x %d x %d cells is too many", nt,
+                          n, n);
   out->values = calloc((size_t)nt * n * n, sizeof(float));
   if (!out->values)
-    return satf_error_set(err, SATF_ERR_NOMEM, "cluster density: out of memory");
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "cluster density: out of memory");
   out->nt = nt;
   out->n = n;
   out->extent = extent;

@@ -179,8 +179,14 @@ static satf_status project_all(const satf_strand_set *s, const int *members,
                           "projection: cannot hold %zu points", np);
   }
   trajectory_table(cluster, tab);
-  project_job job = {s,           members, cluster, tab, out->offset,
-                     out->txy,    dist ? *dist : NULL, normalise};
+  project_job job = {s,
+                     members,
+                     cluster,
+                     tab,
+                     out->offset,
+                     out->txy,
+                     dist ? *dist : NULL,
+                     normalise};
   /* Clusters are fitted in parallel already; one thread here. */
   for (int i = 0; i < n_members; i++)
     project_strand(&job, (size_t)i, 0);
@@ -287,7 +293,8 @@ static int fit_trajectory(const double *pts, int m, int n, float *ctrl) {
   if (!bad) {
     u[0] = 0.0;
     for (int k = 1; k < m; k++) {
-      double dx = pts[3 * k] - pts[3 * k - 3], dy = pts[3 * k + 1] - pts[3 * k - 2],
+      double dx = pts[3 * k] - pts[3 * k - 3],
+             dy = pts[3 * k + 1] - pts[3 * k - 2],
              dz = pts[3 * k + 2] - pts[3 * k - 1];
       u[k] = u[k - 1] + sqrt(dx * dx + dy * dy + dz * dz);
     }

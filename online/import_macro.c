@@ -81,15 +81,14 @@ double satf_import_similarity(const double *from, const double *to, int n,
       for (int c = 0; c < 3; c++)
         s[r][c] += x[r] * y[c];
   }
-  double N[4][4] = {
-      {s[0][0] + s[1][1] + s[2][2], s[1][2] - s[2][1], s[2][0] - s[0][2],
-       s[0][1] - s[1][0]},
-      {s[1][2] - s[2][1], s[0][0] - s[1][1] - s[2][2], s[0][1] + s[1][0],
-       s[2][0] + s[0][2]},
-      {s[2][0] - s[0][2], s[0][1] + s[1][0], -s[0][0] + s[1][1] - s[2][2],
-       s[1][2] + s[2][1]},
-      {s[0][1] - s[1][0], s[2][0] + s[0][2], s[1][2] + s[2][1],
-       -s[0][0] - s[1][1] + s[2][2]}};
+  double N[4][4] = {{s[0][0] + s[1][1] + s[2][2], s[1][2] - s[2][1],
+                     s[2][0] - s[0][2], s[0][1] - s[1][0]},
+                    {s[1][2] - s[2][1], s[0][0] - s[1][1] - s[2][2],
+                     s[0][1] + s[1][0], s[2][0] + s[0][2]},
+                    {s[2][0] - s[0][2], s[0][1] + s[1][0],
+                     -s[0][0] + s[1][1] - s[2][2], s[1][2] + s[2][1]},
+                    {s[0][1] - s[1][0], s[2][0] + s[0][2], s[1][2] + s[2][1],
+                     -s[0][0] - s[1][1] + s[2][2]}};
   double q[4];
   max_eigenvector4(N, q);
   double w = q[0], x = q[1], y = q[2], z = q[3];
@@ -252,8 +251,8 @@ satf_status satf_import_find_macro(const satf_import_fit *fits, int n,
       if (out->macro_of[c] >= 0)
         continue;
       double m[16];
-      double rms = satf_import_similarity(shapes[p].pos, shapes[c].pos,
-                                          SAMPLES, m);
+      double rms =
+          satf_import_similarity(shapes[p].pos, shapes[c].pos, SAMPLES, m);
       /* measured in the prototype's units: the residual shrinks with it */
       double scale = cbrt(fabs(m[0] * (m[5] * m[10] - m[6] * m[9]) -
                                m[1] * (m[4] * m[10] - m[6] * m[8]) +

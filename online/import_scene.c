@@ -43,8 +43,8 @@ static cJSON *vec3(double x, double y, double z) {
 satf_scene_shell satf_import_choose_shell(const satf_import_fit *fit) {
   satf_scene_shell sh;
   /* more layers resolve the density of more strands */
-  int layers = 3 + (int)floor(log10(fit->strands > 10 ? fit->strands / 10.0
-                                                      : 1.0));
+  int layers =
+      3 + (int)floor(log10(fit->strands > 10 ? fit->strands / 10.0 : 1.0));
   sh.layers = layers < 3 ? 3 : layers > 6 ? 6 : layers;
   /* HSVs about as long along t as the cluster is wide */
   float r = fit->radius > 0.0f ? fit->radius : 1.0f;
@@ -66,8 +66,8 @@ static cJSON *cluster_json(const satf_import_fit *f,
   cJSON *c = cJSON_CreateObject();
   cJSON *traj = cJSON_CreateArray();
   for (int i = 0; i < f->n_ctrl; i++)
-    cJSON_AddItemToArray(traj, vec3(f->traj[3 * i], f->traj[3 * i + 1],
-                                    f->traj[3 * i + 2]));
+    cJSON_AddItemToArray(
+        traj, vec3(f->traj[3 * i], f->traj[3 * i + 1], f->traj[3 * i + 2]));
   cJSON_AddItemToObject(c, "trajectory", traj);
   cJSON_AddItemToObject(c, "a", num_array(f->a, f->n_radius));
   cJSON_AddItemToObject(c, "b", num_array(f->b, f->n_radius));
@@ -176,10 +176,10 @@ satf_status satf_import_scene_json(const satf_import_fit *fits, int n,
   cJSON_AddItemToObject(root, "image", image);
   cJSON_AddItemToObject(root, "camera", camera_json(fits, n));
   cJSON *lights = cJSON_CreateArray();
-  cJSON_AddItemToArray(lights, light_json(-0.45, -0.6, -0.66, 1.0, 0.97, 0.92,
-                                          1.0));
-  cJSON_AddItemToArray(lights, light_json(0.8, -0.1, -0.6, 0.75, 0.82, 1.0,
-                                          0.3));
+  cJSON_AddItemToArray(lights,
+                       light_json(-0.45, -0.6, -0.66, 1.0, 0.97, 0.92, 1.0));
+  cJSON_AddItemToArray(lights,
+                       light_json(0.8, -0.1, -0.6, 0.75, 0.82, 1.0, 0.3));
   cJSON_AddItemToObject(root, "lights", lights);
   cJSON_AddItemToObject(root, "background", vec3(0.16, 0.17, 0.2));
   cJSON *macros = cJSON_CreateArray();

@@ -292,6 +292,11 @@ satf_status satf_hair_parse(const void *data, size_t size, const char *name,
                           "%llu (%u strands, %u points)",
                           name, size, (unsigned long long)expect, hairs,
                           points);
+  if (2ull * hairs > points)
+    return satf_error_set(err, SATF_ERR_CORRUPT,
+                          "%s: counts do not add up: %u strands need at least "
+                          "%llu points, the header says %u",
+                          name, hairs, 2ull * hairs, points);
   const unsigned char *seg = b + HAIR_HEADER;
   const unsigned char *pts = seg + ((flags & HAIR_SEGMENTS) ? 2ull * hairs : 0);
   const unsigned char *thick = pts + 12ull * points;
@@ -309,6 +314,8 @@ satf_status satf_hair_parse(const void *data, size_t size, const char *name,
                             "%s: strand %u has an absurd %u segments", name, i,
                             s);
     sum += s + 1;
+    if (sum > points)
+      break; /* already too many: no need to read on */
   }
   if (sum != points)
     return satf_error_set(err, SATF_ERR_CORRUPT,

@@ -65,23 +65,23 @@ satf_status satf_import_choose_clusters(const satf_strand_set *s,
  * distance of resampled points to their centre. Deterministic for a given
  * seed whatever the thread count. */
 satf_status satf_import_kmeans(const satf_strand_set *s,
-                               const satf_import_cluster_params *p,
-                               int *labels, int *n_clusters, float *rms,
+                               const satf_import_cluster_params *p, int *labels,
+                               int *n_clusters, float *rms,
                                satf_import_progress_fn progress,
                                void *progress_ctx, satf_error *err);
 
 /* Strand indices of cluster c, in order: *members is malloc'ed. */
 satf_status satf_import_members(const int *labels, int n_strands, int c,
-                                int **members, int *n_members,
-                                satf_error *err);
+                                int **members, int *n_members, satf_error *err);
 
 /* ---- Fitting the generalized cylinder (import_fit.c) ------------------ */
 
 typedef struct satf_import_fit_params {
-  int n_ctrl;     /* trajectory control points, 2..64 */
-  int n_radius;   /* control values of A, B and twist, 1..64 */
-  int samples;    /* points the mean strand is resampled to, >= n_ctrl */
-  float coverage; /* share of strand points the envelope encloses, (0, 1] */
+  int n_ctrl;       /* trajectory control points, 2..64 */
+  int n_radius;     /* control values of A, B and twist, 1..64 */
+  int samples;      /* points the mean strand is resampled to, >= n_ctrl */
+  float coverage;   /* share of strand points the envelope encloses, (0, 1] */
+  float min_radius; /* A and B are at least this (scene units), >= 0 */
 } satf_import_fit_params;
 
 satf_import_fit_params satf_import_fit_params_default(void);
@@ -91,12 +91,14 @@ typedef struct satf_import_fit {
   int n_ctrl;
   float *traj; /* n_ctrl * 3 */
   int n_radius;
-  float *a, *b, *twist; /* n_radius each; a >= b (a is the major axis) */
-  int strands;          /* member strands */
-  size_t points;        /* their points */
-  size_t inside;        /* points inside the envelope (v <= 1) */
-  double distance_sum;  /* sum of point-to-trajectory distances */
-  float length;         /* arc length of the trajectory */
+  float *a, *b, *twist; /* n_radius each: A along n1, B along n2 */
+  float *spread;       /* n_radius x 3: second moments xx, xy, yy of the points'
+                          offsets in the normal plane (n1, n2), scene units^2 */
+  int strands;         /* member strands */
+  size_t points;       /* their points */
+  size_t inside;       /* points inside the envelope (v <= 1) */
+  double distance_sum; /* sum of point-to-trajectory distances */
+  float length;        /* arc length of the trajectory */
   /* density estimates (filled by satf_import_estimate_density) */
   float strand_width; /* diameter, in units of the cluster radius */
   float radius;       /* sqrt(mean a * mean b), scene units */
@@ -105,10 +107,14 @@ typedef struct satf_import_fit {
 } satf_import_fit;
 
 /* Fits the cluster of the strands `members`: the trajectory is the
- * least-squares cubic B-spline through the members' mean strand; A, B and
- * twist come from the principal axes of the points' spread in the normal
- * plane (weighted by each control value's B-spline basis), then scaled
- * together so the envelope encloses `coverage` of the points. */
+ * least-squares cubic B-spline through the members' mean strand. The
+ * geometry's ellipse lies on the rotation-minimising frame axes (n1, n2)
+ * and its twist theta is the phase from which every strand's angle u is
+ * measured (SATF eq. 1 as satf/cluster.h implements it), so A and B come
+ * from the spread of the points along n1 and n2 (the second moments at each
+ * control value, weighted by its B-spline basis function), scaled together
+ * so the envelope encloses `coverage` of the points, and theta(t) is the
+ * strands' mean winding about the trajectory (theta(0) = 0). */
 satf_status satf_import_fit_cluster(const satf_strand_set *s,
                                     const int *members, int n_members,
                                     const satf_import_fit_params *p,
@@ -117,8 +123,7 @@ void satf_import_fit_free(satf_import_fit *fit);
 
 /* The satf_cluster of a fit (caller destroys). */
 satf_status satf_import_fit_cluster_create(const satf_import_fit *fit,
-                                           satf_cluster **out,
-                                           satf_error *err);
+                                           satf_cluster **out, satf_error *err);
 
 /* The point of the trajectory closest to p: its parameter *t, the distance,
  * and p's offset in the normal-plane frame (n1, n2) at *t. */
@@ -192,10 +197,10 @@ satf_status satf_import_build_vdb(const satf_strand_set *s, const int *labels,
 typedef struct satf_import_macro {
   int n_clusters;
   int n_macro;
-  int *prototype;      /* n_macro cluster indices */
-  int *macro_of;       /* n_clusters: the macro-cluster of each cluster */
-  float *transform;    /* n_clusters x 16 row-major: prototype -> cluster */
-  float *residual;     /* n_clusters: shape mismatch / prototype length */
+  int *prototype;        /* n_macro cluster indices */
+  int *macro_of;         /* n_clusters: the macro-cluster of each cluster */
+  float *transform;      /* n_clusters x 16 row-major: prototype -> cluster */
+  float *residual;       /* n_clusters: shape mismatch / prototype length */
   size_t bytes_separate; /* cluster parameters stored one by one */
   size_t bytes_shared;   /* prototypes + one transform per instance */
 } satf_import_macro;
@@ -210,8 +215,9 @@ double satf_import_similarity(const double *from, const double *to, int n,
 /* Greedy grouping: each cluster not yet grouped becomes a prototype and
  * takes every later ungrouped cluster whose trajectory, after the best
  * similarity transform, lies within tolerance x the prototype's length
- * (RMS over samples along t, envelope axis end points included) and whose
- * transformed cross-section ellipses match within 2 x tolerance relative.
+ * (RMS over 16 samples along t) and whose strands' spread in the normal
+ * plane (second moments as a 3-D tensor, carried by the transform) matches
+ * within 6 x tolerance relative, on average over t.
  * tolerance <= 0 makes every cluster its own prototype. */
 satf_status satf_import_find_macro(const satf_import_fit *fits, int n,
                                    float tolerance, satf_import_macro *out,

@@ -57,8 +57,7 @@ int satf_strand_set_points(const satf_strand_set *s, int i);
 /* Thickness of the points of strand i, or NULL when the set has none. */
 const float *satf_strand_set_thickness(const satf_strand_set *s, int i);
 /* Axis-aligned bounds of every point. */
-void satf_strand_set_bounds(const satf_strand_set *s, float lo[3],
-                            float hi[3]);
+void satf_strand_set_bounds(const satf_strand_set *s, float lo[3], float hi[3]);
 /* Polyline length of strand i. */
 float satf_strand_set_length(const satf_strand_set *s, int i);
 
@@ -76,10 +75,10 @@ satf_status satf_hair_write(const char *path, const satf_strand_set *s,
 /* ---- TressFX .tfx ------------------------------------------------------ */
 
 typedef struct satf_tfx_info {
-  float version;         /* as stored: 3.x or 4.x */
-  int guides;            /* strands in the file */
-  int vertices;          /* vertices per strand */
-  int follow_per_guide;  /* 3.x header's numFollowStrandsPerGuide; 4.x: 0 */
+  float version;        /* as stored: 3.x or 4.x */
+  int guides;           /* strands in the file */
+  int vertices;         /* vertices per strand */
+  int follow_per_guide; /* 3.x header's numFollowStrandsPerGuide; 4.x: 0 */
   int both_ends_immovable;
 } satf_tfx_info;
 
