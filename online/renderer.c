@@ -577,6 +577,10 @@ satf_status satf_renderer_resize(satf_renderer *r, int width, int height,
 void satf_renderer_stats(const satf_renderer *r, satf_render_stats *s) {
   *s = r->stats;
 }
+void satf_renderer_size(const satf_renderer *r, int *width, int *height) {
+  *width = r->width;
+  *height = r->height;
+}
 satf_scene_camera *satf_renderer_camera(satf_renderer *r) { return &r->camera; }
 satf_scene_effects *satf_renderer_effects(satf_renderer *r) {
   return &r->effects;

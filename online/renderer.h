@@ -63,6 +63,7 @@ void satf_renderer_destroy(satf_renderer *r);
 satf_status satf_renderer_resize(satf_renderer *r, int width, int height,
                                  satf_error *err);
 void satf_renderer_stats(const satf_renderer *r, satf_render_stats *stats);
+void satf_renderer_size(const satf_renderer *r, int *width, int *height);
 
 /* Mutable state for interactive use; start as in the scene. */
 satf_scene_camera *satf_renderer_camera(satf_renderer *r);

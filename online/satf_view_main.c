@@ -17,6 +17,7 @@
 #include "online/gl.h"
 #include "online/gl_context.h"
 #include "online/gl_util.h"
+#include "satf/anim.h"
 
 static const char *PROG = "satf-view";
 
@@ -28,6 +29,7 @@ static void usage(FILE *out) {
       "Interactive SATF hair preview.\n"
       "  mouse: left drag orbit, wheel zoom, right drag move the key light\n"
       "  keys:  1 SATF maps  2 secondary highlight  3 self-shadow\n"
+      "         space pause/play the animation, left/right step a frame\n"
       "         4 cluster shadows  O exact/ordered compositing\n"
       "         S save frame (EXR + PNG)  R reset view\n"
       "         Q / Esc quit\n"
@@ -54,6 +56,10 @@ typedef struct viewer {
   double mx, my;
   int save_requested, saved;
   const char *prefix;
+  /* animation playback */
+  int animated, first, last, paused, step;
+  double fps, clock; /* the animation time, in frames since `first` */
+  int user_camera, user_light; /* moved by hand: the animation keeps off */
 } viewer;
 
 static void place_camera(viewer *v) {
@@ -113,6 +119,9 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods) {
                                           : SATF_COMPOSITE_EXACT);
     break;
   case GLFW_KEY_R: reset_view(v); break;
+  case GLFW_KEY_SPACE: v->paused = !v->paused; break;
+  case GLFW_KEY_RIGHT: v->paused = 1; v->step = 1; break;
+  case GLFW_KEY_LEFT: v->paused = 1; v->step = -1; break;
   case GLFW_KEY_Q:
   case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
   default: break;
@@ -135,12 +144,14 @@ static void on_cursor(GLFWwindow *w, double x, double y) {
   v->mx = x;
   v->my = y;
   if (v->dragging) {
+    v->user_camera = 1;
     v->yaw -= dx;
     v->pitch += dy;
     v->pitch = fmaxf(-1.5f, fminf(1.5f, v->pitch));
     place_camera(v);
   }
   if (v->light_dragging) {
+    v->user_light = 1;
     v->light_yaw -= dx;
     v->light_pitch = fmaxf(-1.5f, fminf(1.5f, v->light_pitch + dy));
     place_light(v);
@@ -150,6 +161,7 @@ static void on_cursor(GLFWwindow *w, double x, double y) {
 static void on_scroll(GLFWwindow *w, double dx, double dy) {
   (void)dx;
   viewer *v = glfwGetWindowUserPointer(w);
+  v->user_camera = 1;
   v->dist *= powf(0.9f, (float)dy);
   place_camera(v);
 }
@@ -222,6 +234,7 @@ int main(int argc, char **argv) {
   int composite = SATF_COMPOSITE_ORDERED;
   viewer v;
   memset(&v, 0, sizeof v);
+  satf_scene *snap = NULL; /* the animation frame on screen */
   v.prefix = "satf-view";
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
@@ -309,11 +322,45 @@ int main(int argc, char **argv) {
   long frame = 0;
   satf_frame_timing t;
   memset(&t, 0, sizeof t);
+  v.animated = satf_scene_frame_range(fe.scene, &v.first, &v.last);
+  v.fps = satf_scene_fps(fe.scene);
+  int shown = -1;
+  double last_tick = satf_now_seconds();
   while (!satf_gl_window_should_close(win)) {
     satf_gl_window_framebuffer_size(win, &fw, &fh);
     if (fw <= 0 || fh <= 0) { /* minimised: nothing to draw */
       glfwWaitEventsTimeout(0.1);
+      last_tick = satf_now_seconds();
       continue;
+    }
+    if (v.animated) {
+      /* real-time playback: the frame follows the clock, so frames are
+       * dropped when rendering is slower than the animation's rate */
+      double now = satf_now_seconds(), span = v.last - v.first + 1;
+      if (!v.paused)
+        v.clock += (now - last_tick) * v.fps;
+      last_tick = now;
+      v.clock += v.step;
+      v.step = 0;
+      v.clock -= span * floor(v.clock / span);
+      int want = v.first + (int)v.clock;
+      if (want != shown) {
+        satf_scene *next = NULL;
+        satf_scene_camera cam = *satf_renderer_camera(v.r);
+        satf_scene_light key = *satf_renderer_light(v.r, 0);
+        if (satf_scene_at_frame(fe.scene, want, &next, &err) != SATF_OK ||
+            satf_renderer_set_scene(v.r, next, NULL, &err) != SATF_OK) {
+          satf_scene_destroy(next);
+          goto done;
+        }
+        if (v.user_camera)
+          *satf_renderer_camera(v.r) = cam;
+        if (v.user_light)
+          *satf_renderer_light(v.r, 0) = key;
+        satf_scene_destroy(snap);
+        snap = next;
+        shown = want;
+      }
     }
     if (satf_renderer_resize(v.r, fw, fh, &err) != SATF_OK ||
         satf_renderer_render(v.r, SATF_AOV_BEAUTY, &t, &err) != SATF_OK)
@@ -343,13 +390,16 @@ int main(int argc, char **argv) {
       fps = fps_frames / (now - fps_t0);
       fps_t0 = now;
       fps_frames = 0;
-      char title[256];
+      char title[384], anim[96] = "";
+      if (v.animated)
+        snprintf(anim, sizeof anim, " | frame %d/%d%s (%.0f fps)", shown,
+                 v.last, v.paused ? " paused" : "", v.fps);
       snprintf(
           title, sizeof title,
-          "satf-view  %.1f FPS | I %.1f C %.1f M %.1f L %.1f S %.1f ms | "
+          "satf-view  %.1f FPS%s | I %.1f C %.1f M %.1f L %.1f S %.1f ms | "
           "[1]satf %s [2]specII %s [3]self-shadow %s [4]cluster shadows %s "
           "[O]%s",
-          fps, t.index_ms, t.maps_ms, t.upload_ms, t.lighting_ms, t.shadow_ms,
+          fps, anim, t.index_ms, t.maps_ms, t.upload_ms, t.lighting_ms, t.shadow_ms,
           e->satf ? "on" : "off", e->secondary_highlight ? "on" : "off",
           e->self_shadow ? "on" : "off", e->cluster_shadows ? "on" : "off",
           satf_renderer_composite(v.r) == SATF_COMPOSITE_EXACT ? "exact"
@@ -360,6 +410,11 @@ int main(int argc, char **argv) {
   }
   rc = 0;
 done:
+  if (snap) { /* the renderer reads the snapshot until it is destroyed */
+    satf_renderer_destroy(v.r);
+    v.r = NULL;
+    satf_scene_destroy(snap);
+  }
   if (rc != 0)
     fprintf(stderr, "%s: %s\n", PROG, err.message);
   satf_renderer_destroy(v.r);

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "online/scene_anim.h"
 #include "online/scene_json.h"
 #include "online/scene_parse.h"
 
@@ -192,6 +193,7 @@ void satf_scene_destroy(satf_scene *scene) {
     free(mc->instances);
   }
   free(scene->macro_clusters);
+  scene_anim_destroy(scene->animation);
   free(scene->lights);
   for (int i = 0; i < scene->n_warnings; i++)
     free(scene->warnings[i]);

@@ -1,8 +1,13 @@
-# The scene file (JSON via cJSON): include/satf/scene.h.
+# The scene file (JSON via cJSON): include/satf/scene.h, its keyframe
+# animation: include/satf/anim.h.
 find_package(cJSON CONFIG REQUIRED)
 add_library(satf_scene STATIC
   ${CMAKE_CURRENT_SOURCE_DIR}/scene.c
+  ${CMAKE_CURRENT_SOURCE_DIR}/scene_anim.c
+  ${CMAKE_CURRENT_SOURCE_DIR}/scene_anim_parse.c
   ${CMAKE_CURRENT_SOURCE_DIR}/scene_cluster.c
+  ${CMAKE_CURRENT_SOURCE_DIR}/scene_instance.c
+  ${CMAKE_CURRENT_SOURCE_DIR}/scene_interp.c
   ${CMAKE_CURRENT_SOURCE_DIR}/scene_json.c
   ${CMAKE_CURRENT_SOURCE_DIR}/scene_parse.c
   ${CMAKE_CURRENT_SOURCE_DIR}/scene_transform.c)

@@ -1,14 +1,14 @@
 /* scene_cluster.c - the hair part of the scene schema (samples/README.md):
- * macro-clusters with their instance transforms (SATF sec. 3.1), the
- * generalized-disk prototype cluster (eq. 1-3) and its density (sec. 3.3). */
+ * macro-clusters (SATF sec. 3.1; their instance transforms are
+ * scene_instance.c), the generalized-disk prototype cluster (eq. 1-3) and
+ * its density (sec. 3.3). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "online/scene_anim.h"
 #include "online/scene_parse.h"
 #include "online/scene_transform.h"
-
-#define PI 3.14159265358979323846
 
 static const scene_range R_COORD = {-SATF_SCENE_MAX_COORD, SATF_SCENE_MAX_COORD,
                                     0, 0};
@@ -74,8 +74,15 @@ static satf_status copy_curve(scene_ctx *ctx, const satf_scene_curve *from,
   return SATF_OK;
 }
 
-static satf_status parse_trajectory(scene_ctx *ctx, const cJSON *obj,
-                                    satf_scene_cluster *c) {
+satf_status scene_parse_cluster_curve(scene_ctx *ctx, const cJSON *obj,
+                                      const char *key, satf_scene_curve *out) {
+  int twist = strcmp(key, "twist") == 0;
+  return parse_curve(ctx, obj, key, twist ? &R_TWIST : &R_RADIUS, !twist, 0.0,
+                     out);
+}
+
+satf_status scene_parse_trajectory(scene_ctx *ctx, const cJSON *obj,
+                                   satf_scene_cluster *c) {
   const cJSON *arr;
   int n;
   satf_status s = scene_key_array(ctx, obj, "trajectory", 1, 2,
@@ -278,12 +285,13 @@ static satf_status check_curve_counts(scene_ctx *ctx,
 }
 
 static satf_status parse_cluster(scene_ctx *ctx, const cJSON *obj,
-                                 const char *base_dir, satf_scene_cluster *c) {
-  static const char *const keys[] = {"trajectory", "a",       "b", "twist",
-                                     "shell",      "density", NULL};
+                                 const char *base_dir, int index,
+                                 satf_scene_cluster *c) {
+  static const char *const keys[] = {"trajectory", "a",       "b",    "twist",
+                                     "shell",      "density", "keys", NULL};
   satf_status s;
   if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
-      (s = parse_trajectory(ctx, obj, c)) != SATF_OK ||
+      (s = scene_parse_trajectory(ctx, obj, c)) != SATF_OK ||
       (s = parse_curve(ctx, obj, "a", &R_RADIUS, 1, 0, &c->a)) != SATF_OK)
     return s;
   if (cJSON_GetObjectItemCaseSensitive(obj, "b"))
@@ -294,124 +302,16 @@ static satf_status parse_cluster(scene_ctx *ctx, const cJSON *obj,
       (s = parse_curve(ctx, obj, "twist", &R_TWIST, 0, 0.0, &c->twist)) ==
           SATF_OK &&
       (s = check_curve_counts(ctx, c)) == SATF_OK &&
-      (s = parse_shell(ctx, obj, &c->shell)) == SATF_OK)
-    s = parse_density(ctx, obj, base_dir, &c->density);
+      (s = parse_shell(ctx, obj, &c->shell)) == SATF_OK &&
+      (s = parse_density(ctx, obj, base_dir, &c->density)) == SATF_OK)
+    s = scene_anim_parse_prototype_keys(ctx, obj, index, c);
   return s;
-}
-
-/* ---- instances (SATF sec. 3.1) ---- */
-
-static satf_status parse_matrix(scene_ctx *ctx, const cJSON *item,
-                                float m[16]) {
-  size_t previous = scene_push_key(ctx, "matrix");
-  satf_status s = scene_vec(ctx, item, 16, &R_COORD, m);
-  if (s == SATF_OK && scene_matrix_projective_error(m) > 1e-6)
-    s = scene_fail(ctx, SATF_ERR_ARGUMENT,
-                   "the last row must be [0, 0, 0, 1] (an affine transform), "
-                   "got [%g, %g, %g, %g]",
-                   m[12], m[13], m[14], m[15]);
-  if (s == SATF_OK && !(fabs(scene_matrix_det3(m)) >= 1e-12))
-    s = scene_fail(ctx, SATF_ERR_ARGUMENT,
-                   "is singular (determinant %g of the 3x3 part)",
-                   scene_matrix_det3(m));
-  scene_pop(ctx, previous);
-  return s;
-}
-
-static satf_status parse_rotate(scene_ctx *ctx, const cJSON *inst,
-                                double axis[3], double *angle_rad) {
-  static const char *const keys[] = {"axis", "angle", NULL};
-  static const scene_range r_angle = {-1e5, 1e5, 0, 0};
-  const cJSON *obj;
-  satf_status s = scene_key_object(ctx, inst, "rotate", 0, &obj);
-  axis[0] = axis[1] = 0.0;
-  axis[2] = 1.0;
-  *angle_rad = 0.0;
-  if (s != SATF_OK || !obj)
-    return s;
-  size_t previous = scene_push_key(ctx, "rotate");
-  float a[3];
-  double degrees = 0.0;
-  if ((s = scene_check_keys(ctx, obj, keys)) == SATF_OK &&
-      (s = scene_key_vec(ctx, obj, "axis", 3, &R_COORD, NULL, a)) == SATF_OK &&
-      (s = scene_key_number(ctx, obj, "angle", &r_angle, 1, 0.0, &degrees)) ==
-          SATF_OK) {
-    double len = scene_vec_length(a);
-    if (!(len > 1e-9)) {
-      s = scene_fail_key(ctx, "axis", SATF_ERR_ARGUMENT,
-                         "has zero length; a rotation needs an axis");
-    } else {
-      for (int k = 0; k < 3; k++)
-        axis[k] = a[k] / len;
-      *angle_rad = degrees * (PI / 180.0);
-    }
-  }
-  scene_pop(ctx, previous);
-  return s;
-}
-
-static satf_status parse_scale(scene_ctx *ctx, const cJSON *inst,
-                               double scale[3]) {
-  static const scene_range r_scale = {-1e4, 1e4, 0, 0};
-  const cJSON *item = cJSON_GetObjectItemCaseSensitive(inst, "scale");
-  float v[3] = {1.0f, 1.0f, 1.0f};
-  satf_status s = SATF_OK;
-  size_t previous = scene_push_key(ctx, "scale");
-  if (item && cJSON_IsNumber(item)) {
-    double u;
-    s = scene_number(ctx, item, &r_scale, &u);
-    v[0] = v[1] = v[2] = (float)u;
-  } else if (item) {
-    s = scene_vec(ctx, item, 3, &r_scale, v);
-  }
-  for (int k = 0; k < 3 && s == SATF_OK; k++) {
-    if (!(fabs(v[k]) >= 1e-4))
-      s = scene_fail(ctx, SATF_ERR_ARGUMENT,
-                     "%g is too close to zero (|scale| must be >= 1e-4)", v[k]);
-    scale[k] = v[k];
-  }
-  scene_pop(ctx, previous);
-  return s;
-}
-
-static satf_status parse_instance(scene_ctx *ctx, const cJSON *item,
-                                  satf_scene_instance *out) {
-  static const char *const keys[] = {"matrix", "translate", "rotate", "scale",
-                                     NULL};
-  static const float zero[3] = {0.0f, 0.0f, 0.0f};
-  if (!cJSON_IsObject(item))
-    return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
-                      scene_type_name(item));
-  satf_status s = scene_check_keys(ctx, item, keys);
-  if (s != SATF_OK)
-    return s;
-  const cJSON *matrix = cJSON_GetObjectItemCaseSensitive(item, "matrix");
-  if (matrix) {
-    for (int k = 1; keys[k]; k++)
-      if (cJSON_GetObjectItemCaseSensitive(item, keys[k]))
-        return scene_fail(ctx, SATF_ERR_FORMAT,
-                          "\"matrix\" cannot be combined with \"%s\"; give "
-                          "one or the other",
-                          keys[k]);
-    return parse_matrix(ctx, matrix, out->m);
-  }
-  float t[3];
-  double translate[3], axis[3], angle, scale[3];
-  if ((s = scene_key_vec(ctx, item, "translate", 3, &R_COORD, zero, t)) !=
-          SATF_OK ||
-      (s = parse_rotate(ctx, item, axis, &angle)) != SATF_OK ||
-      (s = parse_scale(ctx, item, scale)) != SATF_OK)
-    return s;
-  for (int k = 0; k < 3; k++)
-    translate[k] = t[k];
-  scene_matrix_trs(translate, axis, angle, scale, out->m);
-  return SATF_OK;
 }
 
 /* ---- macro-clusters (SATF sec. 3.1) ---- */
 
 static satf_status parse_macro_cluster(scene_ctx *ctx, const cJSON *obj,
-                                       const char *base_dir,
+                                       const char *base_dir, int index,
                                        uint64_t *total_clusters,
                                        uint64_t *total_hsv,
                                        satf_scene_macro_cluster *mc) {
@@ -427,7 +327,7 @@ static satf_status parse_macro_cluster(scene_ctx *ctx, const cJSON *obj,
       (s = scene_key_object(ctx, obj, "prototype", 1, &proto)) != SATF_OK)
     return s;
   size_t previous = scene_push_key(ctx, "prototype");
-  s = parse_cluster(ctx, proto, base_dir, &mc->prototype);
+  s = parse_cluster(ctx, proto, base_dir, index, &mc->prototype);
   scene_pop(ctx, previous);
   if (s != SATF_OK || (s = scene_key_array(ctx, obj, "instances", 0, 1,
                                            SATF_SCENE_MAX_INSTANCES, &instances,
@@ -461,7 +361,7 @@ static satf_status parse_macro_cluster(scene_ctx *ctx, const cJSON *obj,
   int i = 0;
   for (const cJSON *e = instances->child; e && s == SATF_OK; e = e->next, i++) {
     size_t inner = scene_push_index(ctx, i);
-    s = parse_instance(ctx, e, &mc->instances[i]);
+    s = scene_parse_instance(ctx, e, index, i, &mc->instances[i]);
     scene_pop(ctx, inner);
   }
   scene_pop(ctx, previous);
@@ -486,7 +386,7 @@ satf_status scene_parse_macro_clusters(scene_ctx *ctx, const cJSON *root,
   int i = 0;
   for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, i++) {
     size_t inner = scene_push_index(ctx, i);
-    s = parse_macro_cluster(ctx, e, base_dir, &total_clusters, &total_hsv,
+    s = parse_macro_cluster(ctx, e, base_dir, i, &total_clusters, &total_hsv,
                             &scene->macro_clusters[i]);
     scene_pop(ctx, inner);
   }

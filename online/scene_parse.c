@@ -1,11 +1,14 @@
 /* scene_parse.c - the scene schema (samples/README.md is its reference)
- * apart from the hair (scene_cluster.c): the root, material, effects,
- * camera, lights and image, with their defaults and allowed ranges. */
+ * apart from the hair (scene_cluster.c, scene_instance.c) and the keyframes
+ * (scene_anim_parse.c): the root, material, effects, camera, lights and
+ * image, with their defaults and allowed ranges. */
 #include "online/scene_parse.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "online/scene_anim.h"
 
 #define PI 3.14159265358979323846
 
@@ -111,10 +114,29 @@ static void frame_bounds(const satf_scene *scene, float fov_y_deg,
   position[2] = (float)(target[2] + dist);
 }
 
+satf_status scene_check_camera_view(scene_ctx *ctx, satf_scene_camera *cam) {
+  float view[3];
+  for (int k = 0; k < 3; k++)
+    view[k] = cam->target[k] - cam->position[k];
+  double view_len = scene_vec_length(view), up_len = scene_vec_length(cam->up);
+  if (!(view_len > 1e-6))
+    return scene_fail_key(ctx, "target", SATF_ERR_ARGUMENT,
+                          "coincides with the camera position");
+  float cross[3] = {view[1] * cam->up[2] - view[2] * cam->up[1],
+                    view[2] * cam->up[0] - view[0] * cam->up[2],
+                    view[0] * cam->up[1] - view[1] * cam->up[0]};
+  if (!(up_len > 1e-9) || !(scene_vec_length(cross) > 1e-3 * view_len * up_len))
+    return scene_fail_key(ctx, "up", SATF_ERR_ARGUMENT,
+                          "is zero or parallel to the view direction");
+  for (int k = 0; k < 3; k++)
+    cam->up[k] = (float)(cam->up[k] / up_len);
+  return SATF_OK;
+}
+
 static satf_status parse_camera(scene_ctx *ctx, const cJSON *root,
                                 satf_scene_camera *cam) {
-  static const char *const keys[] = {"position", "target", "up", "fov_y",
-                                     "near",     "far",    NULL};
+  static const char *const keys[] = {"position", "target", "up",   "fov_y",
+                                     "near",     "far",    "keys", NULL};
   static const scene_range r_fov = {0.1, 179, 0, 0};
   static const scene_range r_clip = {0, SATF_SCENE_MAX_COORD * 10, 1, 0};
   static const float y_up[3] = {0.0f, 1.0f, 0.0f};
@@ -148,45 +170,55 @@ static satf_status parse_camera(scene_ctx *ctx, const cJSON *root,
       (s = scene_key_float(ctx, obj, "far", &r_clip, 0.0, &cam->far_clip)) !=
           SATF_OK)
     goto done;
-  float view[3];
-  for (int k = 0; k < 3; k++)
-    view[k] = cam->target[k] - cam->position[k];
-  double view_len = scene_vec_length(view), up_len = scene_vec_length(cam->up);
-  if (!(view_len > 1e-6)) {
-    s = scene_fail_key(ctx, "target", SATF_ERR_ARGUMENT,
-                       "coincides with the camera position");
+  if ((s = scene_check_camera_view(ctx, cam)) != SATF_OK)
     goto done;
-  }
-  float cross[3] = {view[1] * cam->up[2] - view[2] * cam->up[1],
-                    view[2] * cam->up[0] - view[0] * cam->up[2],
-                    view[0] * cam->up[1] - view[1] * cam->up[0]};
-  if (!(up_len > 1e-9) ||
-      !(scene_vec_length(cross) > 1e-3 * view_len * up_len)) {
-    s = scene_fail_key(ctx, "up", SATF_ERR_ARGUMENT,
-                       "is zero or parallel to the view direction");
-    goto done;
-  }
-  for (int k = 0; k < 3; k++)
-    cam->up[k] = (float)(cam->up[k] / up_len);
   if (cam->near_clip > 0 && cam->far_clip > 0 &&
       !(cam->far_clip > cam->near_clip))
     s = scene_fail_key(ctx, "far", SATF_ERR_ARGUMENT,
                        "%g must be greater than near (%g)", cam->far_clip,
                        cam->near_clip);
+  if (s == SATF_OK)
+    s = scene_anim_parse_camera_keys(ctx, obj, cam);
 done:
   scene_pop(ctx, previous);
   return s;
 }
 
-static satf_status parse_light(scene_ctx *ctx, const cJSON *obj,
-                               satf_scene_light *light) {
-  static const char *const types[] = {"directional", "point"};
-  static const char *const dir_keys[] = {"type", "direction", "color",
-                                         "intensity", NULL};
-  static const char *const point_keys[] = {"type", "position", "color",
-                                           "intensity", NULL};
+satf_status scene_parse_light_values(scene_ctx *ctx, const cJSON *obj,
+                                     const satf_scene_light *def,
+                                     satf_scene_light *light) {
   static const scene_range r_intensity = {0, 1e6, 0, 0};
   static const float white[3] = {1.0f, 1.0f, 1.0f};
+  satf_status s;
+  if ((s = scene_key_vec(ctx, obj, "color", 3, &R_UNIT,
+                         def ? def->color : white, light->color)) != SATF_OK ||
+      (s = scene_key_float(ctx, obj, "intensity", &r_intensity,
+                           def ? def->intensity : 1.0, &light->intensity)) !=
+          SATF_OK)
+    return s;
+  if (light->type == SATF_SCENE_LIGHT_POINT)
+    return scene_key_vec(ctx, obj, "position", 3, &R_COORD,
+                         def ? def->position : NULL, light->position);
+  if ((s = scene_key_vec(ctx, obj, "direction", 3, &R_COORD,
+                         def ? def->direction : NULL, light->direction)) !=
+      SATF_OK)
+    return s;
+  double len = scene_vec_length(light->direction);
+  if (!(len > 1e-9))
+    return scene_fail_key(ctx, "direction", SATF_ERR_ARGUMENT,
+                          "has zero length");
+  for (int k = 0; k < 3; k++)
+    light->direction[k] = (float)(light->direction[k] / len);
+  return SATF_OK;
+}
+
+static satf_status parse_light(scene_ctx *ctx, const cJSON *obj, int index,
+                               satf_scene_light *light) {
+  static const char *const types[] = {"directional", "point"};
+  static const char *const dir_keys[] = {"type",      "direction", "color",
+                                         "intensity", "keys",      NULL};
+  static const char *const point_keys[] = {"type",      "position", "color",
+                                           "intensity", "keys",     NULL};
   if (!cJSON_IsObject(obj))
     return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
                       scene_type_name(obj));
@@ -199,24 +231,9 @@ static satf_status parse_light(scene_ctx *ctx, const cJSON *obj,
   int point = light->type == SATF_SCENE_LIGHT_POINT;
   if ((s = scene_check_keys(ctx, obj, point ? point_keys : dir_keys)) !=
           SATF_OK ||
-      (s = scene_key_vec(ctx, obj, "color", 3, &R_UNIT, white, light->color)) !=
-          SATF_OK ||
-      (s = scene_key_float(ctx, obj, "intensity", &r_intensity, 1.0,
-                           &light->intensity)) != SATF_OK)
+      (s = scene_parse_light_values(ctx, obj, NULL, light)) != SATF_OK)
     return s;
-  if (point)
-    return scene_key_vec(ctx, obj, "position", 3, &R_COORD, NULL,
-                         light->position);
-  if ((s = scene_key_vec(ctx, obj, "direction", 3, &R_COORD, NULL,
-                         light->direction)) != SATF_OK)
-    return s;
-  double len = scene_vec_length(light->direction);
-  if (!(len > 1e-9))
-    return scene_fail_key(ctx, "direction", SATF_ERR_ARGUMENT,
-                          "has zero length");
-  for (int k = 0; k < 3; k++)
-    light->direction[k] = (float)(light->direction[k] / len);
-  return SATF_OK;
+  return scene_anim_parse_light_keys(ctx, obj, index, light);
 }
 
 static satf_status parse_lights(scene_ctx *ctx, const cJSON *root) {
@@ -249,7 +266,7 @@ static satf_status parse_lights(scene_ctx *ctx, const cJSON *root) {
   int i = 0;
   for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, i++) {
     size_t inner = scene_push_index(ctx, i);
-    s = parse_light(ctx, e, &scene->lights[i]);
+    s = parse_light(ctx, e, i, &scene->lights[i]);
     scene_pop(ctx, inner);
   }
   scene_pop(ctx, previous);
@@ -279,8 +296,9 @@ static satf_status parse_image(scene_ctx *ctx, const cJSON *root,
 satf_status scene_parse_root(scene_ctx *ctx, const cJSON *root,
                              const char *base_dir) {
   static const char *const keys[] = {
-      "description", "macro_clusters", "material", "effects", "camera",
-      "lights",      "background",     "database", "image",   NULL};
+      "description", "macro_clusters", "material",   "effects",
+      "camera",      "lights",         "background", "database",
+      "image",       "animation",      NULL};
   static const float grey[3] = {0.1f, 0.1f, 0.12f};
   satf_scene *scene = ctx->scene;
   if (!cJSON_IsObject(root))
@@ -290,6 +308,7 @@ satf_status scene_parse_root(scene_ctx *ctx, const cJSON *root,
   if ((s = scene_check_keys(ctx, root, keys)) != SATF_OK ||
       (s = scene_key_copy(ctx, root, "description", 0, &scene->description)) !=
           SATF_OK ||
+      (s = scene_anim_parse_settings(ctx, root)) != SATF_OK ||
       (s = scene_parse_macro_clusters(ctx, root, base_dir)) != SATF_OK ||
       (s = parse_material(ctx, root, &scene->material)) != SATF_OK ||
       (s = parse_effects(ctx, root, &scene->effects)) != SATF_OK ||

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Renders every sample scene into OUT (EXR with AOVs + PNG) and prints the
-# paper's Table 1 row for each (a short orbiting-camera benchmark).
+# Renders every sample scene into OUT (EXR with AOVs + PNG), an animated
+# sample as a short sequence with a contact sheet, and prints the paper's
+# Table 1 row for each sample (a short benchmark: an orbiting camera, or the
+# animation itself).
 # usage: render-samples.sh BUILD_DIR DATABASE OUT_DIR
 set -euo pipefail
 build=${1:-build}
@@ -12,10 +14,16 @@ render=$build/online/satf-render
 frames=${SATF_BENCH_FRAMES:-20}
 for scene in samples/*.json; do
   name=$(basename "$scene" .json)
-  "$render" "$scene" --db "$db" -o "$out/$name.exr" --png "$out/$name.png" --aov
+  if grep -q '"animation"' "$scene"; then
+    mkdir -p "$out/$name"
+    "$render" "$scene" --db "$db" --frames ${SATF_ANIM_FRAMES:-1-24} \
+      -o "$out/$name/frame_%04d.exr" --contact-sheet "$out/${name}_contact.png"
+  else
+    "$render" "$scene" --db "$db" -o "$out/$name.exr" --png "$out/$name.png" --aov
+  fi
 done
 echo
-echo "Table 1 (paper 001) on this machine, 640x480, $frames frames of an orbiting camera:"
+echo "Table 1 (paper 001) on this machine, 640x480, $frames frames each:"
 first=1
 for mode in exact ordered; do
   for scene in samples/*.json; do

@@ -1,13 +1,16 @@
 /* fuzz_scene.c - libFuzzer target for satf_scene_parse. Any byte string
  * must either load into a scene that satisfies every documented limit or
- * fail with a message naming the input; anything else aborts. The same
- * check runs in test_scene on a generated corpus, without libFuzzer. */
+ * fail with a message naming the input; anything else aborts. An animated
+ * scene's snapshots (satf/anim.h) at and around its frame range must
+ * satisfy the same limits or fail with such a message. The same check runs
+ * in test_scene on a generated corpus, without libFuzzer. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "satf/anim.h"
 #include "satf/scene.h"
 
 int satf_fuzz_scene_one(const uint8_t *data, size_t size);
@@ -93,6 +96,53 @@ static void check_scene(const satf_scene *scene) {
           "warning index past the end");
 }
 
+static void check_snapshot(const satf_scene *scene, double frame) {
+  satf_scene *snap = (satf_scene *)(uintptr_t)1; /* must be overwritten */
+  satf_error err;
+  satf_error_clear(&err);
+  satf_status s = satf_scene_at_frame(scene, frame, &snap, &err);
+  if (s != SATF_OK) {
+    require(snap == NULL, "no snapshot on failure");
+    require(err.status == s, "snapshot error status matches");
+    require(strncmp(err.message, FUZZ_NAME " at frame ",
+                    strlen(FUZZ_NAME) + 10) == 0,
+            "snapshot error names the input and the frame");
+    return;
+  }
+  require(snap != NULL, "snapshot on success");
+  require(!satf_scene_is_animated(snap), "a snapshot is static");
+  require(satf_scene_warning_count(snap) == 0, "a snapshot has no warnings");
+  check_scene(snap);
+  require(satf_scene_hsv_count(snap) == satf_scene_hsv_count(scene) &&
+              satf_scene_cluster_count(snap) ==
+                  satf_scene_cluster_count(scene) &&
+              snap->n_lights == scene->n_lights,
+          "a snapshot keeps the counts");
+  for (int i = 0; i < scene->n_macro_clusters; i++)
+    require(satf_scene_prototype_is_animated(scene, i) ||
+                satf_scene_prototype_equal(&snap->macro_clusters[i].prototype,
+                                           &scene->macro_clusters[i].prototype),
+            "an unanimated prototype is the static one");
+  satf_scene_destroy(snap);
+}
+
+static void check_animation(const satf_scene *scene) {
+  int first, last;
+  if (!satf_scene_frame_range(scene, &first, &last)) {
+    require(first == 0 && last == 0 && satf_scene_fps(scene) == 0.0,
+            "a static scene has no frame range");
+    return;
+  }
+  require(first <= last, "frame range ordered");
+  require(satf_scene_fps(scene) > 0.0 &&
+              satf_scene_fps(scene) <= SATF_SCENE_MAX_FPS,
+          "fps in range");
+  const double frames[5] = {first - 1.0, first, 0.5 * (first + last) + 0.25,
+                            last, last + 1.0};
+  for (int i = 0; i < 5; i++)
+    check_snapshot(scene, frames[i]);
+}
+
 /* Returns 1 when the input loaded, 0 when it was rejected. */
 int satf_fuzz_scene_one(const uint8_t *data, size_t size) {
   satf_scene *scene = (satf_scene *)(uintptr_t)1; /* must be overwritten */
@@ -103,6 +153,7 @@ int satf_fuzz_scene_one(const uint8_t *data, size_t size) {
   if (s == SATF_OK) {
     require(scene != NULL, "scene on success");
     check_scene(scene);
+    check_animation(scene);
     satf_scene_destroy(scene);
     return 1;
   }

@@ -18,3 +18,4 @@ set_target_properties(test_lighting test_maps test_render PROPERTIES
                       LINKER_LANGUAGE CXX)
 
 include(${CMAKE_CURRENT_LIST_DIR}/cli_render.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/sequence.cmake)

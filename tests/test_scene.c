@@ -57,7 +57,8 @@ static void assert_near(double got, double want, double tol) {
   }
 }
 
-/* ---- samples: SATF Table 1 columns 6(a)-6(d), 7(a) ---- */
+/* ---- samples: SATF Table 1 columns 6(a)-6(d), 7(a), 8 (animated; its
+ * keyframes are test_anim's) ---- */
 
 typedef struct sample_case {
   const char *file;
@@ -72,6 +73,7 @@ static const sample_case samples[] = {
     {"cluster_6c.json", 1, 10, 11000, 2000, SATF_SCENE_LAYOUT_HOLES},
     {"cluster_6d.json", 1, 15, 16000, 3000, SATF_SCENE_LAYOUT_CLUMPED},
     {"hair_7a.json", 17, 51, 54000, 14000, SATF_SCENE_LAYOUT_COUNT},
+    {"anim_8.json", 40, 80, 42000, 21000, SATF_SCENE_LAYOUT_COUNT},
 };
 #define N_SAMPLES (sizeof samples / sizeof samples[0])
 

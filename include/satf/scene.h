@@ -3,7 +3,8 @@
  * macro-clusters (one prototype cluster plus per-instance transforms) ->
  * clusters (generalized disks, sec. 3.2) -> hair density (sec. 3.3), plus
  * the material (sec. 6.3-6.4), effect switches, camera, lights, background
- * and the HRIR database to render it with.
+ * and the HRIR database to render it with, optionally animated by
+ * keyframes (satf/anim.h).
  *
  * samples/README.md is the format reference (every key, type, unit, default
  * and allowed range). This header owns the in-memory data model: a
@@ -40,6 +41,10 @@ extern "C" {
 #define SATF_SCENE_MAX_COORD 1e6        /* |coordinate| in scene units */
 #define SATF_SCENE_MAX_IMAGE 16384      /* pixels per side */
 #define SATF_SCENE_MAX_FILE_BYTES (64u << 20)
+#define SATF_SCENE_MAX_FRAME 10000000 /* |frame| in the animation range */
+#define SATF_SCENE_MAX_FPS 1000.0
+#define SATF_SCENE_MAX_KEYS 65536         /* per animated object */
+#define SATF_SCENE_MAX_KEYS_TOTAL 1000000 /* over the scene */
 
 /* A 1-D B-spline given by its control values (SATF eq. 2: A(t), B(t),
  * theta(t)); a constant has count == 1. All curves of the scene are clamped
@@ -165,6 +170,9 @@ typedef struct satf_scene_image {
   int width, height;
 } satf_scene_image;
 
+/* Keyframes of an animated scene: opaque, read through satf/anim.h. */
+typedef struct satf_scene_animation satf_scene_animation;
+
 typedef struct satf_scene {
   char *name;           /* the name used in messages (the path, if loaded) */
   char *description;    /* optional, NULL when absent */
@@ -181,6 +189,9 @@ typedef struct satf_scene {
   /* Warnings (unknown keys); read them with satf_scene_warning*. */
   int n_warnings;
   char **warnings;
+  /* NULL for a static scene and for a snapshot (satf/anim.h); the fields
+   * above then hold the static values, the defaults of every key. */
+  satf_scene_animation *animation;
 } satf_scene;
 
 /* Reads and validates a scene file. Relative paths inside it resolve
