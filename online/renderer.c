@@ -19,7 +19,7 @@
 #include "satf/mesh.h"
 #include "satf/vdb.h"
 
-#define DOM_SIZE 256
+#define DOM_SIZE 128 /* soft, filtered: shadows between clusters */
 /* Fragments each pixel can keep at first; the arrays grow (up to
  * SATF_MAX_FRAGMENTS) when a frame needs more. */
 #define START_SLOTS 16
@@ -30,9 +30,9 @@ typedef struct proto {
   satf_strands *strands;
   satf_vdb_grid *vdb;
   int layers;
-  GLuint *vao, *vbo, *ibo;
-  GLuint
-      frame_vbo; /* the outermost shell's local frames (satf_glsl_cluster_vs) */
+  GLuint proxy_vao; /* the drawn outer shell (upload_frames) */
+  GLuint proxy_vbo, proxy_ibo;
+  GLsizei proxy_count;
   GLsizei *count;
 } proto;
 
@@ -97,98 +97,104 @@ static void resample_curve(const satf_scene_curve *c, int n, float *out) {
   }
 }
 
-static satf_status upload_layer(proto *p, int k, const satf_mesh *mesh) {
-  glGenVertexArrays(1, &p->vao[k]);
-  glGenBuffers(1, &p->vbo[k]);
-  glGenBuffers(1, &p->ibo[k]);
-  glBindVertexArray(p->vao[k]);
-  glBindBuffer(GL_ARRAY_BUFFER, p->vbo[k]);
-  glBufferData(
-      GL_ARRAY_BUFFER,
-      (GLsizeiptr)(satf_mesh_vertex_count(mesh) * sizeof(satf_mesh_vertex)),
-      satf_mesh_vertices(mesh), GL_STATIC_DRAW);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, p->ibo[k]);
-  glBufferData(
-      GL_ELEMENT_ARRAY_BUFFER,
-      (GLsizeiptr)(satf_mesh_triangle_count(mesh) * 3 * sizeof(uint32_t)),
-      satf_mesh_indices(mesh), GL_STATIC_DRAW);
-  GLsizei stride = (GLsizei)sizeof(satf_mesh_vertex);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride,
-                        (void *)offsetof(satf_mesh_vertex, pos));
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
-                        (void *)offsetof(satf_mesh_vertex, normal));
-  glEnableVertexAttribArray(2);
-  glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, stride,
-                        (void *)offsetof(satf_mesh_vertex, tangent));
-  glEnableVertexAttribArray(3);
-  glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, stride,
-                        (void *)offsetof(satf_mesh_vertex, uv));
-  glBindVertexArray(0);
-  p->count[k] = (GLsizei)(satf_mesh_triangle_count(mesh) * 3);
-  return SATF_OK;
-}
+/* Columns of the drawn proxy of a cluster's outermost shell. Shading
+ * traces each ray through the shells analytically (shaders.c), so the
+ * proxy only has to cover the cluster's silhouette; a CPU rasteriser pays
+ * for every triangle on one thread, so it is kept coarse around the
+ * cluster and as fine as the HSVs along it. */
+#define PROXY_COLUMNS 12
 
-/* Per vertex (i, j) of the outermost shell: the cross-section at t_i as
- * the shading pass needs it: C(t), n1, n2, (A, B, theta, |dT/dt|) and the
- * unit tangent of T (locations 4-8). */
+/* The proxy: (st + 1) x (PROXY_COLUMNS + 1) vertices on an elliptic
+ * cylinder circumscribing the outer shell, each with position, hair
+ * tangent, (u, t), and the cross-section at t as the shading pass needs it:
+ * C(t), n1, n2, (A, B, theta, |dT/dt|), the unit tangent of T. */
+enum { PROXY_FLOATS = 24 };
 static satf_status upload_frames(proto *p, const satf_shell_params *sh,
                                  satf_error *err) {
-  int k = sh->layers - 1, cols = sh->su + 1;
+  int cols = PROXY_COLUMNS + 1;
   size_t nv = (size_t)(sh->st + 1) * (size_t)cols;
-  float *f = malloc(nv * 16 * sizeof(float));
-  if (!f)
+  size_t ntri = 2 * (size_t)sh->st * PROXY_COLUMNS;
+  float *f = malloc(nv * PROXY_FLOATS * sizeof(float));
+  uint32_t *idx = malloc(ntri * 3 * sizeof(uint32_t));
+  if (!f || !idx) {
+    free(f);
+    free(idx);
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  /* the polygon's edges touch the shell: it covers every pixel the shell
+   * covers */
+  float inflate = 1.0f / cosf(3.14159265f / PROXY_COLUMNS);
   for (int i = 0; i <= sh->st; i++) {
     satf_cluster_section sec;
-    satf_cluster_section_at(p->cluster, (float)i / (float)sh->st, &sec);
+    float t = (float)i / (float)sh->st;
+    satf_cluster_section_at(p->cluster, t, &sec);
     float speed = sqrtf(sec.dcenter[0] * sec.dcenter[0] +
                         sec.dcenter[1] * sec.dcenter[1] +
                         sec.dcenter[2] * sec.dcenter[2]);
     for (int j = 0; j < cols; j++) {
-      float *v = f + 16 * ((size_t)i * cols + (size_t)j);
-      memcpy(v, sec.center, 3 * sizeof(float));
-      memcpy(v + 3, sec.n1, 3 * sizeof(float));
-      memcpy(v + 6, sec.n2, 3 * sizeof(float));
-      v[9] = sec.a;
-      v[10] = sec.b;
-      v[11] = sec.theta;
-      v[12] = speed;
-      memcpy(v + 13, sec.tangent, 3 * sizeof(float));
+      float *v = f + PROXY_FLOATS * ((size_t)i * cols + (size_t)j);
+      float u = 6.28318531f * (float)j / PROXY_COLUMNS;
+      satf_cluster_section_point(&sec, inflate, u, v);
+      satf_cluster_section_hair_tangent(&sec, 1.0f, u, v + 3);
+      v[6] = (float)j / PROXY_COLUMNS;
+      v[7] = t;
+      memcpy(v + 8, sec.center, 3 * sizeof(float));
+      memcpy(v + 11, sec.n1, 3 * sizeof(float));
+      memcpy(v + 14, sec.n2, 3 * sizeof(float));
+      v[17] = sec.a;
+      v[18] = sec.b;
+      v[19] = sec.theta;
+      v[20] = speed;
+      memcpy(v + 21, sec.tangent, 3 * sizeof(float));
     }
   }
-  glBindVertexArray(p->vao[k]);
-  glGenBuffers(1, &p->frame_vbo);
-  glBindBuffer(GL_ARRAY_BUFFER, p->frame_vbo);
-  glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * 16 * sizeof(float)), f,
-               GL_STATIC_DRAW);
+  /* counter-clockwise seen from outside: d/du x d/dt points outwards */
+  uint32_t *q = idx;
+  for (int i = 0; i < sh->st; i++)
+    for (int j = 0; j < PROXY_COLUMNS; j++) {
+      uint32_t a = (uint32_t)(i * cols + j), b = a + 1;
+      uint32_t c = a + (uint32_t)cols, d = c + 1;
+      *q++ = a, *q++ = b, *q++ = c;
+      *q++ = b, *q++ = d, *q++ = c;
+    }
+  glGenVertexArrays(1, &p->proxy_vao);
+  glGenBuffers(1, &p->proxy_vbo);
+  glGenBuffers(1, &p->proxy_ibo);
+  glBindVertexArray(p->proxy_vao);
+  glBindBuffer(GL_ARRAY_BUFFER, p->proxy_vbo);
+  glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * PROXY_FLOATS * sizeof(float)),
+               f, GL_STATIC_DRAW);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, p->proxy_ibo);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+               (GLsizeiptr)(ntri * 3 * sizeof(uint32_t)), idx, GL_STATIC_DRAW);
   free(f);
-  const GLint sizes[5] = {3, 3, 3, 4, 3};
-  const size_t offs[5] = {0, 3, 6, 9, 13};
-  for (int a = 0; a < 5; a++) {
-    glEnableVertexAttribArray((GLuint)(4 + a));
-    glVertexAttribPointer((GLuint)(4 + a), sizes[a], GL_FLOAT, GL_FALSE,
-                          16 * sizeof(float),
+  free(idx);
+  /* locations as in satf_glsl_cluster_vs / satf_glsl_layer_vs */
+  const GLuint loc[7] = {0, 2, 3, 4, 5, 6, 7};
+  const GLint sizes[7] = {3, 3, 2, 3, 3, 3, 4};
+  const size_t offs[7] = {0, 3, 6, 8, 11, 14, 17};
+  for (int a = 0; a < 7; a++) {
+    glEnableVertexAttribArray(loc[a]);
+    glVertexAttribPointer(loc[a], sizes[a], GL_FLOAT, GL_FALSE,
+                          PROXY_FLOATS * sizeof(float),
                           (void *)(offs[a] * sizeof(float)));
   }
+  glEnableVertexAttribArray(8);
+  glVertexAttribPointer(8, 3, GL_FLOAT, GL_FALSE, PROXY_FLOATS * sizeof(float),
+                        (void *)(21 * sizeof(float)));
   glBindVertexArray(0);
-  return satf_gl_check("shell frames", err);
+  p->proxy_count = (GLsizei)(ntri * 3);
+  return satf_gl_check("cluster proxy", err);
 }
 
 /* Deletes a prototype's GL geometry (not its density). */
 static void release_geometry(proto *p) {
-  if (p->vao) {
-    glDeleteVertexArrays(p->layers, p->vao);
-    glDeleteBuffers(p->layers, p->vbo);
-    glDeleteBuffers(p->layers, p->ibo);
-    memset(p->vao, 0, (size_t)p->layers * sizeof(GLuint));
-    memset(p->vbo, 0, (size_t)p->layers * sizeof(GLuint));
-    memset(p->ibo, 0, (size_t)p->layers * sizeof(GLuint));
+  if (p->proxy_vao) {
+    glDeleteVertexArrays(1, &p->proxy_vao);
+    glDeleteBuffers(1, &p->proxy_vbo);
+    glDeleteBuffers(1, &p->proxy_ibo);
   }
-  if (p->frame_vbo)
-    glDeleteBuffers(1, &p->frame_vbo);
-  p->frame_vbo = 0;
+  p->proxy_vao = p->proxy_vbo = p->proxy_ibo = 0;
   satf_cluster_destroy(p->cluster);
   p->cluster = NULL;
 }
@@ -233,23 +239,6 @@ static satf_status build_geometry(satf_renderer *r, int index,
   satf_shell_geom_destroy(&p->geom);
   p->geom = geom;
   p->layers = shell.layers;
-  if (!p->vao) {
-    p->vao = calloc((size_t)p->layers, sizeof(GLuint));
-    p->vbo = calloc((size_t)p->layers, sizeof(GLuint));
-    p->ibo = calloc((size_t)p->layers, sizeof(GLuint));
-    p->count = calloc((size_t)p->layers, sizeof(GLsizei));
-    if (!p->vao || !p->vbo || !p->ibo || !p->count)
-      return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  }
-  for (int k = 0; k < p->layers; k++) {
-    satf_mesh *mesh = NULL;
-    st = satf_cluster_build_layer_mesh(p->cluster, &shell, k, &mesh, &cerr);
-    if (st != SATF_OK)
-      return satf_error_set(err, st, "%s: macro_clusters[%d]: layer %d: %s",
-                            name, index, k, cerr.message);
-    upload_layer(p, k, mesh);
-    satf_mesh_destroy(mesh);
-  }
   return upload_frames(p, &shell, err);
 }
 
@@ -534,10 +523,6 @@ void satf_renderer_destroy(satf_renderer *r) {
   for (int m = 0; r->protos && m < r->nprotos; m++) {
     proto *p = &r->protos[m];
     release_geometry(p);
-    free(p->vao);
-    free(p->vbo);
-    free(p->ibo);
-    free(p->count);
     satf_shell_geom_destroy(&p->geom);
     satf_strands_destroy(p->strands);
     satf_vdb_grid_destroy(p->vdb);
@@ -758,9 +743,9 @@ static void bind_instance(const satf_renderer *r, GLuint prog, const inst *in,
   glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
 }
 
-static void draw_layer(const proto *p, int k) {
-  glBindVertexArray(p->vao[k]);
-  glDrawElements(GL_TRIANGLES, p->count[k], GL_UNSIGNED_INT, NULL);
+static void draw_proxy(const proto *p) {
+  glBindVertexArray(p->proxy_vao);
+  glDrawElements(GL_TRIANGLES, p->proxy_count, GL_UNSIGNED_INT, NULL);
 }
 
 /* The outermost shell of every cluster, in list order: each fragment
@@ -773,7 +758,7 @@ static void draw_clusters(satf_renderer *r, GLuint prog,
     inst *in = &r->insts[i];
     proto *p = &r->protos[in->proto];
     bind_instance(r, prog, in, loc);
-    draw_layer(p, p->layers - 1);
+    draw_proxy(p);
   }
   glBindVertexArray(0);
 }
@@ -1041,7 +1026,7 @@ static satf_status render_ordered(satf_renderer *r, satf_aov aov,
     const inst *in = &r->insts[keys[q].index];
     const proto *p = &r->protos[in->proto];
     bind_instance(r, prog, in, loc);
-    draw_layer(p, p->layers - 1);
+    draw_proxy(p);
   }
   glBindVertexArray(0);
   glDisable(GL_CULL_FACE);

@@ -58,7 +58,7 @@ typedef struct viewer {
   const char *prefix;
   /* animation playback */
   int animated, first, last, paused, step;
-  double fps, clock; /* the animation time, in frames since `first` */
+  double fps, clock;           /* the animation time, in frames since `first` */
   int user_camera, user_light; /* moved by hand: the animation keeps off */
 } viewer;
 
@@ -120,8 +120,14 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods) {
     break;
   case GLFW_KEY_R: reset_view(v); break;
   case GLFW_KEY_SPACE: v->paused = !v->paused; break;
-  case GLFW_KEY_RIGHT: v->paused = 1; v->step = 1; break;
-  case GLFW_KEY_LEFT: v->paused = 1; v->step = -1; break;
+  case GLFW_KEY_RIGHT:
+    v->paused = 1;
+    v->step = 1;
+    break;
+  case GLFW_KEY_LEFT:
+    v->paused = 1;
+    v->step = -1;
+    break;
   case GLFW_KEY_Q:
   case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
   default: break;
@@ -399,9 +405,10 @@ int main(int argc, char **argv) {
           "satf-view  %.1f FPS%s | I %.1f C %.1f M %.1f L %.1f S %.1f ms | "
           "[1]satf %s [2]specII %s [3]self-shadow %s [4]cluster shadows %s "
           "[O]%s",
-          fps, anim, t.index_ms, t.maps_ms, t.upload_ms, t.lighting_ms, t.shadow_ms,
-          e->satf ? "on" : "off", e->secondary_highlight ? "on" : "off",
-          e->self_shadow ? "on" : "off", e->cluster_shadows ? "on" : "off",
+          fps, anim, t.index_ms, t.maps_ms, t.upload_ms, t.lighting_ms,
+          t.shadow_ms, e->satf ? "on" : "off",
+          e->secondary_highlight ? "on" : "off", e->self_shadow ? "on" : "off",
+          e->cluster_shadows ? "on" : "off",
           satf_renderer_composite(v.r) == SATF_COMPOSITE_EXACT ? "exact"
                                                                : "ordered");
       glfwSetWindowTitle(gw, title);

@@ -126,8 +126,8 @@ satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
   if (st != SATF_OK)
     return st;
   if (o->last < o->first || o->last - o->first > 1000000)
-    return satf_error_set(err, SATF_ERR_ARGUMENT, "frame range %d-%d",
-                          o->first, o->last);
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "frame range %d-%d", o->first,
+                          o->last);
   int count = o->last - o->first + 1;
   sheet sh = {NULL, 0, 0, SHEET_COLUMNS};
   if (o->contact_sheet) {

@@ -9,12 +9,12 @@
 #include "online/renderer.h"
 
 typedef struct satf_sequence_opts {
-  int first, last;          /* inclusive frame range */
-  const char *exr_pattern;  /* printf pattern with one integer, e.g.
-                               out/frame_%04d.exr; may be NULL */
-  const char *png_pattern;  /* the same for PNG previews; may be NULL */
+  int first, last;           /* inclusive frame range */
+  const char *exr_pattern;   /* printf pattern with one integer, e.g.
+                                out/frame_%04d.exr; may be NULL */
+  const char *png_pattern;   /* the same for PNG previews; may be NULL */
   const char *contact_sheet; /* PNG of all frames' thumbnails; may be NULL */
-  int resume;               /* skip frames whose EXR already reads back */
+  int resume;                /* skip frames whose EXR already reads back */
   int aovs;
   int quiet;
 } satf_sequence_opts;

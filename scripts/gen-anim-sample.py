@@ -1,3 +1,6 @@
+#!/usr/bin/env python3
+# Generates samples/anim_8.json (SATF Table 1, last column / Fig. 8): 40
+# clusters in 5 macro-clusters on a head-sized scalp, swaying over 48 frames.
 import json, math
 R = 10.8
 def polar_root(polar_deg, toward):  # toward: 'back' (-z), 'front' (+z)

@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libopenvdb-dev libboost-dev libboost-iostreams-dev libtbb-dev
   libopenmesh-dev libopenexr-dev libimath-dev libpng-dev zlib1g-dev
-  libglfw3-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  libglfw3-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   xvfb xauth libcjson-dev libcmocka-dev
 )
 

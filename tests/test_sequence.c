@@ -32,7 +32,8 @@ static const char *SCENE =
     " \"image\": {\"width\": 160, \"height\": 120},\n"
     " \"camera\": {\"position\": [0, 0, 30], \"target\": [0, 0, 0],"
     "  \"up\": [0, 1, 0], \"fov_y\": 40},\n"
-    " \"lights\": [{\"type\": \"directional\", \"direction\": [-0.3, -0.2, -1]}],\n"
+    " \"lights\": [{\"type\": \"directional\", \"direction\": [-0.3, -0.2, "
+    "-1]}],\n"
     " \"background\": [0.2, 0.2, 0.25],\n"
     " \"effects\": {\"cluster_shadows\": false},\n"
     " \"macro_clusters\": [\n"
@@ -56,7 +57,8 @@ static satf_scene *scene_with(const char *animation, const char *keys) {
   return fixture_scene(json);
 }
 
-static const char *ANIM = " \"animation\": {\"fps\": 24, \"frames\": [1, 9]},\n";
+static const char *ANIM =
+    " \"animation\": {\"fps\": 24, \"frames\": [1, 9]},\n";
 
 static int setup(void **state) {
   (void)state;
@@ -90,17 +92,20 @@ static satf_image *render_frame(satf_renderer *r, const satf_scene *anim,
 static void identical_keys_render_the_still_frame(void **state) {
   (void)state;
   satf_scene *still = scene_with("", "");
-  satf_scene *anim = scene_with(
-      ANIM, ", \"keys\": [{\"frame\": 1, \"translate\": [-6, 0, 0]},"
-            " {\"frame\": 9, \"translate\": [-6, 0, 0]}]");
+  satf_scene *anim =
+      scene_with(ANIM, ", \"keys\": [{\"frame\": 1, \"translate\": [-6, 0, 0]},"
+                       " {\"frame\": 9, \"translate\": [-6, 0, 0]}]");
   assert_non_null(still);
   assert_non_null(anim);
   satf_renderer *rs = NULL, *ra = NULL;
   satf_error err;
-  assert_int_equal(satf_renderer_create(still, g_db, W, H, 0, &rs, &err), SATF_OK);
-  assert_int_equal(satf_renderer_create(anim, g_db, W, H, 0, &ra, &err), SATF_OK);
+  assert_int_equal(satf_renderer_create(still, g_db, W, H, 0, &rs, &err),
+                   SATF_OK);
+  assert_int_equal(satf_renderer_create(anim, g_db, W, H, 0, &ra, &err),
+                   SATF_OK);
   satf_image *ref = NULL;
-  assert_int_equal(satf_renderer_render_image(rs, 0, &ref, NULL, &err), SATF_OK);
+  assert_int_equal(satf_renderer_render_image(rs, 0, &ref, NULL, &err),
+                   SATF_OK);
   satf_scene *keep = NULL;
   for (double f = 1; f <= 9; f += 2.5) {
     satf_image *img = render_frame(ra, anim, f, &keep);
@@ -120,13 +125,14 @@ static void identical_keys_render_the_still_frame(void **state) {
 static void a_moving_cluster_changes_only_its_pixels(void **state) {
   (void)state;
   /* the left cluster slides 3 units right; the right one stays */
-  satf_scene *anim = scene_with(
-      ANIM, ", \"keys\": [{\"frame\": 1, \"translate\": [-6, 0, 0]},"
-            " {\"frame\": 9, \"translate\": [-3, 0, 0]}]");
+  satf_scene *anim =
+      scene_with(ANIM, ", \"keys\": [{\"frame\": 1, \"translate\": [-6, 0, 0]},"
+                       " {\"frame\": 9, \"translate\": [-3, 0, 0]}]");
   assert_non_null(anim);
   satf_renderer *r = NULL;
   satf_error err;
-  assert_int_equal(satf_renderer_create(anim, g_db, W, H, 0, &r, &err), SATF_OK);
+  assert_int_equal(satf_renderer_create(anim, g_db, W, H, 0, &r, &err),
+                   SATF_OK);
   satf_scene *keep = NULL;
   satf_image *a = render_frame(r, anim, 1, &keep);
   satf_image *b = render_frame(r, anim, 9, &keep);
@@ -170,12 +176,13 @@ static unsigned char *slurp(const char *path, size_t *n) {
 
 static void resume_finishes_a_killed_batch(void **state) {
   (void)state;
-  satf_scene *anim = scene_with(
-      ANIM, ", \"keys\": [{\"frame\": 1, \"translate\": [-6, 0, 0]},"
-            " {\"frame\": 9, \"translate\": [-3, 0, 0]}]");
+  satf_scene *anim =
+      scene_with(ANIM, ", \"keys\": [{\"frame\": 1, \"translate\": [-6, 0, 0]},"
+                       " {\"frame\": 9, \"translate\": [-3, 0, 0]}]");
   satf_renderer *r = NULL;
   satf_error err;
-  assert_int_equal(satf_renderer_create(anim, g_db, W, H, 0, &r, &err), SATF_OK);
+  assert_int_equal(satf_renderer_create(anim, g_db, W, H, 0, &r, &err),
+                   SATF_OK);
   char dir_a[512], dir_b[512], pat_a[600], pat_b[600], sheet[600];
   test_path(dir_a, sizeof dir_a, "seq_full");
   test_path(dir_b, sizeof dir_b, "seq_resumed");
@@ -235,7 +242,8 @@ static void resume_finishes_a_killed_batch(void **state) {
 static void frame_patterns_are_checked(void **state) {
   (void)state;
   satf_error err;
-  assert_int_equal(satf_sequence_check_pattern("out/f_%04d.exr", &err), SATF_OK);
+  assert_int_equal(satf_sequence_check_pattern("out/f_%04d.exr", &err),
+                   SATF_OK);
   assert_int_equal(satf_sequence_check_pattern("f%d.exr", &err), SATF_OK);
   assert_int_equal(satf_sequence_check_pattern("out/f.exr", &err),
                    SATF_ERR_ARGUMENT);
