@@ -224,42 +224,56 @@ static void blend4(float *restrict out, const float *const src[4],
   }
 }
 
-void satf_db_lookup(const satf_db *db, const float feature[SATF_FEATURES],
-                    float theta_v, float theta_l, int k, float *re,
-                    float *alpha) {
-  enum { KMAX = 16 };
-  int w = db->p.trace.width;
-  int idx[KMAX];
-  float d2[KMAX], wt[KMAX];
+void satf_db_neighbors_find(const satf_db *db,
+                            const float feature[SATF_FEATURES], int k,
+                            satf_db_neighbors *out) {
+  float d2[SATF_DB_KMAX];
   if (k < 1)
     k = 1;
-  if (k > KMAX)
-    k = KMAX;
-  int found = satf_db_nearest(db, feature, k, idx, d2);
+  if (k > SATF_DB_KMAX)
+    k = SATF_DB_KMAX;
+  int found = satf_db_nearest(db, feature, k, out->index, d2);
   /* Inverse-distance weights; an exact hit takes all the weight. */
   if (found > 1 && d2[0] <= 0.0f)
     found = 1;
   float total = 0.0f;
   for (int n = 0; n < found; n++) {
-    wt[n] = found == 1 ? 1.0f : 1.0f / sqrtf(d2[n]);
-    total += wt[n];
+    out->weight[n] = found == 1 ? 1.0f : 1.0f / sqrtf(d2[n]);
+    total += out->weight[n];
   }
+  for (int n = 0; n < found; n++)
+    out->weight[n] /= total;
+  out->count = found;
+}
+
+void satf_db_lookup_neighbors(const satf_db *db, const satf_db_neighbors *nb,
+                              float theta_v, float theta_l, float *re,
+                              float *alpha) {
+  int w = db->p.trace.width;
   int v0, v1, l0, l1;
   float fv, fl;
   angle_cell(theta_v, db->p.n_view, &v0, &v1, &fv);
   angle_cell(theta_l, db->p.n_light, &l0, &l1, &fl);
   float bw[4] = {(1 - fv) * (1 - fl), fv * (1 - fl), (1 - fv) * fl, fv * fl};
-  for (int n = 0; n < found; n++) {
+  for (int n = 0; n < nb->count; n++) {
     const float *r[4], *a[4];
-    satf_db_record(db, idx[n], v0, l0, &r[0], &a[0]);
-    satf_db_record(db, idx[n], v1, l0, &r[1], &a[1]);
-    satf_db_record(db, idx[n], v0, l1, &r[2], &a[2]);
-    satf_db_record(db, idx[n], v1, l1, &r[3], &a[3]);
-    float s = wt[n] / total;
+    satf_db_record(db, nb->index[n], v0, l0, &r[0], &a[0]);
+    satf_db_record(db, nb->index[n], v1, l0, &r[1], &a[1]);
+    satf_db_record(db, nb->index[n], v0, l1, &r[2], &a[2]);
+    satf_db_record(db, nb->index[n], v1, l1, &r[3], &a[3]);
+    float s = nb->weight[n];
     float c[4] = {s * bw[0], s * bw[1], s * bw[2], s * bw[3]};
     blend4(re, r, c, w, n > 0);
     blend4(alpha, a, c, w, n > 0);
   }
+}
+
+void satf_db_lookup(const satf_db *db, const float feature[SATF_FEATURES],
+                    float theta_v, float theta_l, int k, float *re,
+                    float *alpha) {
+  satf_db_neighbors nb;
+  satf_db_neighbors_find(db, feature, k, &nb);
+  satf_db_lookup_neighbors(db, &nb, theta_v, theta_l, re, alpha);
 }
 
 static uint64_t fnv_words(uint64_t h, const void *data, size_t bytes) {

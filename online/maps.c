@@ -70,10 +70,26 @@ satf_status satf_shell_geom_create(const satf_cluster *cluster,
   return SATF_OK;
 }
 
+struct satf_neighbor_cache {
+  int k;
+  satf_db_neighbors *sector; /* per sector */
+  satf_db_neighbors *hsv;    /* per HSV (i, k, j): averaged features */
+};
+
+void satf_neighbor_cache_free(satf_neighbor_cache *c) {
+  if (c) {
+    free(c->sector);
+    free(c->hsv);
+    free(c);
+  }
+}
+
 void satf_shell_geom_destroy(satf_shell_geom *g) {
   free(g->frames);
   free(g->features);
+  satf_neighbor_cache_free(g->neighbors);
   g->frames = g->features = NULL;
+  g->neighbors = NULL;
 }
 
 struct satf_maps {
@@ -84,6 +100,43 @@ struct satf_maps {
   uint16_t *index; /* AZIMUTH_BINS x width: record sample left of column x */
   float *frac;     /* AZIMUTH_BINS x width: weight of the sample after it */
 };
+
+static size_t hsv_index(const satf_shell_params *s, int i, int k, int j) {
+  return ((size_t)i * (size_t)s->layers + (size_t)k) * (size_t)s->su +
+         (size_t)j;
+}
+
+satf_status satf_maps_prepare(const satf_maps *m, satf_shell_geom *g,
+                              const satf_map_options *opt, satf_error *err) {
+  const satf_shell_params *sh = &g->shell;
+  size_t ns = satf_shell_sector_count(sh);
+  size_t nh = (size_t)sh->st * (size_t)sh->layers * (size_t)sh->su;
+  satf_neighbor_cache *c = calloc(1, sizeof *c);
+  if (c) {
+    c->sector = malloc(ns * sizeof *c->sector);
+    c->hsv = malloc(nh * sizeof *c->hsv);
+  }
+  if (!c || !c->sector || !c->hsv) {
+    satf_neighbor_cache_free(c);
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "cannot cache the neighbours of %zu sectors", ns);
+  }
+  c->k = opt->k_nearest;
+  for (size_t q = 0; q < ns; q++)
+    satf_db_neighbors_find(m->db, g->features + 3 * q, c->k, &c->sector[q]);
+  for (int i = 0; i < sh->st; i++)
+    for (int k = 0; k < sh->layers; k++)
+      for (int j = 0; j < sh->su; j++) {
+        const float *a = g->features + 3 * sector_index(sh, i, k, j);
+        const float *b = g->features + 3 * sector_index(sh, i + 1, k, j);
+        float ave[3] = {0.5f * (a[0] + b[0]), 0.5f * (a[1] + b[1]),
+                        0.5f * (a[2] + b[2])};
+        satf_db_neighbors_find(m->db, ave, c->k,
+                               &c->hsv[hsv_index(sh, i, k, j)]);
+      }
+  g->neighbors = c;
+  return SATF_OK;
+}
 
 satf_map_options satf_map_options_default(void) {
   satf_map_options o = {0.05f, 1};
@@ -285,12 +338,19 @@ int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
       float *row0 = texels + (size_t)(2 * i) * row_floats + (size_t)j * w * 4;
       float *row1 = row0 + row_floats;
       float dens = 0.5f * (top.f[0] + bot.f[0]);
+      const satf_neighbor_cache *nc =
+          g->neighbors && g->neighbors->k == opt->k_nearest ? g->neighbors
+                                                            : NULL;
       if (params_distance(m, &top, &bot) < opt->k_threshold) {
         /* uniform HSV: one look-up at the averaged parameters, swept along
          * the HSV (SATF sec. 6.2.2) */
         params ave = params_average(&top, &bot);
-        satf_db_lookup(m->db, ave.f, ave.view, ave.light, opt->k_nearest,
-                       re_top, al_top);
+        if (nc)
+          satf_db_lookup_neighbors(m->db, &nc->hsv[hsv_index(sh, i, k, j)],
+                                   ave.view, ave.light, re_top, al_top);
+        else
+          satf_db_lookup(m->db, ave.f, ave.view, ave.light, opt->k_nearest,
+                         re_top, al_top);
         lookups++;
         lay_row(m, re_top, al_top, ave.view, dens, row0);
         lay_row(m, re_top, al_top, ave.view, dens, row1);
@@ -299,12 +359,20 @@ int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
         /* two look-ups, interpolated along the HSV by the texture fetch
          * (SATF eq. 7) */
         if (!have_top) {
-          satf_db_lookup(m->db, top.f, top.view, top.light, opt->k_nearest,
-                         re_top, al_top);
+          if (nc)
+            satf_db_lookup_neighbors(m->db, &nc->sector[st0], top.view,
+                                     top.light, re_top, al_top);
+          else
+            satf_db_lookup(m->db, top.f, top.view, top.light, opt->k_nearest,
+                           re_top, al_top);
           lookups++;
         }
-        satf_db_lookup(m->db, bot.f, bot.view, bot.light, opt->k_nearest,
-                       re_bot, al_bot);
+        if (nc)
+          satf_db_lookup_neighbors(m->db, &nc->sector[st1], bot.view, bot.light,
+                                   re_bot, al_bot);
+        else
+          satf_db_lookup(m->db, bot.f, bot.view, bot.light, opt->k_nearest,
+                         re_bot, al_bot);
         lookups++;
         lay_row(m, re_top, al_top, top.view, dens, row0);
         lay_row(m, re_bot, al_bot, bot.view, dens, row1);

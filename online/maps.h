@@ -21,15 +21,22 @@
 
 /* Per prototype: the geometry of its boundary sectors and their density
  * features, computed once (they change only with the density). */
+typedef struct satf_neighbor_cache satf_neighbor_cache;
+
 typedef struct satf_shell_geom {
   satf_shell_params shell;
   float *frames;   /* per sector (i, k, j): centre P, outward N, phase dir T */
   float *features; /* per sector: 3 density features */
+  /* The database samples nearest to every sector's features and to every
+   * HSV's averaged features (satf_maps_prepare): they change only with the
+   * density, so frames only blend azimuths. NULL: searched per look-up. */
+  satf_neighbor_cache *neighbors;
 } satf_shell_geom;
 
 satf_status satf_shell_geom_create(const satf_cluster *cluster,
                                    const satf_shell_params *shell,
                                    satf_shell_geom *out, satf_error *err);
+/* Frees frames, features and the neighbour cache. */
 void satf_shell_geom_destroy(satf_shell_geom *g);
 size_t satf_shell_sector_count(const satf_shell_params *shell);
 
@@ -47,6 +54,12 @@ satf_status satf_maps_create(const satf_db *db, satf_maps **out,
                              satf_error *err);
 void satf_maps_destroy(satf_maps *maps);
 int satf_maps_width(const satf_maps *maps);
+
+/* Finds and keeps g->neighbors for g->features (replacing any earlier
+ * cache, which the caller may still share: see satf_neighbor_cache_free). */
+satf_status satf_maps_prepare(const satf_maps *maps, satf_shell_geom *g,
+                              const satf_map_options *opt, satf_error *err);
+void satf_neighbor_cache_free(satf_neighbor_cache *cache);
 
 /* Azimuths of every sector of a prototype for a viewer at eye and a light
  * (xyz, w = 0: direction towards the light, w = 1: position), both in the

@@ -33,6 +33,7 @@ typedef struct proto {
   GLuint proxy_vao; /* the drawn outer shell (upload_frames) */
   GLuint proxy_vbo, proxy_ibo;
   GLsizei proxy_count;
+  GLsizei coarse_count; /* light passes: rows every COARSE_ROWS, after */
   GLsizei *count;
 } proto;
 
@@ -42,6 +43,7 @@ typedef struct inst {
   float centre[3]; /* world position of the cluster's middle, for sorting */
   satf_shell_geom geom; /* shallow copy; own features only with a VDB */
   int own_features;
+  satf_neighbor_cache *own_neighbors; /* with own (VDB) features */
   float *angles, *texels;
   float eye[3], light[4];
   GLuint tex;
@@ -103,6 +105,8 @@ static void resample_curve(const satf_scene_curve *c, int n, float *out) {
  * for every triangle on one thread, so it is kept coarse around the
  * cluster and as fine as the HSVs along it. */
 #define PROXY_COLUMNS 12
+/* The deep opacity map is coarse: its passes skip rows of the proxy. */
+#define COARSE_ROWS 4
 
 /* The proxy: (st + 1) x (PROXY_COLUMNS + 1) vertices on an elliptic
  * cylinder circumscribing the outer shell, each with position, hair
@@ -113,9 +117,11 @@ static satf_status upload_frames(proto *p, const satf_shell_params *sh,
                                  satf_error *err) {
   int cols = PROXY_COLUMNS + 1;
   size_t nv = (size_t)(sh->st + 1) * (size_t)cols;
+  int coarse_rows = (sh->st + COARSE_ROWS - 1) / COARSE_ROWS;
   size_t ntri = 2 * (size_t)sh->st * PROXY_COLUMNS;
+  size_t ncoarse = 2 * (size_t)coarse_rows * PROXY_COLUMNS;
   float *f = malloc(nv * PROXY_FLOATS * sizeof(float));
-  uint32_t *idx = malloc(ntri * 3 * sizeof(uint32_t));
+  uint32_t *idx = malloc((ntri + ncoarse) * 3 * sizeof(uint32_t));
   if (!f || !idx) {
     free(f);
     free(idx);
@@ -157,6 +163,15 @@ static satf_status upload_frames(proto *p, const satf_shell_params *sh,
       *q++ = a, *q++ = b, *q++ = c;
       *q++ = b, *q++ = d, *q++ = c;
     }
+  for (int i = 0; i < sh->st; i += COARSE_ROWS) {
+    int i1 = i + COARSE_ROWS < sh->st ? i + COARSE_ROWS : sh->st;
+    for (int j = 0; j < PROXY_COLUMNS; j++) {
+      uint32_t a = (uint32_t)(i * cols + j), b = a + 1;
+      uint32_t c = (uint32_t)(i1 * cols + j), d = c + 1;
+      *q++ = a, *q++ = b, *q++ = c;
+      *q++ = b, *q++ = d, *q++ = c;
+    }
+  }
   glGenVertexArrays(1, &p->proxy_vao);
   glGenBuffers(1, &p->proxy_vbo);
   glGenBuffers(1, &p->proxy_ibo);
@@ -166,7 +181,8 @@ static satf_status upload_frames(proto *p, const satf_shell_params *sh,
                f, GL_STATIC_DRAW);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, p->proxy_ibo);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-               (GLsizeiptr)(ntri * 3 * sizeof(uint32_t)), idx, GL_STATIC_DRAW);
+               (GLsizeiptr)((ntri + ncoarse) * 3 * sizeof(uint32_t)), idx,
+               GL_STATIC_DRAW);
   free(f);
   free(idx);
   /* locations as in satf_glsl_cluster_vs / satf_glsl_layer_vs */
@@ -184,6 +200,7 @@ static satf_status upload_frames(proto *p, const satf_shell_params *sh,
                         (void *)(21 * sizeof(float)));
   glBindVertexArray(0);
   p->proxy_count = (GLsizei)(ntri * 3);
+  p->coarse_count = (GLsizei)(ncoarse * 3);
   return satf_gl_check("cluster proxy", err);
 }
 
@@ -264,6 +281,8 @@ static satf_status build_proto(satf_renderer *r, int index,
     if (st == SATF_OK) /* once per prototype (SATF sec. 3.1) */
       st = satf_sector_features(p->cluster, &p->geom.shell, p->strands, NULL,
                                 NULL, r->threads, p->geom.features, &cerr);
+    if (st == SATF_OK)
+      st = satf_maps_prepare(r->maps, &p->geom, &r->map_opt, &cerr);
     if (st != SATF_OK)
       return satf_error_set(err, st,
                             "%s: macro_clusters[%d].prototype.density: %s",
@@ -294,9 +313,18 @@ static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
     for (int a = 0; a < 3; a++)
       local[a] += p->geom.frames[9 * q + a] / (float)sectors;
   satf_mat4_point(in->m, local, in->centre);
-  if (p->vdb)
-    return satf_sector_features(p->cluster, &p->geom.shell, NULL, p->vdb, in->m,
-                                r->threads, in->geom.features, err);
+  if (p->vdb) {
+    satf_status st =
+        satf_sector_features(p->cluster, &p->geom.shell, NULL, p->vdb, in->m,
+                             r->threads, in->geom.features, err);
+    satf_neighbor_cache_free(in->own_neighbors);
+    in->own_neighbors = NULL;
+    in->geom.neighbors = NULL;
+    if (st == SATF_OK)
+      st = satf_maps_prepare(r->maps, &in->geom, &r->map_opt, err);
+    in->own_neighbors = in->geom.neighbors;
+    return st;
+  }
   return SATF_OK;
 }
 
@@ -515,6 +543,7 @@ void satf_renderer_destroy(satf_renderer *r) {
     inst *in = &r->insts[i];
     if (in->own_features)
       free(in->geom.features);
+    satf_neighbor_cache_free(in->own_neighbors);
     free(in->angles);
     free(in->texels);
     if (in->tex)
@@ -743,22 +772,26 @@ static void bind_instance(const satf_renderer *r, GLuint prog, const inst *in,
   glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
 }
 
-static void draw_proxy(const proto *p) {
+static void draw_proxy(const proto *p, int coarse) {
   glBindVertexArray(p->proxy_vao);
-  glDrawElements(GL_TRIANGLES, p->proxy_count, GL_UNSIGNED_INT, NULL);
+  if (coarse)
+    glDrawElements(GL_TRIANGLES, p->coarse_count, GL_UNSIGNED_INT,
+                   (void *)((size_t)p->proxy_count * sizeof(uint32_t)));
+  else
+    glDrawElements(GL_TRIANGLES, p->proxy_count, GL_UNSIGNED_INT, NULL);
 }
 
 /* The outermost shell of every cluster, in list order: each fragment
  * accounts for all the shells behind it (shaders.c). */
 static void draw_clusters(satf_renderer *r, GLuint prog,
-                          const float viewproj[16]) {
+                          const float viewproj[16], int coarse) {
   GLint loc[4];
   use_layer_program(r, prog, viewproj, loc);
   for (int i = 0; i < r->ninsts; i++) {
     inst *in = &r->insts[i];
     proto *p = &r->protos[in->proto];
     bind_instance(r, prog, in, loc);
-    draw_proxy(p);
+    draw_proxy(p, coarse);
   }
   glBindVertexArray(0);
 }
@@ -809,7 +842,7 @@ static void render_dom(satf_renderer *r) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  draw_clusters(r, r->prog_depth, r->light_viewproj);
+  draw_clusters(r, r->prog_depth, r->light_viewproj, 1);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDisable(GL_DEPTH_TEST);
 
@@ -822,7 +855,7 @@ static void render_dom(satf_renderer *r) {
   glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
   glUniform1i(glGetUniformLocation(r->prog_dom, "u_dom_depth"), 1);
   glUniform1f(glGetUniformLocation(r->prog_dom, "u_dom_slab"), r->dom_slab);
-  draw_clusters(r, r->prog_dom, r->light_viewproj);
+  draw_clusters(r, r->prog_dom, r->light_viewproj, 1);
   glDisable(GL_BLEND);
 }
 
@@ -934,7 +967,7 @@ static GLuint render_lists(satf_renderer *r, satf_aov aov,
   set_shading_uniforms(r, r->prog_shade, aov);
   glEnable(GL_CULL_FACE); /* front faces: each traces the whole cluster */
   glCullFace(GL_BACK);
-  draw_clusters(r, r->prog_shade, viewproj);
+  draw_clusters(r, r->prog_shade, viewproj, 0);
   glDisable(GL_CULL_FACE);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                   GL_TEXTURE_FETCH_BARRIER_BIT);
@@ -1026,7 +1059,7 @@ static satf_status render_ordered(satf_renderer *r, satf_aov aov,
     const inst *in = &r->insts[keys[q].index];
     const proto *p = &r->protos[in->proto];
     bind_instance(r, prog, in, loc);
-    draw_proxy(p);
+    draw_proxy(p, 0);
   }
   glBindVertexArray(0);
   glDisable(GL_CULL_FACE);
@@ -1216,10 +1249,16 @@ satf_status satf_renderer_set_scene(satf_renderer *r, const satf_scene *scene,
     if (changed) { /* the density, in the cluster's own frame, stays */
       proto *p = &r->protos[m];
       float *features = p->geom.features;
+      satf_neighbor_cache *nb = p->geom.neighbors;
       p->geom.features = NULL;
+      p->geom.neighbors = NULL;
       release_geometry(p);
       st = build_geometry(r, m, &mc->prototype, features, err);
       free(features);
+      if (st == SATF_OK)
+        p->geom.neighbors = nb;
+      else
+        satf_neighbor_cache_free(nb);
       moved++;
     }
     for (int i = 0; i < mc->n_instances && st == SATF_OK; i++, ii++) {

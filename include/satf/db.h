@@ -87,6 +87,24 @@ void satf_db_lookup(const satf_db *db, const float feature[SATF_FEATURES],
                     float theta_v, float theta_l, int k, float *re,
                     float *alpha);
 
+/* The look-up in two steps, for callers whose features stay while the
+ * angles change (the renderer's sectors): the k nearest samples and their
+ * normalised inverse-distance weights, then the periodic bilinear blend at
+ * any azimuths. Together equal to satf_db_lookup, value for value. */
+#define SATF_DB_KMAX 16
+typedef struct satf_db_neighbors {
+  int count;
+  int index[SATF_DB_KMAX];
+  float weight[SATF_DB_KMAX];
+} satf_db_neighbors;
+
+void satf_db_neighbors_find(const satf_db *db,
+                            const float feature[SATF_FEATURES], int k,
+                            satf_db_neighbors *out);
+void satf_db_lookup_neighbors(const satf_db *db, const satf_db_neighbors *nb,
+                              float theta_v, float theta_l, float *re,
+                              float *alpha);
+
 /* File I/O. Writing goes through a temporary file renamed into place. */
 satf_status satf_db_write(const satf_db *db, const char *path, satf_error *err);
 satf_status satf_db_read(const char *path, satf_db **out, satf_error *err);
