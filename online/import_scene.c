@@ -170,6 +170,12 @@ satf_status satf_import_scene_json(const satf_import_fit *fits, int n,
     cJSON_AddStringToObject(root, "description", o->description);
   if (o && o->database)
     cJSON_AddStringToObject(root, "database", o->database);
+  if (o && o->mesh_file) { /* drawn opaque, occluding and shadowing hair */
+    cJSON *meshes = cJSON_CreateArray(), *mesh = cJSON_CreateObject();
+    cJSON_AddStringToObject(mesh, "file", o->mesh_file);
+    cJSON_AddItemToArray(meshes, mesh);
+    cJSON_AddItemToObject(root, "meshes", meshes);
+  }
   cJSON *image = cJSON_CreateObject();
   cJSON_AddNumberToObject(image, "width", o && o->width ? o->width : 640);
   cJSON_AddNumberToObject(image, "height", o && o->height ? o->height : 480);

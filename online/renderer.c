@@ -49,6 +49,12 @@ typedef struct inst {
   GLuint tex;
 } inst;
 
+typedef struct mesh_gpu {
+  GLuint vao, vbo, ibo;
+  GLsizei count;
+  float m[16], nmat[9], color[3];
+} mesh_gpu;
+
 struct satf_renderer {
   const satf_scene *scene;
   const satf_db *db;
@@ -60,7 +66,9 @@ struct satf_renderer {
   int nlights;
   int width, height, threads, w;
   float lo[3], hi[3];
-  int nprotos, ninsts;
+  int nprotos, ninsts, nmeshes;
+  mesh_gpu *meshes;
+  GLuint prog_mesh, prog_mesh_depth, prog_mesh_dom;
   proto *protos;
   inst *insts;
   satf_render_stats stats;
@@ -407,6 +415,15 @@ static satf_status build_programs(satf_renderer *r, satf_error *err) {
   if (st == SATF_OK)
     st = satf_gl_program_build("display", satf_glsl_fullscreen_vs,
                                satf_glsl_display_fs, &r->prog_display, err);
+  if (st == SATF_OK)
+    st = satf_gl_program_build("mesh", satf_glsl_mesh_vs, satf_glsl_mesh_fs,
+                               &r->prog_mesh, err);
+  if (st == SATF_OK)
+    st = satf_gl_program_build("mesh depth", satf_glsl_mesh_vs,
+                               satf_glsl_empty_fs, &r->prog_mesh_depth, err);
+  if (st == SATF_OK)
+    st = satf_gl_program_build("mesh opacity", satf_glsl_mesh_vs,
+                               satf_glsl_dom_mesh_fs, &r->prog_mesh_dom, err);
   return st;
 }
 
@@ -447,9 +464,80 @@ static satf_status alloc_screen(satf_renderer *r, satf_error *err) {
   r->out = NULL;
   satf_status st =
       satf_gl_target_create(r->width, r->height, 1, &out_format, &r->out, err);
-  if (st == SATF_OK)
+  if (st == SATF_OK) {
+    /* the hair's fragment pass tests against the meshes' depth */
+    glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D,
+                           satf_gl_target_depth_texture(r->out), 0);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
     st = alloc_lists(r, r->slots > 0 ? r->slots : START_SLOTS, err);
+  }
   return st;
+}
+
+/* The scene's opaque meshes (OpenMesh reads OBJ and PLY), grown into the
+ * scene bounds so the camera and the light's map cover them. */
+static satf_status build_meshes(satf_renderer *r, satf_error *err) {
+  const satf_scene *scene = r->scene;
+  if (scene->n_meshes == 0)
+    return SATF_OK;
+  r->meshes = calloc((size_t)scene->n_meshes, sizeof *r->meshes);
+  if (!r->meshes)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  r->nmeshes = scene->n_meshes;
+  for (int i = 0; i < scene->n_meshes; i++) {
+    const satf_scene_mesh *sm = &scene->meshes[i];
+    mesh_gpu *g = &r->meshes[i];
+    satf_mesh *mesh = NULL;
+    satf_error merr;
+    satf_status st = satf_mesh_read(sm->file, &mesh, &merr);
+    if (st != SATF_OK)
+      return satf_error_set(err, st, "%s: meshes[%d]: %s",
+                            scene->name ? scene->name : "scene", i,
+                            merr.message);
+    memcpy(g->m, sm->m, sizeof g->m);
+    memcpy(g->color, sm->color, sizeof g->color);
+    satf_mat4_normal_matrix(g->m, g->nmat);
+    float lo[3], hi[3];
+    satf_mesh_bounds(mesh, lo, hi);
+    for (int c = 0; c < 8; c++) {
+      float p[3] = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1],
+                    c & 4 ? hi[2] : lo[2]},
+            w[3];
+      satf_mat4_point(g->m, p, w);
+      for (int a = 0; a < 3; a++) {
+        r->lo[a] = w[a] < r->lo[a] ? w[a] : r->lo[a];
+        r->hi[a] = w[a] > r->hi[a] ? w[a] : r->hi[a];
+      }
+    }
+    glGenVertexArrays(1, &g->vao);
+    glGenBuffers(1, &g->vbo);
+    glGenBuffers(1, &g->ibo);
+    glBindVertexArray(g->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
+    glBufferData(
+        GL_ARRAY_BUFFER,
+        (GLsizeiptr)(satf_mesh_vertex_count(mesh) * sizeof(satf_mesh_vertex)),
+        satf_mesh_vertices(mesh), GL_STATIC_DRAW);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ibo);
+    glBufferData(
+        GL_ELEMENT_ARRAY_BUFFER,
+        (GLsizeiptr)(satf_mesh_triangle_count(mesh) * 3 * sizeof(uint32_t)),
+        satf_mesh_indices(mesh), GL_STATIC_DRAW);
+    GLsizei stride = (GLsizei)sizeof(satf_mesh_vertex);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride,
+                          (void *)offsetof(satf_mesh_vertex, pos));
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                          (void *)offsetof(satf_mesh_vertex, normal));
+    glBindVertexArray(0);
+    g->count = (GLsizei)(satf_mesh_triangle_count(mesh) * 3);
+    satf_mesh_destroy(mesh);
+  }
+  return satf_gl_check("meshes", err);
 }
 
 satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
@@ -506,6 +594,8 @@ satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
     r->stats.prototypes_shared += mc->n_instances - 1;
   }
   if (st == SATF_OK)
+    st = build_meshes(r, err);
+  if (st == SATF_OK)
     st = build_programs(r, err);
   if (st == SATF_OK) {
     glGenVertexArrays(1, &r->empty_vao);
@@ -558,6 +648,16 @@ void satf_renderer_destroy(satf_renderer *r) {
   }
   free(r->protos);
   free(r->insts);
+  for (int i = 0; r->meshes && i < r->nmeshes; i++) {
+    glDeleteVertexArrays(1, &r->meshes[i].vao);
+    glDeleteBuffers(1, &r->meshes[i].vbo);
+    glDeleteBuffers(1, &r->meshes[i].ibo);
+  }
+  free(r->meshes);
+  GLuint mesh_progs[3] = {r->prog_mesh, r->prog_mesh_depth, r->prog_mesh_dom};
+  for (int i = 0; i < 3; i++)
+    if (mesh_progs[i])
+      glDeleteProgram(mesh_progs[i]);
   GLuint progs[6] = {r->prog_shade, r->prog_shade_ordered, r->prog_depth,
                      r->prog_dom,   r->prog_resolve,       r->prog_display};
   for (int i = 0; i < 6; i++)
@@ -796,6 +896,25 @@ static void draw_clusters(satf_renderer *r, GLuint prog,
   glBindVertexArray(0);
 }
 
+/* The opaque meshes with `prog` (per-mesh model and normal matrices). */
+static void draw_meshes(const satf_renderer *r, GLuint prog,
+                        const float viewproj[16]) {
+  glUseProgram(prog);
+  set_mat4(prog, "u_viewproj", viewproj);
+  GLint model = glGetUniformLocation(prog, "u_model");
+  GLint nmat = glGetUniformLocation(prog, "u_normal_matrix");
+  GLint albedo = glGetUniformLocation(prog, "u_albedo");
+  for (int i = 0; i < r->nmeshes; i++) {
+    const mesh_gpu *g = &r->meshes[i];
+    glUniformMatrix4fv(model, 1, GL_TRUE, g->m);
+    glUniformMatrix3fv(nmat, 1, GL_TRUE, g->nmat);
+    glUniform3fv(albedo, 1, g->color);
+    glBindVertexArray(g->vao);
+    glDrawElements(GL_TRIANGLES, g->count, GL_UNSIGNED_INT, NULL);
+  }
+  glBindVertexArray(0);
+}
+
 static float scene_radius(const satf_renderer *r, float centre[3]) {
   float d2 = 0.0f;
   for (int a = 0; a < 3; a++) {
@@ -843,6 +962,7 @@ static void render_dom(satf_renderer *r) {
   glDepthFunc(GL_LESS);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   draw_clusters(r, r->prog_depth, r->light_viewproj, 1);
+  draw_meshes(r, r->prog_mesh_depth, r->light_viewproj);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDisable(GL_DEPTH_TEST);
 
@@ -856,6 +976,13 @@ static void render_dom(satf_renderer *r) {
   glUniform1i(glGetUniformLocation(r->prog_dom, "u_dom_depth"), 1);
   glUniform1f(glGetUniformLocation(r->prog_dom, "u_dom_slab"), r->dom_slab);
   draw_clusters(r, r->prog_dom, r->light_viewproj, 1);
+  if (r->nmeshes > 0) {
+    glUseProgram(r->prog_mesh_dom);
+    glUniform1i(glGetUniformLocation(r->prog_mesh_dom, "u_dom_depth"), 1);
+    glUniform1f(glGetUniformLocation(r->prog_mesh_dom, "u_dom_slab"),
+                r->dom_slab);
+    draw_meshes(r, r->prog_mesh_dom, r->light_viewproj);
+  }
   glDisable(GL_BLEND);
 }
 
@@ -951,47 +1078,101 @@ static void screen_box(const satf_renderer *r, const float viewproj[16],
   }
 }
 
+/* Clears the frame to the background (or black for AOVs) and draws the
+ * opaque meshes, leaving their depth for the hair to test against. */
+static void begin_frame(satf_renderer *r, satf_aov aov,
+                        const float viewproj[16]) {
+  satf_gl_target_bind(r->out);
+  if (aov == SATF_AOV_BEAUTY)
+    glClearColor(r->scene->background[0], r->scene->background[1],
+                 r->scene->background[2], 0.0f);
+  else
+    glClearColor(0, 0, 0, 0);
+  glClearDepth(1.0);
+  glDepthMask(GL_TRUE);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  if (r->nmeshes == 0)
+    return;
+  GLuint p = r->prog_mesh;
+  glUseProgram(p);
+  float vec[16], col[12];
+  for (int k = 0; k < r->nlights; k++) {
+    light_vector(&r->lights[k], vec + 4 * k);
+    for (int a = 0; a < 3; a++)
+      col[3 * k + a] = r->lights[k].color[a] * r->lights[k].intensity;
+  }
+  glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
+  glUniform1i(glGetUniformLocation(p, "u_nlights"), r->nlights);
+  glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
+  glUniform3fv(glGetUniformLocation(p, "u_light_color"), r->nlights, col);
+  glUniform1i(glGetUniformLocation(p, "u_cluster_shadow"),
+              r->effects.cluster_shadows);
+  glUniform1i(glGetUniformLocation(p, "u_aov"), (int)aov);
+  glUniform1f(glGetUniformLocation(p, "u_kcluster"), 1.0f);
+  glUniform1f(glGetUniformLocation(p, "u_dom_slab"), r->dom_slab);
+  set_mat4(p, "u_light_viewproj", r->light_viewproj);
+  glActiveTexture(GL_TEXTURE2);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
+  glUniform1i(glGetUniformLocation(p, "u_dom_depth"), 2);
+  glActiveTexture(GL_TEXTURE3);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_color_texture(r->dom_opacity, 0));
+  glUniform1i(glGetUniformLocation(p, "u_dom_opacity"), 3);
+  glActiveTexture(GL_TEXTURE0);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  draw_meshes(r, p, viewproj);
+  glDisable(GL_DEPTH_TEST);
+}
+
+/* Hair tests against the meshes' depth without writing it. */
+static void hair_depth_test(int on) {
+  if (on) {
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_FALSE);
+  } else {
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+  }
+}
+
 /* Per-pixel fragment arrays, then the sorted composite (SATF eq. 14).
  * Returns the largest number of fragments a pixel received. */
 static GLuint render_lists(satf_renderer *r, satf_aov aov,
                            const float viewproj[16], long *fragments) {
   GLuint zero = 0;
+  begin_frame(r, aov, viewproj);
   glClearTexImage(r->counts_tex, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   glBindImageTexture(0, r->counts_tex, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
   glBindImageTexture(1, r->frags_tex, 0, GL_TRUE, 0, GL_READ_WRITE,
                      GL_RGBA32UI);
   glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
   glViewport(0, 0, r->width, r->height);
-  glDisable(GL_DEPTH_TEST);
+  hair_depth_test(r->nmeshes > 0);
   glDisable(GL_CULL_FACE);
   set_shading_uniforms(r, r->prog_shade, aov);
   glEnable(GL_CULL_FACE); /* front faces: each traces the whole cluster */
   glCullFace(GL_BACK);
   draw_clusters(r, r->prog_shade, viewproj, 0);
   glDisable(GL_CULL_FACE);
+  hair_depth_test(0);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                   GL_TEXTURE_FETCH_BARRIER_BIT);
   satf_gl_target_bind(r->out);
-  glClearColor(0, 0, 0, 0);
-  if (aov == SATF_AOV_BEAUTY)
-    glClearColor(r->scene->background[0], r->scene->background[1],
-                 r->scene->background[2], 0.0f);
-  glClear(GL_COLOR_BUFFER_BIT);
+  glEnable(GL_BLEND); /* the hair's composite over background and meshes */
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   /* only pixels the hair can cover need resolving */
   int box[4];
   screen_box(r, viewproj, box);
   glEnable(GL_SCISSOR_TEST);
   glScissor(box[0], box[1], box[2], box[3]);
   glUseProgram(r->prog_resolve);
-  glUniform3fv(glGetUniformLocation(r->prog_resolve, "u_background"), 1,
-               r->scene->background);
-  glUniform1i(glGetUniformLocation(r->prog_resolve, "u_use_background"),
-              aov == SATF_AOV_BEAUTY);
   glUniform1i(glGetUniformLocation(r->prog_resolve, "u_slots"), r->slots);
   glBindVertexArray(r->empty_vao);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_BLEND);
   /* the deepest pixel decides whether the arrays were large enough */
   size_t n = (size_t)r->width * (size_t)r->height;
   GLuint *counts = malloc(n * sizeof(GLuint)), most = 0;
@@ -1039,14 +1220,8 @@ static satf_status render_ordered(satf_renderer *r, satf_aov aov,
     keys[i].index = i;
   }
   qsort(keys, (size_t)r->ninsts, sizeof *keys, farther_first);
-  satf_gl_target_bind(r->out);
-  if (aov == SATF_AOV_BEAUTY)
-    glClearColor(r->scene->background[0], r->scene->background[1],
-                 r->scene->background[2], 0.0f);
-  else
-    glClearColor(0, 0, 0, 0);
-  glClear(GL_COLOR_BUFFER_BIT);
-  glDisable(GL_DEPTH_TEST);
+  begin_frame(r, aov, viewproj);
+  hair_depth_test(r->nmeshes > 0);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
   glEnable(GL_CULL_FACE);
@@ -1064,6 +1239,7 @@ static satf_status render_ordered(satf_renderer *r, satf_aov aov,
   glBindVertexArray(0);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
+  hair_depth_test(0);
   free(keys);
   return SATF_OK;
 }

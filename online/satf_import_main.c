@@ -14,6 +14,7 @@
 #include "common/parallel.h"
 #include "common/progress.h"
 #include "satf/import.h"
+#include "satf/mesh.h"
 
 static const char *PROG = "satf-import";
 
@@ -50,8 +51,7 @@ static void usage(FILE *out) {
           "to the\n"
           "                         cluster length (default 0.05; 0 = off)\n"
           "  --database PATH        HRIR database to name in the scene\n"
-          "  --mesh PATH            head mesh (not yet supported: reported "
-          "and ignored)\n"
+          "  --mesh PATH            opaque head mesh (OBJ/PLY) for the scene\n"
           "  --seed N               clustering and placement seed (default "
           "1)\n"
           "  --threads N            threads (0 = all cores)\n"
@@ -276,12 +276,18 @@ int main(int argc, char **argv) {
   if (rc)
     return rc == 1 ? 0 : rc;
   double t0 = satf_now_seconds();
-  if (o.mesh)
-    fprintf(stderr,
-            "%s: --mesh %s: opaque head meshes are not yet supported in "
-            "scenes; the mesh is ignored\n",
-            PROG, o.mesh);
   satf_error err;
+  char mesh_path[PATH_MAX];
+  if (o.mesh) { /* check it now, and name it absolutely in the scene */
+    satf_mesh *probe = NULL;
+    if (satf_mesh_read(o.mesh, &probe, &err) != SATF_OK) {
+      fprintf(stderr, "%s: --mesh: %s\n", PROG, err.message);
+      return 1;
+    }
+    satf_mesh_destroy(probe);
+    if (!realpath(o.mesh, mesh_path))
+      snprintf(mesh_path, sizeof mesh_path, "%s", o.mesh);
+  }
   satf_strand_set *all = NULL;
   for (int i = 0; i < o.n_inputs; i++) {
     satf_strand_set *s;
@@ -408,7 +414,8 @@ int main(int argc, char **argv) {
            o.inputs[0], o.n_inputs > 1 ? " and more" : "", n_strands,
            n_clusters, macro.n_macro);
   satf_import_scene_options so = {
-      o.vdb ? vdb_name : NULL, "density", o.database, desc, 0, 0, o.seed};
+      o.vdb ? vdb_name : NULL,  "density", o.database, desc, 0, 0, o.seed,
+      o.mesh ? mesh_path : NULL};
   st = satf_import_write_scene(o.output, fits, n_clusters, &macro, &so, &err);
   if (st != SATF_OK) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);

@@ -193,6 +193,9 @@ void satf_scene_destroy(satf_scene *scene) {
     free(mc->instances);
   }
   free(scene->macro_clusters);
+  for (int i = 0; i < scene->n_meshes; i++)
+    free(scene->meshes[i].file);
+  free(scene->meshes);
   scene_anim_destroy(scene->animation);
   free(scene->lights);
   for (int i = 0; i < scene->n_warnings; i++)

@@ -220,6 +220,18 @@ static satf_scene *copy_static(const satf_scene *from) {
   to->lights = copy_bytes(
       from->lights, (size_t)from->n_lights * sizeof *from->lights, &failed);
   to->n_lights = to->lights ? from->n_lights : 0;
+  if (from->n_meshes > 0) {
+    to->meshes = calloc((size_t)from->n_meshes, sizeof *to->meshes);
+    if (to->meshes) {
+      to->n_meshes = from->n_meshes;
+      for (int i = 0; i < from->n_meshes; i++) {
+        to->meshes[i] = from->meshes[i];
+        to->meshes[i].file = copy_string(from->meshes[i].file, &failed);
+      }
+    } else {
+      failed = 1;
+    }
+  }
   to->macro_clusters =
       calloc((size_t)from->n_macro_clusters, sizeof *to->macro_clusters);
   if (to->macro_clusters) {

@@ -217,3 +217,19 @@ satf_status scene_parse_instance(scene_ctx *ctx, const cJSON *item,
   memcpy(out->m, form.m, sizeof out->m);
   return parse_instance_keys(ctx, item, macro_cluster, instance, &form);
 }
+
+satf_status scene_parse_transform(scene_ctx *ctx, const cJSON *item,
+                                  float m[16]) {
+  static const char *const keys[] = {"matrix", "translate", "rotate", "scale",
+                                     NULL};
+  if (!cJSON_IsObject(item))
+    return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
+                      scene_type_name(item));
+  instance_form form = {0};
+  satf_status s;
+  if ((s = scene_check_keys(ctx, item, keys)) != SATF_OK ||
+      (s = parse_form(ctx, item, NULL, &form)) != SATF_OK)
+    return s;
+  memcpy(m, form.m, 16 * sizeof(float));
+  return SATF_OK;
+}

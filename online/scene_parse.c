@@ -298,7 +298,7 @@ satf_status scene_parse_root(scene_ctx *ctx, const cJSON *root,
   static const char *const keys[] = {
       "description", "macro_clusters", "material",   "effects",
       "camera",      "lights",         "background", "database",
-      "image",       "animation",      NULL};
+      "image",       "animation",      "meshes",     NULL};
   static const float grey[3] = {0.1f, 0.1f, 0.12f};
   satf_scene *scene = ctx->scene;
   if (!cJSON_IsObject(root))
@@ -317,7 +317,58 @@ satf_status scene_parse_root(scene_ctx *ctx, const cJSON *root,
       (s = scene_key_vec(ctx, root, "background", 3, &R_UNIT, grey,
                          scene->background)) != SATF_OK ||
       (s = scene_key_path(ctx, root, "database", 0, base_dir,
-                          &scene->database)) != SATF_OK)
+                          &scene->database)) != SATF_OK ||
+      (s = scene_parse_meshes(ctx, root, base_dir)) != SATF_OK)
     return s;
   return parse_image(ctx, root, &scene->image);
+}
+
+static satf_status parse_mesh(scene_ctx *ctx, const cJSON *obj,
+                              const char *base_dir, satf_scene_mesh *mesh) {
+  static const char *const keys[] = {"file", "color", "transform", NULL};
+  static const float skin[3] = {0.55f, 0.42f, 0.36f};
+  if (!cJSON_IsObject(obj))
+    return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
+                      scene_type_name(obj));
+  satf_status s;
+  const cJSON *transform = NULL;
+  if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
+      (s = scene_key_path(ctx, obj, "file", 1, base_dir, &mesh->file)) !=
+          SATF_OK ||
+      (s = scene_key_vec(ctx, obj, "color", 3, &R_UNIT, skin, mesh->color)) !=
+          SATF_OK ||
+      (s = scene_key_object(ctx, obj, "transform", 0, &transform)) != SATF_OK)
+    return s;
+  for (int k = 0; k < 16; k++)
+    mesh->m[k] = k % 5 == 0 ? 1.0f : 0.0f;
+  if (transform) {
+    size_t previous = scene_push_key(ctx, "transform");
+    s = scene_parse_transform(ctx, transform, mesh->m);
+    scene_pop(ctx, previous);
+  }
+  return s;
+}
+
+satf_status scene_parse_meshes(scene_ctx *ctx, const cJSON *root,
+                               const char *base_dir) {
+  satf_scene *scene = ctx->scene;
+  const cJSON *arr;
+  int n;
+  satf_status s = scene_key_array(ctx, root, "meshes", 0, 0,
+                                  SATF_SCENE_MAX_MESHES, &arr, &n);
+  if (s != SATF_OK || !arr || n == 0)
+    return s;
+  scene->meshes = calloc((size_t)n, sizeof *scene->meshes);
+  if (!scene->meshes)
+    return scene_nomem(ctx);
+  scene->n_meshes = n;
+  size_t previous = scene_push_key(ctx, "meshes");
+  int i = 0;
+  for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, i++) {
+    size_t inner = scene_push_index(ctx, i);
+    s = parse_mesh(ctx, e, base_dir, &scene->meshes[i]);
+    scene_pop(ctx, inner);
+  }
+  scene_pop(ctx, previous);
+  return s;
 }

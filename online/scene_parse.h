@@ -32,6 +32,14 @@ satf_status scene_parse_cluster_curve(scene_ctx *ctx, const cJSON *obj,
 
 /* instances[instance] of macro_clusters[macro_cluster] (item; the ctx path
  * is the instance's), with its keys. */
+/* A static transform object (matrix, or translate/rotate/scale) as in
+ * instances, without keys. */
+satf_status scene_parse_transform(scene_ctx *ctx, const cJSON *item,
+                                  float m[16]);
+/* The opaque meshes of the scene ("meshes"). */
+satf_status scene_parse_meshes(scene_ctx *ctx, const cJSON *root,
+                               const char *base_dir);
+
 satf_status scene_parse_instance(scene_ctx *ctx, const cJSON *item,
                                  int macro_cluster, int instance,
                                  satf_scene_instance *out);

@@ -14,6 +14,10 @@ extern const char *const satf_glsl_depth_fs;   /* light-space depth only */
 extern const char *const satf_glsl_fullscreen_vs;
 extern const char *const satf_glsl_resolve_fs; /* eq. 14, sorted */
 extern const char *const satf_glsl_display_fs; /* linear -> sRGB blit */
+extern const char *const satf_glsl_mesh_vs;    /* opaque meshes */
+extern const char *const satf_glsl_mesh_fs;
+extern const char *const satf_glsl_empty_fs;    /* depth only */
+extern const char *const satf_glsl_dom_mesh_fs; /* meshes in the DOM */
 
 /* Fragments (one per cluster a pixel's ray meets) kept by the resolve. */
 #define SATF_MAX_FRAGMENTS 64

@@ -25,14 +25,17 @@ add_test(NAME cli_import_bad_clusters COMMAND satf-import x.tfx -o x.json
   --clusters 0)
 set_tests_properties(cli_import_bad_clusters PROPERTIES WILL_FAIL TRUE
   LABELS "cli;import")
-# Import the TressFX file test_strands wrote, with follow strands and a VDB;
-# --mesh is reported as unsupported.
+# Import the TressFX file test_strands wrote, with follow strands, a VDB and
+# a head mesh (a tetrahedron written here), which the scene lists.
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/head.obj
+  "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
 add_test(NAME cli_import_roundtrip COMMAND sh -c
   "set -e; d=${CMAKE_CURRENT_BINARY_DIR}; \
    $<TARGET_FILE:satf-import> $d/rt3.tfx -o $d/cli_import.json \
-     --vdb $d/cli_import.vdb --follow 3 --clusters 5 --mesh head.ply \
+     --vdb $d/cli_import.vdb --follow 3 --clusters 5 --mesh $d/head.obj \
      > $d/cli_import.out 2>&1; \
-   grep -q 'not yet supported' $d/cli_import.out; \
+   grep -q '\"meshes\"' $d/cli_import.json; \
+   grep -q 'head.obj' $d/cli_import.json; \
    grep -q 'strands          160' $d/cli_import.out; \
    grep -q 'clusters         5' $d/cli_import.out; \
    grep -q cli_import.vdb $d/cli_import.json; \
@@ -48,3 +51,8 @@ if(SATF_FUZZ AND CMAKE_C_COMPILER_ID MATCHES "Clang")
     target_link_libraries(fuzz_${fmt} PRIVATE satf_import satf_warnings)
   endforeach()
 endif()
+add_test(NAME cli_import_missing_mesh COMMAND satf-import
+  ${CMAKE_CURRENT_BINARY_DIR}/rt3.tfx -o ${CMAKE_CURRENT_BINARY_DIR}/never.json
+  --mesh ${CMAKE_CURRENT_BINARY_DIR}/no-such-head.ply)
+set_tests_properties(cli_import_missing_mesh PROPERTIES WILL_FAIL TRUE
+  LABELS "cli;import")

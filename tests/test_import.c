@@ -404,7 +404,7 @@ static void scene_file_with_vdb(void **state) {
   assert_true(sh.st >= 8 && sh.st <= 64);
   assert_true(sh.su >= 16 && sh.su <= 32);
   satf_import_scene_options o = {"hair.vdb", "density", "db.exr", "test",
-                                 320,        200,       7};
+                                 320,        200,       7,        NULL};
   char path[512];
   test_path(path, sizeof path, "import_scene.json");
   assert_int_equal(satf_import_write_scene(path, &fit, 1, NULL, &o, &err),

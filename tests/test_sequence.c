@@ -239,6 +239,104 @@ static void resume_finishes_a_killed_batch(void **state) {
   satf_scene_destroy(anim);
 }
 
+/* An axis-aligned box as an OBJ file (faces wound outwards). */
+static void write_box(const char *path, const float lo[3], const float hi[3]) {
+  FILE *f = fopen(path, "w");
+  assert_non_null(f);
+  for (int c = 0; c < 8; c++)
+    fprintf(f, "v %g %g %g\n", (double)(c & 1 ? hi[0] : lo[0]),
+            (double)(c & 2 ? hi[1] : lo[1]), (double)(c & 4 ? hi[2] : lo[2]));
+  static const int quads[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5},
+                                  {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}};
+  for (int q = 0; q < 6; q++)
+    fprintf(f, "f %d %d %d\nf %d %d %d\n", quads[q][0], quads[q][1],
+            quads[q][2], quads[q][0], quads[q][2], quads[q][3]);
+  fclose(f);
+}
+
+static satf_image *render_with_box(const char *box, int cluster_shadows) {
+  char json[8192], meshes[1024] = "";
+  if (box)
+    snprintf(meshes, sizeof meshes,
+             " \"meshes\": [{\"file\": \"%s\", \"color\": [0.9, 0.1, "
+             "0.1]}],\n",
+             box);
+  snprintf(json, sizeof json, SCENE, meshes, "");
+  satf_scene *scene = fixture_scene(json);
+  assert_non_null(scene);
+  scene->effects.cluster_shadows = cluster_shadows;
+  satf_renderer *r = NULL;
+  satf_error err;
+  assert_int_equal(satf_renderer_create(scene, g_db, W, H, 0, &r, &err),
+                   SATF_OK);
+  satf_image *img = NULL;
+  assert_int_equal(satf_renderer_render_image(r, 0, &img, NULL, &err), SATF_OK);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(scene);
+  return img;
+}
+
+static double mean_over(const satf_image *img, const char *ch, int x0, int x1,
+                        int y0, int y1) {
+  const float *p = fixture_plane(img, ch);
+  double sum = 0;
+  for (int y = y0; y < y1; y++)
+    for (int x = x0; x < x1; x++)
+      sum += p[(size_t)y * W + (size_t)x];
+  return sum / ((x1 - x0) * (y1 - y0));
+}
+
+static void meshes_occlude_and_shadow_hair(void **state) {
+  (void)state;
+  char box[512];
+  test_path(box, sizeof box, "seq_box.obj");
+  /* a red box in front of the left cluster's lower half (camera at z 30) */
+  const float lo[3] = {-6, -6, 3}, hi[3] = {-3, -1, 5};
+  write_box(box, lo, hi);
+  satf_image *plain = render_with_box(NULL, 0);
+  satf_image *boxed = render_with_box(box, 0);
+  /* the box: opaque red, hiding the hair */
+  const float *a = fixture_plane(boxed, "A"), *r = fixture_plane(boxed, "R"),
+              *g = fixture_plane(boxed, "G");
+  int red = 0;
+  for (size_t i = 0; i < (size_t)W * H; i++)
+    red += a[i] == 1.0f && r[i] > 3.0f * g[i] && r[i] > 0.05f;
+  assert_true(red > 50);
+  /* the right cluster, far from the box, is untouched with shadows off */
+  assert_true(mean_over(plain, "R", W / 2 + 10, W, 0, H) ==
+              mean_over(boxed, "R", W / 2 + 10, W, 0, H));
+  /* with the box between the key light and the hair, the left cluster
+   * darkens (the light comes from +z, the box is in front of it) */
+  char caster[512];
+  test_path(caster, sizeof caster, "seq_caster.obj");
+  /* up the key light's path from the left cluster's upper half, out of
+   * view: only its shadow shows */
+  const float clo[3] = {-3.5f, 4.5f, 13.5f}, chi[3] = {-0.5f, 7.5f, 16.5f};
+  write_box(caster, clo, chi);
+  satf_image *lit = render_with_box(NULL, 1);
+  satf_image *shaded = render_with_box(caster, 1);
+  /* over the left cluster's pixels */
+  const float *pa = fixture_plane(plain, "A");
+  const float *lg = fixture_plane(lit, "G"), *sg = fixture_plane(shaded, "G");
+  double before = 0, after = 0;
+  int n = 0;
+  for (int y = 0; y < H; y++)
+    for (int x = 0; x < W / 2; x++) {
+      size_t i = (size_t)y * W + (size_t)x;
+      if (pa[i] > 0.5f) {
+        before += lg[i];
+        after += sg[i];
+        n++;
+      }
+    }
+  assert_true(n > 50);
+  assert_true(after < 0.99 * before);
+  satf_image_destroy(plain);
+  satf_image_destroy(boxed);
+  satf_image_destroy(lit);
+  satf_image_destroy(shaded);
+}
+
 static void frame_patterns_are_checked(void **state) {
   (void)state;
   satf_error err;
@@ -259,6 +357,7 @@ int main(void) {
       cmocka_unit_test(identical_keys_render_the_still_frame),
       cmocka_unit_test(a_moving_cluster_changes_only_its_pixels),
       cmocka_unit_test(resume_finishes_a_killed_batch),
+      cmocka_unit_test(meshes_occlude_and_shadow_hair),
       cmocka_unit_test(frame_patterns_are_checked),
   };
   return cmocka_run_group_tests(tests, setup, teardown);

@@ -233,6 +233,7 @@ typedef struct satf_import_scene_options {
   const char *description; /* or NULL */
   int width, height;       /* image size, 0 = 640 x 480 */
   uint64_t seed;           /* procedural placement seeds start here */
+  const char *mesh_file;   /* an opaque head mesh to list, or NULL */
 } satf_import_scene_options;
 
 /* Shell sampling chosen for a fitted cluster: 3..6 layers (more for more

@@ -166,6 +166,17 @@ typedef struct satf_scene_light {
   float intensity;
 } satf_scene_light;
 
+/* An opaque mesh (a head, a body): OBJ or PLY read with OpenMesh, drawn
+ * with Lambert shading, occluding hair and casting shadows into the deep
+ * opacity map. */
+typedef struct satf_scene_mesh {
+  char *file;     /* resolved against the scene file's directory */
+  float color[3]; /* diffuse albedo, linear RGB */
+  float m[16];    /* row-major transform to world */
+} satf_scene_mesh;
+
+#define SATF_SCENE_MAX_MESHES 64
+
 typedef struct satf_scene_image {
   int width, height;
 } satf_scene_image;
@@ -185,6 +196,8 @@ typedef struct satf_scene {
   satf_scene_light *lights;
   float background[3];
   char *database; /* resolved path, NULL when absent */
+  int n_meshes;   /* opaque meshes, 0 when absent */
+  satf_scene_mesh *meshes;
   satf_scene_image image;
   /* Warnings (unknown keys); read them with satf_scene_warning*. */
   int n_warnings;
