@@ -39,6 +39,26 @@
 
 const char *const satf_glsl_lighting = LIGHTING;
 
+/* Deep opacity map (Yuksel & Keyser 2008): optical depth of hair between
+ * the key light and a point, from four slabs behind the first hair
+ * (filtered: the map is coarse, and its texels must not show). */
+#define DOM_LOOKUP                                                             \
+  "float cluster_transmittance(vec3 world) {\n"                                \
+  "  vec4 p = u_light_viewproj * vec4(world, 1.0);\n"                          \
+  "  vec3 q = p.xyz / p.w * 0.5 + 0.5;\n"                                      \
+  "  if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, "             \
+  "vec2(1.0))))\n"                                                             \
+  "    return 1.0;\n"                                                          \
+  "  float d0 = texture(u_dom_depth, q.xy).r;\n"                               \
+  "  vec4 o = texture(u_dom_opacity, q.xy);\n"                                 \
+  "  float s = max(q.z - d0, 0.0) / u_dom_slab;\n"                             \
+  "  float depth = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) " \
+  "+\n"                                                                        \
+  "                o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, "     \
+  "0.0, 1.0);\n"                                                               \
+  "  return exp(-u_kcluster * depth);\n"                                       \
+  "}\n"
+
 /* Maps of a cluster: rows 2i and 2i+1 hold HSV i's two boundary records
  * (maps.h); mixing them by the position along the HSV is SATF eq. 7. */
 #define MAP_FETCH                                                              \
@@ -187,23 +207,7 @@ const char *const satf_glsl_shade_fs = GLSL_VERSION
     "/* Deep opacity map (Yuksel & Keyser 2008): optical depth of hair "
     "between\n"
     " * the key light and this point, from four slabs behind the first hair. "
-    "*/\n"
-    "float cluster_transmittance(vec3 world) {\n"
-    "  vec4 p = u_light_viewproj * vec4(world, 1.0);\n"
-    "  vec3 q = p.xyz / p.w * 0.5 + 0.5;\n"
-    "  if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, "
-    "vec2(1.0))))\n"
-    "    return 1.0;\n"
-    "  /* filtered: the map is coarse, and its texels must not show */\n"
-    "  float d0 = texture(u_dom_depth, q.xy).r;\n"
-    "  vec4 o = texture(u_dom_opacity, q.xy);\n"
-    "  float s = max(q.z - d0, 0.0) / u_dom_slab;\n"
-    "  float depth = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) "
-    "+\n"
-    "                o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, "
-    "0.0, 1.0);\n"
-    "  return exp(-u_kcluster * depth);\n"
-    "}\n"
+    "*/\n" DOM_LOOKUP
     "/* SATF eq. 8-11 for one side of the cluster: diffuse, primary and\n"
     " * secondary highlight (the latter without its noise factor) */\n"
     "void lighting(vec3 t, vec3 n, vec3 v, float dom, out vec3 dif,\n"
@@ -436,23 +440,7 @@ const char *const satf_glsl_mesh_fs = GLSL_VERSION
     "uniform float u_dom_slab;\n"
     "uniform float u_kcluster;\n"
     "uniform int u_aov;\n"
-    "out vec4 o_color;\n"
-    "float cluster_transmittance(vec3 world) {\n"
-    "  vec4 p = u_light_viewproj * vec4(world, 1.0);\n"
-    "  vec3 q = p.xyz / p.w * 0.5 + 0.5;\n"
-    "  if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, "
-    "vec2(1.0))))\n"
-    "    return 1.0;\n"
-    "  float d0 = texture(u_dom_depth, q.xy).r;\n"
-    "  vec4 o = texture(u_dom_opacity, q.xy);\n"
-    "  float s = max(q.z - d0, 0.0) / u_dom_slab;\n"
-    "  float depth = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) "
-    "+\n"
-    "                o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, "
-    "0.0, 1.0);\n"
-    "  return exp(-u_kcluster * depth);\n"
-    "}\n"
-    "void main() {\n"
+    "out vec4 o_color;\n" DOM_LOOKUP "void main() {\n"
     "  if (u_aov != 0) { o_color = vec4(0.0, 0.0, 0.0, 1.0); return; }\n"
     "  vec3 n = normalize(v_normal);\n"
     "  if (dot(n, u_eye - v_world) < 0.0) n = -n; /* either side */\n"
