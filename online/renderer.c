@@ -19,7 +19,7 @@
 #include "satf/mesh.h"
 #include "satf/vdb.h"
 
-#define DOM_SIZE 128 /* soft, filtered: shadows between clusters */
+#define DOM_SIZE 256
 /* Fragments each pixel can keep at first; the arrays grow (up to
  * SATF_MAX_FRAGMENTS) when a frame needs more. */
 #define START_SLOTS 16
