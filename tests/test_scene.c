@@ -556,7 +556,7 @@ static void test_exact_message(void **state) {
       satf_scene_parse(nul, sizeof nul - 1, "n.json", &scene, &err),
       SATF_ERR_FORMAT);
   assert_string_equal(err.message, "n.json:2:6: NUL byte in the text");
-  /* No name: a placeholder, never a crash. */
+  /* No name: messages say "<scene>" instead, never a crash. */
   assert_int_equal(satf_scene_parse("{}", 2, NULL, &scene, &err),
                    SATF_ERR_FORMAT);
   assert_string_equal(err.message,
