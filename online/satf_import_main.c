@@ -10,7 +10,10 @@
 #include <string.h>
 #include <sys/resource.h>
 
+#include <cjson/cJSON.h>
+
 #include "common/cli.h"
+#include "common/fileio.h"
 #include "common/parallel.h"
 #include "common/progress.h"
 #include "satf/import.h"
@@ -19,45 +22,51 @@
 static const char *PROG = "satf-import";
 
 static void usage(FILE *out) {
-  fprintf(out,
-          "usage: %s INPUT... -o SCENE.json [options]\n"
-          "\n"
-          "Imports strand hair (cyHair .hair, TressFX 3.x/4.x .tfx; several "
-          "files\n"
-          "go into one scene) as SATF clusters: k-means on the strands, a\n"
-          "generalized cylinder fitted to each cluster, macro-clusters for\n"
-          "clusters that match after a similarity transform, and density.\n"
-          "\n"
-          "options:\n"
-          "  -o, --output PATH      scene file to write (required)\n"
-          "  --clusters N           cluster count (default: chosen from the "
-          "data)\n"
-          "  --vdb PATH             also write the density as an OpenVDB "
-          "FloatGrid\n"
-          "                         \"density\" and make the scene use it\n"
-          "  --voxel SIZE           VDB voxel size (default: from the "
-          "clusters)\n"
-          "  --follow N             TressFX follow strands per guide "
-          "(default: the\n"
-          "                         file's header)\n"
-          "  --follow-radius R      their root offset radius (default: the "
-          "guides'\n"
-          "                         mean root spacing)\n"
-          "  --tip-separation F     followers spread (1 + F) times wider at "
-          "the tip\n"
-          "                         (default 0.5)\n"
-          "  --control N            trajectory control points (default 8)\n"
-          "  --macro-tol T          macro-cluster shape tolerance, relative "
-          "to the\n"
-          "                         cluster length (default 0.05; 0 = off)\n"
-          "  --database PATH        HRIR database to name in the scene\n"
-          "  --mesh PATH            opaque head mesh (OBJ/PLY) for the scene\n"
-          "  --seed N               clustering and placement seed (default "
-          "1)\n"
-          "  --threads N            threads (0 = all cores)\n"
-          "  -q, --quiet            no progress bar or summary\n"
-          "  -h, --help             this help\n",
-          PROG);
+  fprintf(
+      out,
+      "usage: %s INPUT... -o SCENE.json [options]\n"
+      "\n"
+      "Imports strand hair (cyHair .hair, TressFX 3.x/4.x .tfx; several "
+      "files\n"
+      "go into one scene) as SATF clusters: k-means on the strands, a\n"
+      "generalized cylinder fitted to each cluster, macro-clusters for\n"
+      "clusters that match after a similarity transform, and density.\n"
+      "\n"
+      "options:\n"
+      "  -o, --output PATH      scene file to write (required)\n"
+      "  --clusters N           cluster count (default: chosen from the "
+      "data)\n"
+      "  --vdb PATH             also write the density as an OpenVDB "
+      "FloatGrid\n"
+      "                         \"density\" and make the scene use it\n"
+      "  --voxel SIZE           VDB voxel size (default: from the "
+      "clusters)\n"
+      "  --follow N             TressFX follow strands per guide "
+      "(default: the\n"
+      "                         file's header)\n"
+      "  --follow-radius R      their root offset radius (default: the "
+      "guides'\n"
+      "                         mean root spacing)\n"
+      "  --tip-separation F     followers spread (1 + F) times wider at "
+      "the tip\n"
+      "                         (default 0.5)\n"
+      "  --control N            trajectory control points (default 8)\n"
+      "  --macro-tol T          macro-cluster shape tolerance, relative "
+      "to the\n"
+      "                         cluster length (default 0.05; 0 = off)\n"
+      "  --database PATH        HRIR database to name in the scene\n"
+      "  --mesh PATH            opaque head mesh (OBJ/PLY) for the scene\n"
+      "  --frames A-B           INPUT is a per-frame pattern "
+      "(frame_%%04d.hair):\n"
+      "                         frame A defines the clusters, every frame is\n"
+      "                         re-fitted onto them as keyframes\n"
+      "  --fps F                frame rate of such an animation (default 24)\n"
+      "  --seed N               clustering and placement seed (default "
+      "1)\n"
+      "  --threads N            threads (0 = all cores)\n"
+      "  -q, --quiet            no progress bar or summary\n"
+      "  -h, --help             this help\n",
+      PROG);
 }
 
 typedef struct options {
@@ -68,6 +77,10 @@ typedef struct options {
   double voxel, follow_radius, tip_separation, macro_tol;
   uint64_t seed;
   int quiet;
+  /* a sequence of per-frame strand files: INPUT is a pattern with %d */
+  int sequence;
+  long first, last;
+  double fps;
 } options;
 
 static int has_suffix(const char *s, const char *suffix) {
@@ -227,6 +240,20 @@ static int parse_args(int argc, char **argv, options *o) {
     } else if (!strcmp(a, "--follow")) {
       NEED_VALUE if (satf_cli_int(PROG, a, val, 0, SATF_STRANDS_MAX_FOLLOW,
                                   &o->follow)) return 2;
+    } else if (!strcmp(a, "--frames")) {
+      char tail = 0;
+      NEED_VALUE if (sscanf(val, "%ld-%ld%c", &o->first, &o->last, &tail) !=
+                         2 ||
+                     o->first < -10000000 || o->last > 10000000 ||
+                     o->last <= o->first) {
+        fprintf(stderr, "%s: --frames: expected A-B with A < B, got '%s'\n",
+                PROG, val);
+        return 2;
+      }
+      o->sequence = 1;
+    } else if (!strcmp(a, "--fps")) {
+      NEED_VALUE if (satf_cli_double(PROG, a, val, 0.001, 1000.0,
+                                     &o->fps)) return 2;
     } else if (!strcmp(a, "--control")) {
       NEED_VALUE if (satf_cli_int(PROG, a, val, 2, 64, &o->control)) return 2;
     } else if (!strcmp(a, "--threads")) {
@@ -257,6 +284,33 @@ static int parse_args(int argc, char **argv, options *o) {
       return 2;
     }
   }
+  if (o->sequence) {
+    /* one pattern, one integer conversion, no other % */
+    int conv = 0, ok = o->n_inputs == 1;
+    for (const char *p = ok ? o->inputs[0] : ""; *p && ok; p++)
+      if (*p == '%') {
+        const char *q = p + 1;
+        while (*q >= '0' && *q <= '9')
+          q++;
+        ok = *q == 'd' && conv++ == 0;
+        p = q;
+      }
+    if (!ok || conv != 1) {
+      fprintf(stderr,
+              "%s: --frames needs one INPUT pattern with one integer "
+              "conversion, e.g. frame_%%04d.hair\n",
+              PROG);
+      return 2;
+    }
+    if (o->vdb) {
+      fprintf(stderr,
+              "%s: --vdb cannot follow a strand sequence (the grid would be "
+              "the first frame's); leave it out\n",
+              PROG);
+      return 2;
+    }
+    o->macro_tol = 0.0; /* clusters move independently */
+  }
   if (o->n_inputs == 0 || !o->output) {
     fprintf(stderr, "%s: need INPUT files and -o SCENE.json (see --help)\n",
             PROG);
@@ -268,6 +322,137 @@ static int parse_args(int argc, char **argv, options *o) {
 static double peak_rss_mb(void) {
   struct rusage ru;
   return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : 0.0;
+}
+
+static void frame_path(const char *pattern, long frame, char *out,
+                       size_t size) {
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+  snprintf(out, size, pattern, (int)frame); /* checked in parse_args */
+#pragma GCC diagnostic pop
+}
+
+static cJSON *floats_json(const float *v, int n) {
+  cJSON *a = cJSON_CreateArray();
+  for (int i = 0; i < n; i++)
+    cJSON_AddItemToArray(a, cJSON_CreateNumber((double)v[i]));
+  return a;
+}
+
+/* Re-fits every frame of a strand sequence onto the clusters of its first
+ * frame (same member strands) and writes the fits as keyframes of the
+ * scene: each macro-cluster (one cluster each) gets a key per frame on its
+ * trajectory, A, B and twist. */
+static satf_status add_sequence_keys(const options *o, const fit_job *proto,
+                                     int n_clusters, int n_strands,
+                                     const satf_import_macro *macro,
+                                     satf_error *err) {
+  size_t len = 0;
+  char *text = NULL;
+  FILE *f = fopen(o->output, "rb");
+  if (f) {
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    text = n > 0 ? malloc((size_t)n + 1) : NULL;
+    if (text)
+      len = fread(text, 1, (size_t)n, f);
+    fclose(f);
+  }
+  cJSON *root = text ? cJSON_ParseWithLength(text, len) : NULL;
+  free(text);
+  if (!root)
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot re-read the scene",
+                          o->output);
+  cJSON *anim = cJSON_CreateObject(), *range = cJSON_CreateArray();
+  cJSON_AddNumberToObject(anim, "fps", o->fps > 0 ? o->fps : 24.0);
+  cJSON_AddItemToArray(range, cJSON_CreateNumber((double)o->first));
+  cJSON_AddItemToArray(range, cJSON_CreateNumber((double)o->last));
+  cJSON_AddItemToObject(anim, "frames", range);
+  cJSON_AddItemToObject(root, "animation", anim);
+  cJSON *macros = cJSON_GetObjectItemCaseSensitive(root, "macro_clusters");
+  satf_status st = SATF_OK;
+  satf_progress bar;
+  satf_progress_begin(&bar, stderr, "frames", "frames", 1, o->quiet);
+  for (long fr = o->first; fr <= o->last && st == SATF_OK; fr++) {
+    char path[PATH_MAX];
+    frame_path(o->inputs[0], fr, path, sizeof path);
+    satf_strand_set *set = NULL;
+    st = read_input(path, o, &set, err);
+    if (st == SATF_OK && satf_strand_set_count(set) != n_strands)
+      st =
+          satf_error_set(err, SATF_ERR_FORMAT,
+                         "%s: %d strands, but frame %ld had %d: a sequence "
+                         "must keep its strands",
+                         path, satf_strand_set_count(set), o->first, n_strands);
+    satf_import_fit *fits = calloc((size_t)n_clusters, sizeof *fits);
+    satf_error *errs = calloc((size_t)n_clusters, sizeof *errs);
+    if (st == SATF_OK && (!fits || !errs))
+      st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+    if (st == SATF_OK) {
+      fit_job job = *proto;
+      job.strands = set;
+      job.fits = fits;
+      job.errs = errs;
+      if (satf_parallel_for((size_t)n_clusters, (int)o->threads, fit_one, &job,
+                            NULL, NULL) != 0) {
+        st = satf_error_set(err, SATF_ERR_FORMAT, "%s: fitting failed", path);
+        for (int c = 0; c < n_clusters; c++)
+          if (errs[c].message[0]) {
+            satf_error_set(err, SATF_ERR_FORMAT, "%s: %s", path,
+                           errs[c].message);
+            break;
+          }
+      }
+    }
+    for (int m = 0; st == SATF_OK && m < macro->n_macro; m++) {
+      const satf_import_fit *fit = &fits[macro->prototype[m]];
+      cJSON *proto_json = cJSON_GetObjectItemCaseSensitive(
+          cJSON_GetArrayItem(macros, m), "prototype");
+      cJSON *keys = cJSON_GetObjectItemCaseSensitive(proto_json, "keys");
+      if (!keys) {
+        keys = cJSON_CreateArray();
+        cJSON_AddItemToObject(proto_json, "keys", keys);
+      }
+      cJSON *key = cJSON_CreateObject(), *traj = cJSON_CreateArray();
+      cJSON_AddNumberToObject(key, "frame", (double)fr);
+      for (int i = 0; i < fit->n_ctrl; i++)
+        cJSON_AddItemToArray(traj, floats_json(fit->traj + 3 * i, 3));
+      cJSON_AddItemToObject(key, "trajectory", traj);
+      cJSON_AddItemToObject(key, "a", floats_json(fit->a, fit->n_radius));
+      cJSON_AddItemToObject(key, "b", floats_json(fit->b, fit->n_radius));
+      cJSON_AddItemToObject(key, "twist",
+                            floats_json(fit->twist, fit->n_radius));
+      cJSON_AddItemToArray(keys, key);
+    }
+    for (int c = 0; fits && c < n_clusters; c++)
+      satf_import_fit_free(&fits[c]);
+    free(fits);
+    free(errs);
+    satf_strand_set_destroy(set);
+    satf_progress_update(&bar, (size_t)(fr - o->first + 1),
+                         (size_t)(o->last - o->first + 1));
+  }
+  satf_progress_end(&bar);
+  char *out = st == SATF_OK ? cJSON_Print(root) : NULL;
+  cJSON_Delete(root);
+  if (st == SATF_OK && !out)
+    st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  if (st == SATF_OK) {
+    char tmp[PATH_MAX + 32];
+    st = satf_temp_path(o->output, tmp, sizeof tmp, err);
+    FILE *w = st == SATF_OK ? fopen(tmp, "wb") : NULL;
+    if (st == SATF_OK && (!w || fputs(out, w) < 0 || fclose(w) != 0)) {
+      if (w)
+        fclose(w);
+      remove(tmp);
+      st = satf_error_set(err, SATF_ERR_IO, "%s: cannot write", o->output);
+    } else if (st == SATF_OK) {
+      st = satf_commit_temp(tmp, o->output, err);
+    }
+  }
+  free(out);
+  return st;
 }
 
 int main(int argc, char **argv) {
@@ -289,9 +474,13 @@ int main(int argc, char **argv) {
       snprintf(mesh_path, sizeof mesh_path, "%s", o.mesh);
   }
   satf_strand_set *all = NULL;
+  char first_frame[PATH_MAX];
+  if (o.sequence) /* the first frame defines the clusters */
+    frame_path(o.inputs[0], o.first, first_frame, sizeof first_frame);
   for (int i = 0; i < o.n_inputs; i++) {
     satf_strand_set *s;
-    if (read_input(o.inputs[i], &o, &s, &err) != SATF_OK) {
+    if (read_input(o.sequence ? first_frame : o.inputs[i], &o, &s, &err) !=
+        SATF_OK) {
       fprintf(stderr, "%s: %s\n", PROG, err.message);
       satf_strand_set_destroy(all);
       return 1;
@@ -417,6 +606,8 @@ int main(int argc, char **argv) {
       o.vdb ? vdb_name : NULL,  "density", o.database, desc, 0, 0, o.seed,
       o.mesh ? mesh_path : NULL};
   st = satf_import_write_scene(o.output, fits, n_clusters, &macro, &so, &err);
+  if (st == SATF_OK && o.sequence)
+    st = add_sequence_keys(&o, &job, n_clusters, n_strands, &macro, &err);
   if (st != SATF_OK) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
     satf_import_macro_free(&macro);

@@ -56,3 +56,20 @@ add_test(NAME cli_import_missing_mesh COMMAND satf-import
   --mesh ${CMAKE_CURRENT_BINARY_DIR}/no-such-head.ply)
 set_tests_properties(cli_import_missing_mesh PROPERTIES WILL_FAIL TRUE
   LABELS "cli;import")
+# A per-frame strand sequence becomes an animated scene: frame 1 defines the
+# clusters and every frame is re-fitted onto them as keys (4 clusters x 3
+# frames).
+add_test(NAME cli_import_sequence COMMAND sh -c
+  "set -e; d=${CMAKE_CURRENT_BINARY_DIR}; \
+   cp $d/rt3.tfx $d/seq_0001.tfx; cp $d/rt3.tfx $d/seq_0002.tfx; \
+   cp $d/rt3.tfx $d/seq_0003.tfx; \
+   $<TARGET_FILE:satf-import> $d/seq_%04d.tfx --frames 1-3 --fps 12 \
+     --clusters 4 -o $d/seq.json -q; \
+   grep -q '\"animation\"' $d/seq.json; \
+   test $(grep -c '\"frame\"' $d/seq.json) -eq 12")
+set_tests_properties(cli_import_sequence PROPERTIES LABELS "cli;import"
+                     DEPENDS test_strands)
+add_test(NAME cli_import_sequence_needs_pattern COMMAND satf-import
+  ${CMAKE_CURRENT_BINARY_DIR}/rt3.tfx --frames 1-3 -o never.json)
+set_tests_properties(cli_import_sequence_needs_pattern PROPERTIES
+                     WILL_FAIL TRUE LABELS "cli;import")
