@@ -34,6 +34,24 @@ satf_status satf_commit_temp(const char *tmp, const char *path,
   return SATF_OK;
 }
 
+satf_status satf_write_file_atomic(const char *path, const void *data,
+                                   size_t size, satf_error *err) {
+  char tmp[4096];
+  satf_status st = satf_temp_path(path, tmp, sizeof tmp, err);
+  if (st != SATF_OK)
+    return st;
+  FILE *f = fopen(tmp, "wb");
+  if (!f)
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot create %s: %s", path,
+                          tmp, strerror(errno));
+  size_t put = fwrite(data, 1, size, f);
+  if (fclose(f) != 0 || put != size) {
+    remove(tmp);
+    return satf_error_set(err, SATF_ERR_IO, "%s: write failed", path);
+  }
+  return satf_commit_temp(tmp, path, err);
+}
+
 long long satf_file_size(const char *path) {
   struct stat st;
   if (stat(path, &st) != 0)

@@ -14,6 +14,9 @@ satf_status satf_temp_path(const char *path, char *tmp, size_t size,
 /* fsyncs tmp and renames it to path; removes tmp on failure. */
 satf_status satf_commit_temp(const char *tmp, const char *path,
                              satf_error *err);
+/* Writes size bytes to path through a temporary file renamed into place. */
+satf_status satf_write_file_atomic(const char *path, const void *data,
+                                   size_t size, satf_error *err);
 /* Size of a file in bytes, or -1. */
 long long satf_file_size(const char *path);
 

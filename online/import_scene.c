@@ -231,23 +231,7 @@ satf_status satf_import_write_scene(const char *path,
   satf_status st = satf_import_scene_json(fits, n, macro, o, &text, err);
   if (st != SATF_OK)
     return st;
-  char tmp[4096];
-  st = satf_temp_path(path, tmp, sizeof tmp, err);
-  if (st != SATF_OK) {
-    free(text);
-    return st;
-  }
-  FILE *f = fopen(tmp, "wb");
-  if (!f) {
-    free(text);
-    return satf_error_set(err, SATF_ERR_IO, "%s: cannot create", tmp);
-  }
-  size_t len = strlen(text);
-  int ok = fwrite(text, 1, len, f) == len && fputc('\n', f) != EOF;
+  st = satf_write_file_atomic(path, text, strlen(text), err);
   free(text);
-  if (fclose(f) != 0 || !ok) {
-    remove(tmp);
-    return satf_error_set(err, SATF_ERR_IO, "%s: write failed", tmp);
-  }
-  return satf_commit_temp(tmp, path, err);
+  return st;
 }

@@ -438,19 +438,8 @@ static satf_status add_sequence_keys(const options *o, const fit_job *proto,
   cJSON_Delete(root);
   if (st == SATF_OK && !out)
     st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  if (st == SATF_OK) {
-    char tmp[PATH_MAX + 32];
-    st = satf_temp_path(o->output, tmp, sizeof tmp, err);
-    FILE *w = st == SATF_OK ? fopen(tmp, "wb") : NULL;
-    if (st == SATF_OK && (!w || fputs(out, w) < 0 || fclose(w) != 0)) {
-      if (w)
-        fclose(w);
-      remove(tmp);
-      st = satf_error_set(err, SATF_ERR_IO, "%s: cannot write", o->output);
-    } else if (st == SATF_OK) {
-      st = satf_commit_temp(tmp, o->output, err);
-    }
-  }
+  if (st == SATF_OK)
+    st = satf_write_file_atomic(o->output, out, strlen(out), err);
   free(out);
   return st;
 }

@@ -412,22 +412,7 @@ satf_status satf_hair_write(const char *path, const satf_strand_set *s,
   if (s->thickness)
     for (size_t k = 0; k < points; k++, p += 4)
       putf32(p, s->thickness[k]);
-  char tmp[4096];
-  satf_status st = satf_temp_path(path, tmp, sizeof tmp, err);
-  if (st != SATF_OK) {
-    free(buf);
-    return st;
-  }
-  FILE *f = fopen(tmp, "wb");
-  if (!f) {
-    free(buf);
-    return satf_error_set(err, SATF_ERR_IO, "%s: cannot create", tmp);
-  }
-  size_t put = fwrite(buf, 1, size, f);
+  satf_status st = satf_write_file_atomic(path, buf, size, err);
   free(buf);
-  if (fclose(f) != 0 || put != size) {
-    remove(tmp);
-    return satf_error_set(err, SATF_ERR_IO, "%s: write failed", tmp);
-  }
-  return satf_commit_temp(tmp, path, err);
+  return st;
 }
