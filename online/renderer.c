@@ -1244,16 +1244,18 @@ static satf_status render_ordered(satf_renderer *r, satf_aov aov,
   return SATF_OK;
 }
 
-satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,
-                                 satf_frame_timing *timing, satf_error *err) {
+/* A frame; with refresh 0 the maps and the deep opacity map of the
+ * previous frame are reused (the AOV passes of one image). */
+static satf_status render_frame(satf_renderer *r, satf_aov aov, int refresh,
+                                satf_frame_timing *timing, satf_error *err) {
   satf_frame_timing t;
   memset(&t, 0, sizeof t);
   double t0 = satf_now_seconds();
-  satf_status st = update_maps(r, &t, err);
+  satf_status st = refresh ? update_maps(r, &t, err) : SATF_OK;
   if (st != SATF_OK)
     return st;
   double t1 = satf_now_seconds();
-  if (r->effects.cluster_shadows)
+  if (refresh && r->effects.cluster_shadows)
     render_dom(r);
   glFinish();
   double t2 = satf_now_seconds();
@@ -1287,6 +1289,11 @@ satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,
   if (timing)
     *timing = t;
   return satf_gl_check("frame", err);
+}
+
+satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,
+                                 satf_frame_timing *timing, satf_error *err) {
+  return render_frame(r, aov, 1, timing, err);
 }
 
 void satf_renderer_present(satf_renderer *r) {
@@ -1332,7 +1339,7 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
   for (int a = 0; a < passes && st == SATF_OK; a++) {
     /* shadow and alpha AOVs are coverage-weighted: their composite over a
      * black background, as the other AOVs */
-    st = satf_renderer_render(r, (satf_aov)a, a == 0 ? timing : NULL, err);
+    st = render_frame(r, (satf_aov)a, a == 0, a == 0 ? timing : NULL, err);
     if (st == SATF_OK)
       st = satf_gl_target_read_bottom_up(r->out, 0, buf, px * 4, err);
     if (st == SATF_OK)
