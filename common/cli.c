@@ -1,5 +1,5 @@
 /* cli.c - see cli.h. All parsers return 0 on success, -1 after printing. */
-#include "common/cli.h"
+#include "satf/common.h"
 
 #include <errno.h>
 #include <math.h>

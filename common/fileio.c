@@ -1,6 +1,6 @@
 /* fileio.c - see fileio.h. */
 #define _POSIX_C_SOURCE 200809L
-#include "common/fileio.h"
+#include "satf/common.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -1,6 +1,6 @@
 /* parallel.c - see parallel.h. */
 #define _POSIX_C_SOURCE 200809L
-#include "common/parallel.h"
+#include "satf/common.h"
 
 #include <pthread.h>
 #include <stdatomic.h>

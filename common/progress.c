@@ -1,6 +1,6 @@
 /* progress.c - see progress.h. */
 #define _POSIX_C_SOURCE 200809L
-#include "common/progress.h"
+#include "satf/common.h"
 
 #include <time.h>
 #include <unistd.h>

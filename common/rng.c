@@ -1,5 +1,5 @@
 /* rng.c - splitmix64 (Steele, Lea, Flood 2014). */
-#include "common/rng.h"
+#include "satf/common.h"
 
 #include <math.h>
 

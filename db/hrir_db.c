@@ -1,5 +1,5 @@
 /* hrir_db.c - the in-memory HRIR database and the SATF look-up (eq. 4). */
-#include "db/hrir_db_internal.h"
+#include "hrir_db_internal.h"
 
 #include <Imath/half.h>
 #include <math.h>

@@ -3,7 +3,7 @@
 #ifndef SATF_DB_HRIR_DB_INTERNAL_H
 #define SATF_DB_HRIR_DB_INTERNAL_H
 
-#include "db/kdtree.h"
+#include "kdtree.h"
 #include "satf/db.h"
 
 struct satf_db {

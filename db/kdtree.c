@@ -1,6 +1,6 @@
 /* kdtree.c - see kdtree.h. Nodes are stored implicitly: the median of each
  * range is its node, split on the axis of largest spread. */
-#include "db/kdtree.h"
+#include "kdtree.h"
 
 #include <stdlib.h>
 #include <string.h>

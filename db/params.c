@@ -4,7 +4,7 @@
  * offline tracer. */
 #include <math.h>
 
-#include "satf/trace.h"
+#include "satf/db.h"
 
 #define PI_F 3.14159265358979f
 #define TWO_PI_F 6.28318530717959f

@@ -1,10 +1,10 @@
 /* build.c - parallel HRIR database construction (SATF sec. 5). */
-#include "satf/build.h"
+#include "satf/offline.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/parallel.h"
+#include "satf/common.h"
 
 satf_status satf_build_sector(const satf_build_params *p, uint64_t seed,
                               uint64_t index, satf_sector **out,

@@ -1,12 +1,12 @@
 /* sector.c - generalized sectors and their random generator (SATF sec.
  * 3.2-3.3 and 5). */
-#include "satf/sector.h"
+#include "satf/offline.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "common/rng.h"
+#include "satf/common.h"
 
 satf_status satf_sector_create(const satf_sector_shape *shape, int ns, int nt,
                                float strand_sigma, satf_sector **out,

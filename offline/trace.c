@@ -5,7 +5,7 @@
  * their front-to-back weights only on the view azimuth (one pass per view),
  * and only the Phong shading of the samples needs both. satf_trace_hrir runs
  * the same code for a single pair, so both entry points agree exactly. */
-#include "satf/trace.h"
+#include "satf/offline.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -7,12 +7,12 @@ bash scripts/setup.sh
 bash scripts/build.sh build
 mkdir -p out
 db=out/satf-default.hrirdb.exr
-if build/db/satf-db verify "$db" >/dev/null 2>&1; then
+if build/bin/satf-db verify "$db" >/dev/null 2>&1; then
   echo "main: $db is present and intact (delete it to rebuild)"
 else
-  build/offline/satf-build -o "$db"
+  build/bin/satf-build -o "$db"
 fi
-build/db/satf-db info "$db"
-if [ -x build/online/satf-render ]; then
+build/bin/satf-db info "$db"
+if [ -x build/bin/satf-render ]; then
   bash scripts/render-samples.sh build "$db" out
 fi

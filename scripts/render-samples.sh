@@ -10,7 +10,7 @@ db=${2:-out/satf-default.hrirdb.exr}
 out=${3:-out}
 cd "$(dirname "$0")/.."
 mkdir -p "$out"
-render=$build/online/satf-render
+render=$build/bin/satf-render
 frames=${SATF_BENCH_FRAMES:-20}
 for scene in samples/*.json; do
   name=$(basename "$scene" .json)

@@ -9,8 +9,7 @@
 
 #include <stdint.h>
 
-#include "satf/sector.h"
-#include "satf/trace.h"
+#include "satf/satf.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -18,6 +17,74 @@ extern "C" {
 
 #define SATF_DB_FORMAT_VERSION 1
 #define SATF_FEATURES 3 /* rho_st, rho_s, rho_t */
+
+/* The record contract: what a database records and what a renderer must
+ * match to read it (db/params.c). Generalized sectors (SATF paper sec. 3.2-3.3): a 2-D annular
+ * region of a cluster's cross-section (a track between two radii, a span of
+ * phase) carrying a hair density field on a grid in its (s, t) coordinates.
+ *
+ * Coordinates. The sector lies in its own plane, centred on the +x axis:
+ * a point (s, t) in [0,1]^2 sits at radius r = r_inner + s (r_outer -
+ * r_inner) and phase phi = (t - 0.5) * phase_span, i.e. at
+ * (r cos phi, r sin phi). s runs from the cluster's core outwards, t along
+ * the track in the direction of increasing cluster phase u. Grid node
+ * (i, j), i < ns, j < nt, sits at s = i / (ns - 1), t = j / (nt - 1) and is
+ * stored at density[j * ns + i].
+ *
+ * Density is hair coverage: the sum of one circular Gaussian per strand
+ * cross-section, each of mass pi * sigma^2 (so a lone strand peaks at 0.5
+ * and an area tiled by strands has density ~1). */
+
+typedef struct satf_sector_shape {
+  float r_inner;    /* inner radius of the track, in sector units */
+  float r_outer;    /* outer radius of the track */
+  float phase_span; /* angular width of the sector, radians */
+} satf_sector_shape;
+
+/* The canonical shape used by the default database: a track one fifth of
+ * the cluster radius deep and 1/16 of the circle wide. */
+satf_sector_shape satf_sector_shape_default(void);
+satf_status satf_sector_shape_check(const satf_sector_shape *shape,
+                                    satf_error *err);
+
+/* Extent [lo, hi] of the sector shape projected on the unit axis e. */
+void satf_sector_extent(const satf_sector_shape *shape, const float e[2],
+                        float *lo, float *hi);
+
+/* Planar ray tracing of a sector into HRIR records (SATF sec. 5.1, eq. 5):
+ * the geometry of a record.
+ *
+ * Angles are azimuths in the sector's plane, measured from the sector's
+ * outward direction (+x) towards increasing phase (+y): theta_v points from
+ * the sector to the viewer, theta_l from the sector to the light.
+ *
+ * Record layout. Rays are parallel, travelling along -(cos theta_v,
+ * sin theta_v). Sample j of an n-sample record is the ray through the
+ * projected position p_j = pmin + (j + 0.5) (pmax - pmin) / n along the
+ * screen axis e = (-sin theta_v, cos theta_v), where [pmin, pmax] is the
+ * sector's extent projected on e (satf_trace_extent). A renderer lays a
+ * record across an HSV by projecting the fragment's sector-plane position
+ * onto e the same way. */
+
+typedef struct satf_trace_params {
+  int width;          /* samples per HRIR (rays across the projected width) */
+  float extinction;   /* opacity per unit density per unit length */
+  float ambient;      /* Phong k_a */
+  float diffuse;      /* Phong k_d */
+  float specular;     /* Phong k_s */
+  float shininess;    /* Phong exponent */
+  float epsilon;      /* stop when accumulated alpha > 1 - epsilon */
+  int self_shadow;    /* attenuate light by the density towards it */
+  float smooth_ratio; /* Gaussian smoothing width / strand width (1.5) */
+} satf_trace_params;
+
+satf_trace_params satf_trace_params_default(void);
+satf_status satf_trace_params_check(const satf_trace_params *p,
+                                    satf_error *err);
+
+/* Extent [pmin, pmax] of the sector shape projected on the screen axis. */
+void satf_trace_extent(const satf_sector_shape *shape, float theta_v,
+                       float *pmin, float *pmax);
 
 /* SATF sec. 5.2: rho_feature = (rho_st, rho_s, rho_t). rho_st is the mean
  * density over the grid. Read literally, the "averages of the histograms

@@ -1,0 +1,168 @@
+/* common.h - the foundation library (common/): strict command-line number
+ * parsing, crash-safe file output and capped file reading, a parallel-for,
+ * progress bars, deterministic random numbers and the one place satf reads
+ * and writes OpenEXR (through OpenEXRCore). Every other library builds on it;
+ * it depends on nothing of satf's but satf.h (status and errors). */
+#ifndef SATF_COMMON_H
+#define SATF_COMMON_H
+
+#include <openexr.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "satf/satf.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* cli.h - strict parsing of command-line numbers. Each parser rejects empty
+ * strings, trailing garbage, NaN/inf and values outside [lo, hi], and prints
+ * "PROG: --flag: ..." to stderr so every tool words its errors the same. */
+
+
+int satf_cli_int(const char *prog, const char *flag, const char *text, long lo,
+                 long hi, long *out);
+int satf_cli_u64(const char *prog, const char *flag, const char *text,
+                 uint64_t *out);
+int satf_cli_double(const char *prog, const char *flag, const char *text,
+                    double lo, double hi, double *out);
+/* Parses "WxH" with both sides in [lo, hi]. */
+int satf_cli_size(const char *prog, const char *flag, const char *text, long lo,
+                  long hi, long *w, long *h);
+
+/* fileio.h - crash-safe output: write to "PATH.tmp-PID" next to the target,
+ * then rename into place, so a killed process never leaves a half-written
+ * file under the final name. */
+
+
+
+/* Fills tmp with a temporary path in the same directory as path. */
+satf_status satf_temp_path(const char *path, char *tmp, size_t size,
+                           satf_error *err);
+/* fsyncs tmp and renames it to path; removes tmp on failure. */
+satf_status satf_commit_temp(const char *tmp, const char *path,
+                             satf_error *err);
+/* Writes size bytes to path through a temporary file renamed into place. */
+satf_status satf_write_file_atomic(const char *path, const void *data,
+                                   size_t size, satf_error *err);
+/* Size of a file in bytes, or -1. */
+long long satf_file_size(const char *path);
+
+/* parallel.h - a minimal parallel-for over pthreads. Work items are claimed
+ * from an atomic counter, so the result of each item must not depend on
+ * which thread ran it. */
+
+
+/* Called for item i on some thread; `thread` is in [0, threads). Returns 0 on
+ * success; a non-zero return stops further items from being claimed and is
+ * returned by satf_parallel_for (the first failure wins). */
+typedef int (*satf_parallel_fn)(void *ctx, size_t i, int thread);
+
+/* Called about every 100 ms on the calling thread with the number of items
+ * finished so far (may be NULL). */
+typedef void (*satf_progress_fn)(void *ctx, size_t done, size_t total);
+
+/* Runs fn for every i in [0, count) on `threads` threads (0 = all cores). */
+int satf_parallel_for(size_t count, int threads, satf_parallel_fn fn, void *ctx,
+                      satf_progress_fn progress, void *progress_ctx);
+
+/* Number of online processors (at least 1). */
+int satf_cpu_count(void);
+
+/* progress.h - progress reporting on stderr: a redrawn bar (percent, rate,
+ * ETA) when stderr is a terminal, a plain line every few seconds otherwise,
+ * so logs from CI and pipes stay readable. */
+
+
+typedef struct satf_progress {
+  FILE *out;
+  const char *label;     /* e.g. "building" */
+  const char *unit;      /* e.g. "HRIRs" */
+  size_t units_per_item; /* rate is reported in units: items x this */
+  int is_tty;
+  int quiet;
+  double start;      /* seconds, monotonic */
+  double last_print; /* seconds, monotonic */
+} satf_progress;
+
+double satf_now_seconds(void);
+
+void satf_progress_begin(satf_progress *p, FILE *out, const char *label,
+                         const char *unit, size_t units_per_item, int quiet);
+void satf_progress_update(satf_progress *p, size_t done, size_t total);
+/* Finishes the bar line (terminal) so following output starts cleanly. */
+void satf_progress_end(satf_progress *p);
+
+/* Formats a byte count as "12.3 MB" into buf. */
+const char *satf_format_bytes(double bytes, char *buf, size_t size);
+
+/* rng.h - small deterministic random numbers (splitmix64 seeding, xoshiro128+
+ * style generation is not needed: splitmix64 alone is fast and passes
+ * BigCrush for our use). Stream i of seed s is independent of thread count,
+ * which is what makes database builds bit-identical across --threads. */
+
+
+typedef struct satf_rng {
+  uint64_t state;
+} satf_rng;
+
+/* Seeds stream `stream` of master seed `seed`. */
+void satf_rng_seed(satf_rng *rng, uint64_t seed, uint64_t stream);
+uint64_t satf_rng_u64(satf_rng *rng);
+/* Uniform in [0, 1) with 53 random bits. */
+double satf_rng_uniform(satf_rng *rng);
+/* Uniform in [lo, hi). */
+double satf_rng_range(satf_rng *rng, double lo, double hi);
+/* Uniform integer in [0, n), n > 0. */
+uint32_t satf_rng_below(satf_rng *rng, uint32_t n);
+/* Standard normal (Box-Muller, one value per call). */
+double satf_rng_normal(satf_rng *rng);
+
+/* exr_io.h - the one place satf reads and writes OpenEXR files, through
+ * OpenEXRCore: single-part scanline images of planar float channels, plus a
+ * callback for custom header attributes. Used by the HRIR database (whose
+ * container is an EXR image) and by the renderer's frame output. */
+
+
+
+typedef struct satf_exr_channel {
+  const char *name;
+  const float *data; /* width x height, row-major, top row first */
+} satf_exr_channel;
+
+/* Adds custom attributes to the part before the header is written. */
+typedef satf_status (*satf_exr_attr_writer)(void *ctx, exr_context_t exr,
+                                            int part, satf_error *err);
+/* Inspects the header after it is read and before any pixel is allocated;
+ * returning non-OK aborts the read with that error. */
+typedef satf_status (*satf_exr_attr_reader)(void *ctx, exr_const_context_t exr,
+                                            int part, int width, int height,
+                                            satf_error *err);
+
+typedef struct satf_exr_write_opts {
+  exr_pixel_type_t pixel_type;   /* EXR_PIXEL_HALF or EXR_PIXEL_FLOAT */
+  exr_compression_t compression; /* e.g. EXR_COMPRESSION_ZIP */
+  satf_exr_attr_writer attrs;    /* may be NULL */
+  void *attrs_ctx;
+} satf_exr_write_opts;
+
+/* Writes through a temporary file renamed into place. */
+satf_status satf_exr_write(const char *path, int width, int height,
+                           const satf_exr_channel *channels, int nchannels,
+                           const satf_exr_write_opts *opts, satf_error *err);
+
+/* Reads the named channels of a single-part scanline file into planes[i]
+ * (malloc'd, width*height floats each, caller frees). A channel missing
+ * from the file is an error. max_pixels bounds width*height. */
+satf_status satf_exr_read(const char *path, const char *const *names,
+                          int nnames, long long max_pixels,
+                          satf_exr_attr_reader attrs, void *attrs_ctx,
+                          int *width, int *height, float **planes,
+                          satf_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

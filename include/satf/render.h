@@ -1,0 +1,230 @@
+/* render.h - the online renderer (online/render/): frames with named
+ * channels written as EXR and PNG, the renderer that turns a scene and a
+ * database into pixels (maps, shading, compositing, shadows), and batch
+ * frame sequences. */
+#ifndef SATF_RENDER_H
+#define SATF_RENDER_H
+
+#include "satf/db.h"
+#include "satf/scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* image.h - owns the renderer's frame in memory and on disk: a float image
+ * of named planar channels ("R", "G", "B", "A" for the beauty pass, plus
+ * AOVs named like "diffuse.R" or single-channel "shadow"), written as
+ * OpenEXR (through db/exr_io.h) or as an 8-bit sRGB PNG for viewing.
+ *
+ * Row order: every plane is stored TOP row first (image convention, as
+ * EXR and PNG store them). GL reads back bottom row first; convert with
+ * satf_image_store_interleaved(..., SATF_ROWS_BOTTOM_UP, ...).
+ *
+ * Colour is linear and, where an alpha channel exists, premultiplied by
+ * alpha (what "over" blending in the renderer produces and what EXR
+ * expects). Library satf_image. */
+
+
+#define SATF_IMAGE_MAX_CHANNELS 64
+#define SATF_IMAGE_MAX_SIDE 32768
+#define SATF_IMAGE_MAX_NAME 255
+
+typedef struct satf_image satf_image;
+
+typedef enum satf_row_order {
+  SATF_ROWS_TOP_DOWN, /* first row in memory is the top of the picture */
+  SATF_ROWS_BOTTOM_UP /* first row is the bottom (glReadPixels) */
+} satf_row_order;
+
+/* Creates a width x height image with nchannels channels named names[i]
+ * (copied; non-empty, unique, at most SATF_IMAGE_MAX_NAME bytes), all
+ * pixels zero. */
+satf_status satf_image_create(int width, int height, const char *const *names,
+                              int nchannels, satf_image **out, satf_error *err);
+void satf_image_destroy(satf_image *img);
+
+int satf_image_width(const satf_image *img);
+int satf_image_height(const satf_image *img);
+int satf_image_channel_count(const satf_image *img);
+const char *satf_image_channel_name(const satf_image *img, int channel);
+/* Index of the channel called name, or -1. */
+int satf_image_channel_index(const satf_image *img, const char *name);
+/* width * height floats, top row first; NULL for a bad index. */
+float *satf_image_plane(satf_image *img, int channel);
+const float *satf_image_const_plane(const satf_image *img, int channel);
+
+/* Scatters interleaved pixels (src_channels floats per pixel, width x
+ * height pixels, rows in `order`) into channels: component k goes to the
+ * channel named names[k], or is skipped when names[k] is NULL. An unknown
+ * name is an error and nothing is written. */
+satf_status satf_image_store_interleaved(satf_image *img, const float *src,
+                                         int src_channels,
+                                         const char *const *names,
+                                         satf_row_order order, satf_error *err);
+
+/* Writes every channel as HALF with ZIP compression. */
+satf_status satf_image_write_exr(const satf_image *img, const char *path,
+                                 satf_error *err);
+/* Writes every channel as 32-bit FLOAT with ZIP compression (for AOVs like
+ * depth that half precision would ruin). */
+satf_status satf_image_write_exr_float(const satf_image *img, const char *path,
+                                       satf_error *err);
+
+/* Writes channels R, G, B (and A if present) as an 8-bit sRGB PNG: RGBA
+ * when the image has A, RGB otherwise. Alpha is kept: colour is divided by
+ * alpha (PNG stores straight alpha) before the sRGB transfer function;
+ * alpha itself is stored linearly, as PNG requires. Values are clamped to
+ * [0, 1]; NaN becomes 0. Written through a temporary file renamed into
+ * place. */
+satf_status satf_image_write_png(const satf_image *img, const char *path,
+                                 satf_error *err);
+/* Same for one layer: "LAYER.R", "LAYER.G", "LAYER.B" (+ "LAYER.A"), or a
+ * single channel named LAYER (e.g. "shadow"), written as 8-bit grey. */
+satf_status satf_image_write_png_layer(const satf_image *img, const char *layer,
+                                       const char *path, satf_error *err);
+
+/* renderer.h - the online phase of SATF (paper sec. 6) on OpenGL 4.3+:
+ * per frame, database look-ups build each shell layer's re/alpha/s-maps
+ * (maps.h), layers are lit with Kajiya-Kay diffuse and two shifted
+ * highlights, shadowed by the s-maps (eq. 12) and a deep opacity map from
+ * the key light, and composited order-independently (eq. 14) through
+ * per-pixel fragment lists. The caller owns the GL context (headless EGL or
+ * a GLFW window) and keeps it current. */
+
+
+typedef struct satf_renderer satf_renderer;
+
+typedef enum satf_aov {
+  SATF_AOV_BEAUTY = 0,
+  SATF_AOV_DIFFUSE,
+  SATF_AOV_SPEC_I,
+  SATF_AOV_SPEC_II,
+  SATF_AOV_SHADOW,
+  SATF_AOV_ALPHA,
+  SATF_AOV_COUNT
+} satf_aov;
+
+const char *satf_aov_name(satf_aov aov);
+
+/* How layers are composited (SATF eq. 14 over every cluster):
+ * EXACT sorts every fragment of every pixel by depth (per-pixel fragment
+ * arrays); ORDERED draws clusters far to near and, within a cluster, the
+ * back halves of the shells outer to inner and then the front halves inner
+ * to outer, with fixed-function blending: exact for clusters that do not
+ * interleave in depth, and several times faster on a CPU rasteriser. */
+typedef enum satf_composite {
+  SATF_COMPOSITE_EXACT = 0,
+  SATF_COMPOSITE_ORDERED
+} satf_composite;
+
+/* Per-frame stage times in ms, named as the paper's Table 1. */
+typedef struct satf_frame_timing {
+  double index_ms;    /* I: SATF parameters (azimuths, eq. 6 test) */
+  double maps_ms;     /* C: look-ups and re/alpha/s-map construction */
+  double upload_ms;   /* M: texture mapping (upload of the maps) */
+  double lighting_ms; /* L: lighting, shading and compositing (GPU) */
+  double shadow_ms;   /* S: deep opacity map passes (GPU) */
+  double total_ms;
+  long lookups;
+  long fragments; /* fragments stored in the per-pixel lists */
+} satf_frame_timing;
+
+typedef struct satf_render_stats {
+  long clusters, layers, strands, hsvs, macro_clusters, prototypes_shared;
+} satf_render_stats;
+
+/* Builds clusters, shells, meshes, density features and GL resources.
+ * `threads` = 0 uses all cores. */
+satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
+                                 int width, int height, int threads,
+                                 satf_renderer **out, satf_error *err);
+void satf_renderer_destroy(satf_renderer *r);
+
+satf_status satf_renderer_resize(satf_renderer *r, int width, int height,
+                                 satf_error *err);
+void satf_renderer_stats(const satf_renderer *r, satf_render_stats *stats);
+void satf_renderer_size(const satf_renderer *r, int *width, int *height);
+
+/* Mutable state for interactive use; start as in the scene. */
+satf_scene_camera *satf_renderer_camera(satf_renderer *r);
+satf_scene_effects *satf_renderer_effects(satf_renderer *r);
+satf_scene_light *satf_renderer_light(satf_renderer *r, int index);
+int satf_renderer_light_count(const satf_renderer *r);
+void satf_renderer_set_composite(satf_renderer *r, satf_composite mode);
+satf_composite satf_renderer_composite(const satf_renderer *r);
+
+/* Renders one frame of `aov` into the renderer's RGBA16F target. */
+satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,
+                                 satf_frame_timing *timing, satf_error *err);
+/* The target's colour texture (linear RGB, A = hair coverage). */
+unsigned satf_renderer_texture(const satf_renderer *r);
+unsigned satf_renderer_framebuffer(const satf_renderer *r);
+
+/* Renders the beauty pass (and with aovs != 0 every AOV) into a new image
+ * with channels R G B A (colour composited over the background, A the hair
+ * coverage) and, for AOVs, diffuse.R/G/B, specI.R/G/B, specII.R/G/B,
+ * shadow, alpha. */
+satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
+                                       satf_image **out,
+                                       satf_frame_timing *timing,
+                                       satf_error *err);
+
+/* Switches to another state of the same scene (an animation frame): same
+ * macro-clusters, instance counts and shells. Only prototypes whose
+ * geometry changed are rebuilt (their density features are kept: density
+ * lives in the cluster's own frame), only moved instances re-placed; camera
+ * and lights are taken from `scene`, which must outlive its use. *rebuilt
+ * (may be NULL) is the number of prototypes rebuilt. */
+satf_status satf_renderer_set_scene(satf_renderer *r, const satf_scene *scene,
+                                    int *rebuilt, satf_error *err);
+
+/* Writes every shell layer mesh of every prototype (OpenMesh, by the
+ * extension of `path`: .obj or .ply) as PATH-m<macro>-l<layer>.EXT; sets
+ * *written to the number of files. */
+satf_status satf_renderer_export_meshes(const satf_renderer *r,
+                                        const char *path, int *written,
+                                        satf_error *err);
+
+/* Draws the target to the bound framebuffer (viewport already set),
+ * converting linear to sRGB. */
+void satf_renderer_present(satf_renderer *r);
+
+/* sequence.h - batch rendering of a range of animation frames to OpenEXR
+ * (SATF Fig. 8): one snapshot per frame (satf/anim.h) switched into the
+ * renderer so only what moves is rebuilt, each frame written through a
+ * temporary file so a killed batch never leaves a partial frame, resuming
+ * by skipping frames already on disk, and a contact sheet of thumbnails. */
+
+
+typedef struct satf_sequence_opts {
+  int first, last;           /* inclusive frame range */
+  const char *exr_pattern;   /* printf pattern with one integer, e.g.
+                                out/frame_%04d.exr; may be NULL */
+  const char *png_pattern;   /* the same for PNG previews; may be NULL */
+  const char *contact_sheet; /* PNG of all frames' thumbnails; may be NULL */
+  int resume;                /* skip frames whose EXR already reads back */
+  int aovs;
+  int quiet;
+} satf_sequence_opts;
+
+typedef struct satf_sequence_stats {
+  int rendered, skipped;
+  double seconds;
+  satf_frame_timing mean; /* over rendered frames */
+} satf_sequence_stats;
+
+/* Checks that a pattern holds exactly one integer conversion (%d, %04d,
+ * %5d ...) and no other %. */
+satf_status satf_sequence_check_pattern(const char *pattern, satf_error *err);
+
+/* Renders the range with `r`, which was created from `scene` (the
+ * animated scene, outliving the call). */
+satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
+                                 const satf_sequence_opts *opts,
+                                 satf_sequence_stats *stats, satf_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

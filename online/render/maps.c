@@ -1,0 +1,401 @@
+/* maps.c - see maps.h. */
+#include "maps.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI_F 3.14159265358979f
+#define TWO_PI_F 6.28318530717959f
+/* Resampling tables are kept for this many view azimuths. */
+#define AZIMUTH_BINS 1024
+
+size_t satf_shell_sector_count(const satf_shell_params *s) {
+  return (size_t)(s->st + 1) * (size_t)s->layers * (size_t)s->su;
+}
+
+static size_t sector_index(const satf_shell_params *s, int i, int k, int j) {
+  return ((size_t)i * (size_t)s->layers + (size_t)k) * (size_t)s->su +
+         (size_t)j;
+}
+
+static void normalize3(float v[3]) {
+  float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (l > 0.0f) {
+    v[0] /= l;
+    v[1] /= l;
+    v[2] /= l;
+  }
+}
+
+satf_status satf_shell_geom_create(const satf_cluster *cluster,
+                                   const satf_shell_params *shell,
+                                   satf_shell_geom *g, satf_error *err) {
+  memset(g, 0, sizeof *g);
+  satf_status st = satf_shell_params_check(shell, err);
+  if (st != SATF_OK)
+    return st;
+  g->shell = *shell;
+  size_t n = satf_shell_sector_count(shell);
+  g->frames = malloc(n * 9 * sizeof(float));
+  g->features = calloc(n * 3, sizeof(float));
+  if (!g->frames || !g->features) {
+    satf_shell_geom_destroy(g);
+    return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate %zu sectors",
+                          n);
+  }
+  for (int i = 0; i <= shell->st; i++) {
+    satf_cluster_section sec;
+    satf_cluster_section_at(cluster, (float)i / (float)shell->st, &sec);
+    for (int k = 0; k < shell->layers; k++) {
+      float v = 0.5f * (satf_shell_layer_v(shell, k) +
+                        satf_shell_layer_v(shell, k + 1));
+      for (int j = 0; j < shell->su; j++) {
+        float u = TWO_PI_F * ((float)j + 0.5f) / (float)shell->su;
+        float *f = g->frames + 9 * sector_index(shell, i, k, j);
+        satf_cluster_section_point(&sec, v, u, f);
+        /* In the normal plane, the ellipse point moves along
+         * (-A sin, B cos) as u grows; its outward normal is (B cos, A sin)
+         * in the (n1, n2) frame rotated by the twist (SATF eq. 1). */
+        float c = cosf(sec.theta + u), s = sinf(sec.theta + u);
+        for (int a = 0; a < 3; a++) {
+          f[3 + a] = sec.b * c * sec.n1[a] + sec.a * s * sec.n2[a];
+          f[6 + a] = -sec.a * s * sec.n1[a] + sec.b * c * sec.n2[a];
+        }
+        normalize3(f + 3);
+        normalize3(f + 6);
+      }
+    }
+  }
+  return SATF_OK;
+}
+
+struct satf_neighbor_cache {
+  int k;
+  satf_db_neighbors *sector; /* per sector */
+  satf_db_neighbors *hsv;    /* per HSV (i, k, j): averaged features */
+};
+
+void satf_neighbor_cache_free(satf_neighbor_cache *c) {
+  if (c) {
+    free(c->sector);
+    free(c->hsv);
+    free(c);
+  }
+}
+
+void satf_shell_geom_destroy(satf_shell_geom *g) {
+  free(g->frames);
+  free(g->features);
+  satf_neighbor_cache_free(g->neighbors);
+  g->frames = g->features = NULL;
+  g->neighbors = NULL;
+}
+
+struct satf_maps {
+  const satf_db *db;
+  int width;
+  float re_scale; /* 1 / mean reflectance of the database's opaque samples */
+  float lo[SATF_FEATURES], scale[SATF_FEATURES];
+  uint16_t *index; /* AZIMUTH_BINS x width: record sample left of column x */
+  float *frac;     /* AZIMUTH_BINS x width: weight of the sample after it */
+};
+
+static size_t hsv_index(const satf_shell_params *s, int i, int k, int j) {
+  return ((size_t)i * (size_t)s->layers + (size_t)k) * (size_t)s->su +
+         (size_t)j;
+}
+
+satf_status satf_maps_prepare(const satf_maps *m, satf_shell_geom *g,
+                              const satf_map_options *opt, satf_error *err) {
+  const satf_shell_params *sh = &g->shell;
+  size_t ns = satf_shell_sector_count(sh);
+  size_t nh = (size_t)sh->st * (size_t)sh->layers * (size_t)sh->su;
+  satf_neighbor_cache *c = calloc(1, sizeof *c);
+  if (c) {
+    c->sector = malloc(ns * sizeof *c->sector);
+    c->hsv = malloc(nh * sizeof *c->hsv);
+  }
+  if (!c || !c->sector || !c->hsv) {
+    satf_neighbor_cache_free(c);
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "cannot cache the neighbours of %zu sectors", ns);
+  }
+  c->k = opt->k_nearest;
+  for (size_t q = 0; q < ns; q++)
+    satf_db_neighbors_find(m->db, g->features + 3 * q, c->k, &c->sector[q]);
+  for (int i = 0; i < sh->st; i++)
+    for (int k = 0; k < sh->layers; k++)
+      for (int j = 0; j < sh->su; j++) {
+        const float *a = g->features + 3 * sector_index(sh, i, k, j);
+        const float *b = g->features + 3 * sector_index(sh, i + 1, k, j);
+        float ave[3] = {0.5f * (a[0] + b[0]), 0.5f * (a[1] + b[1]),
+                        0.5f * (a[2] + b[2])};
+        satf_db_neighbors_find(m->db, ave, c->k,
+                               &c->hsv[hsv_index(sh, i, k, j)]);
+      }
+  g->neighbors = c;
+  return SATF_OK;
+}
+
+satf_map_options satf_map_options_default(void) {
+  satf_map_options o = {0.05f, 1};
+  return o;
+}
+
+/* Mean of re / alpha over every record sample with alpha > 0.5. The
+ * renderer uses reflectance relative to it, so that k_dif, k_speI and
+ * k_speII keep their meaning whatever Phong constants built the database
+ * (the paper multiplies lighting by re without saying what scale re has). */
+static float mean_reflectance(const satf_db *db) {
+  const satf_build_params *p = satf_db_params(db);
+  double sum = 0.0;
+  long n = 0;
+  for (int i = 0; i < p->samples; i++)
+    for (int iv = 0; iv < p->n_view; iv++)
+      for (int il = 0; il < p->n_light; il++) {
+        const float *re, *al;
+        satf_db_record(db, i, iv, il, &re, &al);
+        for (int j = 0; j < p->trace.width; j++)
+          if (al[j] > 0.5f) {
+            sum += re[j] / al[j];
+            n++;
+          }
+      }
+  return n > 0 && sum > 0.0 ? (float)(sum / (double)n) : 1.0f;
+}
+
+satf_status satf_maps_create(const satf_db *db, satf_maps **out,
+                             satf_error *err) {
+  *out = NULL;
+  satf_maps *m = calloc(1, sizeof *m);
+  if (!m)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  int w = satf_db_width(db);
+  if (w < 2 || w > 512) {
+    free(m);
+    return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
+                          "database records of %d samples: the renderer "
+                          "supports 2 to 512",
+                          w);
+  }
+  m->db = db;
+  m->width = w;
+  float hi[SATF_FEATURES];
+  satf_db_feature_range(db, m->lo, hi);
+  for (int a = 0; a < SATF_FEATURES; a++)
+    m->scale[a] = hi[a] > m->lo[a] ? 1.0f / (hi[a] - m->lo[a]) : 1.0f;
+  m->index = malloc((size_t)AZIMUTH_BINS * w * sizeof *m->index);
+  m->frac = malloc((size_t)AZIMUTH_BINS * w * sizeof *m->frac);
+  if (!m->index || !m->frac) {
+    satf_maps_destroy(m);
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  m->re_scale = 1.0f / mean_reflectance(db);
+  const satf_sector_shape *shape = &satf_db_params(db)->shape;
+  for (int b = 0; b < AZIMUTH_BINS; b++) {
+    float theta = TWO_PI_F * (float)b / AZIMUTH_BINS;
+    float e[2] = {-sinf(theta), cosf(theta)}, pmin, pmax;
+    satf_trace_extent(shape, theta, &pmin, &pmax);
+    for (int x = 0; x < w; x++) {
+      /* the point at phase fraction f on the sector's outer arc, projected
+       * on the screen axis, in record samples (trace.h layout) */
+      float f = ((float)x + 0.5f) / (float)w;
+      float phi = (f - 0.5f) * shape->phase_span;
+      float pe = shape->r_outer * (cosf(phi) * e[0] + sinf(phi) * e[1]);
+      float xr = (pe - pmin) / (pmax - pmin) * (float)w - 0.5f;
+      if (xr < 0.0f)
+        xr = 0.0f;
+      if (xr > (float)(w - 1))
+        xr = (float)(w - 1);
+      int i0 = (int)xr;
+      if (i0 > w - 2)
+        i0 = w - 2;
+      m->index[b * w + x] = (uint16_t)i0;
+      m->frac[b * w + x] = xr - (float)i0;
+    }
+  }
+  *out = m;
+  return SATF_OK;
+}
+
+void satf_maps_destroy(satf_maps *m) {
+  if (m) {
+    free(m->index);
+    free(m->frac);
+    free(m);
+  }
+}
+
+int satf_maps_width(const satf_maps *maps) { return maps->width; }
+
+size_t satf_maps_layer_texels(const satf_shell_geom *g, int width) {
+  return (size_t)g->shell.su * (size_t)width * 2 * (size_t)g->shell.st;
+}
+
+static float azimuth(const float *frame, const float d[3]) {
+  float x = d[0] * frame[3] + d[1] * frame[4] + d[2] * frame[5];
+  float y = d[0] * frame[6] + d[1] * frame[7] + d[2] * frame[8];
+  float a = atan2f(y, x);
+  return a < 0.0f ? a + TWO_PI_F : a;
+}
+
+void satf_maps_angles(const satf_shell_geom *g, const float eye[3],
+                      const float light[4], float *angles) {
+  size_t n = satf_shell_sector_count(&g->shell);
+  for (size_t s = 0; s < n; s++) {
+    const float *f = g->frames + 9 * s;
+    float v[3] = {eye[0] - f[0], eye[1] - f[1], eye[2] - f[2]};
+    float l[3] = {light[0] - light[3] * f[0], light[1] - light[3] * f[1],
+                  light[2] - light[3] * f[2]};
+    angles[2 * s] = azimuth(f, v);
+    angles[2 * s + 1] = azimuth(f, l);
+  }
+}
+
+/* Signed smallest difference b - a of two angles, in (-pi, pi]. */
+static float angle_diff(float a, float b) {
+  float d = fmodf(b - a, TWO_PI_F);
+  if (d > PI_F)
+    d -= TWO_PI_F;
+  if (d <= -PI_F)
+    d += TWO_PI_F;
+  return d;
+}
+
+typedef struct params {
+  float f[SATF_FEATURES];
+  float view, light;
+} params;
+
+/* SATF eq. 6: ||Params(top) - Params(bottom)||, features scaled to [0, 1]
+ * over the database and angles in units of pi. */
+static float params_distance(const satf_maps *m, const params *a,
+                             const params *b) {
+  float d2 = 0.0f;
+  for (int k = 0; k < SATF_FEATURES; k++) {
+    float d = (a->f[k] - b->f[k]) * m->scale[k];
+    d2 += d * d;
+  }
+  float dv = angle_diff(a->view, b->view) / PI_F;
+  float dl = angle_diff(a->light, b->light) / PI_F;
+  return sqrtf(d2 + dv * dv + dl * dl);
+}
+
+static params params_average(const params *a, const params *b) {
+  params p;
+  for (int k = 0; k < SATF_FEATURES; k++)
+    p.f[k] = 0.5f * (a->f[k] + b->f[k]);
+  p.view = a->view + 0.5f * angle_diff(a->view, b->view);
+  p.light = a->light + 0.5f * angle_diff(a->light, b->light);
+  return p;
+}
+
+/* Lays a record across one HSV row (see maps.h), with the reflectance
+ * divided by alpha: eq. 5 accumulates reflectance weighted by opacity, and
+ * eq. 14 multiplies by alpha again, so keeping it would count coverage
+ * twice (our reading; the paper multiplies re and alpha without comment). */
+static void lay_row(const satf_maps *m, const float *re, const float *al,
+                    float view, float density, float *row) {
+  int w = m->width;
+  float turns = view / TWO_PI_F;
+  turns -= floorf(turns); /* any angle, into [0, 1) */
+  int b = (int)(turns * AZIMUTH_BINS + 0.5f) % AZIMUTH_BINS;
+  const uint16_t *idx = m->index + (size_t)b * w;
+  const float *fr = m->frac + (size_t)b * w;
+  for (int x = 0; x < w; x++) {
+    int i = idx[x];
+    float f = fr[x];
+    float r = re[i] + f * (re[i + 1] - re[i]);
+    float a = al[i] + f * (al[i + 1] - al[i]);
+    float *t = row + 4 * x;
+    t[0] = a > 1e-4f ? m->re_scale * r / a : 0.0f;
+    t[1] = a;
+    t[2] = 0.0f; /* the s-map sum, filled by satf_maps_shadow_sums */
+    t[3] = density;
+  }
+}
+
+int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
+                          const float *angles, const satf_map_options *opt,
+                          int k, float *texels) {
+  const satf_shell_params *sh = &g->shell;
+  int w = m->width, lookups = 0;
+  size_t row_floats = (size_t)sh->su * (size_t)w * 4;
+  float re_top[512], al_top[512], re_bot[512], al_bot[512];
+  for (int j = 0; j < sh->su; j++) {
+    int have_top = 0; /* the previous HSV's bottom record is this top's */
+    for (int i = 0; i < sh->st; i++) {
+      size_t st0 = sector_index(sh, i, k, j),
+             st1 = sector_index(sh, i + 1, k, j);
+      params top, bot;
+      memcpy(top.f, g->features + 3 * st0, sizeof top.f);
+      memcpy(bot.f, g->features + 3 * st1, sizeof bot.f);
+      top.view = angles[2 * st0];
+      top.light = angles[2 * st0 + 1];
+      bot.view = angles[2 * st1];
+      bot.light = angles[2 * st1 + 1];
+      float *row0 = texels + (size_t)(2 * i) * row_floats + (size_t)j * w * 4;
+      float *row1 = row0 + row_floats;
+      float dens = 0.5f * (top.f[0] + bot.f[0]);
+      const satf_neighbor_cache *nc =
+          g->neighbors && g->neighbors->k == opt->k_nearest ? g->neighbors
+                                                            : NULL;
+      if (params_distance(m, &top, &bot) < opt->k_threshold) {
+        /* uniform HSV: one look-up at the averaged parameters, swept along
+         * the HSV (SATF sec. 6.2.2) */
+        params ave = params_average(&top, &bot);
+        if (nc)
+          satf_db_lookup_neighbors(m->db, &nc->hsv[hsv_index(sh, i, k, j)],
+                                   ave.view, ave.light, re_top, al_top);
+        else
+          satf_db_lookup(m->db, ave.f, ave.view, ave.light, opt->k_nearest,
+                         re_top, al_top);
+        lookups++;
+        lay_row(m, re_top, al_top, ave.view, dens, row0);
+        lay_row(m, re_top, al_top, ave.view, dens, row1);
+        have_top = 0;
+      } else {
+        /* two look-ups, interpolated along the HSV by the texture fetch
+         * (SATF eq. 7) */
+        if (!have_top) {
+          if (nc)
+            satf_db_lookup_neighbors(m->db, &nc->sector[st0], top.view,
+                                     top.light, re_top, al_top);
+          else
+            satf_db_lookup(m->db, top.f, top.view, top.light, opt->k_nearest,
+                           re_top, al_top);
+          lookups++;
+        }
+        if (nc)
+          satf_db_lookup_neighbors(m->db, &nc->sector[st1], bot.view, bot.light,
+                                   re_bot, al_bot);
+        else
+          satf_db_lookup(m->db, bot.f, bot.view, bot.light, opt->k_nearest,
+                         re_bot, al_bot);
+        lookups++;
+        lay_row(m, re_top, al_top, top.view, dens, row0);
+        lay_row(m, re_bot, al_bot, bot.view, dens, row1);
+        memcpy(re_top, re_bot, (size_t)w * sizeof(float));
+        memcpy(al_top, al_bot, (size_t)w * sizeof(float));
+        have_top = 1;
+      }
+    }
+  }
+  return lookups;
+}
+
+/* SATF eq. 12: the light reaching layer k is attenuated by the alpha of the
+ * layers that cover it, m > k, at the same (u, v). */
+void satf_maps_shadow_sums(const satf_shell_geom *g, int width, float *texels) {
+  int layers = g->shell.layers;
+  size_t n = satf_maps_layer_texels(g, width);
+  float *outer = texels + (size_t)(layers - 1) * n * 4;
+  for (size_t x = 0; x < n; x++)
+    outer[4 * x + 2] = 0.0f;
+  for (int k = layers - 2; k >= 0; k--) {
+    float *cur = texels + (size_t)k * n * 4, *up = cur + n * 4;
+    for (size_t x = 0; x < n; x++)
+      cur[4 * x + 2] = up[4 * x + 2] + up[4 * x + 1];
+  }
+}

@@ -1,0 +1,82 @@
+/* maps.h - the SATF step of the online phase (SATF sec. 6.2, eq. 6-7, 12):
+ * per frame, every HSV of a cluster's shells gets its reflectance and alpha
+ * from database look-ups, laid out as a texture per layer (re-map,
+ * alpha-map), plus the self-shadow sum of the outer layers' alpha (s-map).
+ *
+ * Texture layout. Layer k of a cluster is an image (su * width) texels wide
+ * and 2 * st rows high, 4 floats per texel: reflectance, alpha, the s-map
+ * sum of eq. 12, and the HSV's mean density (for the plain mode). HSV
+ * (i, k, j) owns columns [j * width, (j + 1) * width) and rows 2i (its
+ * boundary sector at t_i) and 2i + 1 (its boundary sector at t_{i+1}), so a
+ * bilinear texture fetch at row 2i + 1/2 + g, g = t st - i, interpolates
+ * between the two records exactly as eq. 7. Within an HSV, column x
+ * (phase fraction f = (x + 1/2) / width across the HSV) shows the record
+ * sample whose ray passes through the point at phase f on the layer's outer
+ * surface, seen from the sector's view azimuth (the layout of trace.h). */
+#ifndef SATF_ONLINE_MAPS_H
+#define SATF_ONLINE_MAPS_H
+
+#include "satf/geometry.h"
+#include "satf/db.h"
+
+/* Per prototype: the geometry of its boundary sectors and their density
+ * features, computed once (they change only with the density). */
+typedef struct satf_neighbor_cache satf_neighbor_cache;
+
+typedef struct satf_shell_geom {
+  satf_shell_params shell;
+  float *frames;   /* per sector (i, k, j): centre P, outward N, phase dir T */
+  float *features; /* per sector: 3 density features */
+  /* The database samples nearest to every sector's features and to every
+   * HSV's averaged features (satf_maps_prepare): they change only with the
+   * density, so frames only blend azimuths. NULL: searched per look-up. */
+  satf_neighbor_cache *neighbors;
+} satf_shell_geom;
+
+satf_status satf_shell_geom_create(const satf_cluster *cluster,
+                                   const satf_shell_params *shell,
+                                   satf_shell_geom *out, satf_error *err);
+/* Frees frames, features and the neighbour cache. */
+void satf_shell_geom_destroy(satf_shell_geom *g);
+size_t satf_shell_sector_count(const satf_shell_params *shell);
+
+typedef struct satf_maps satf_maps;
+
+typedef struct satf_map_options {
+  float k_threshold; /* eq. 6 uniformity threshold (normalised units) */
+  int k_nearest;     /* database samples blended per look-up */
+} satf_map_options;
+
+satf_map_options satf_map_options_default(void);
+
+/* Builds the per-database tables (record-to-phase resampling). */
+satf_status satf_maps_create(const satf_db *db, satf_maps **out,
+                             satf_error *err);
+void satf_maps_destroy(satf_maps *maps);
+int satf_maps_width(const satf_maps *maps);
+
+/* Finds and keeps g->neighbors for g->features (replacing any earlier
+ * cache, which the caller may still share: see satf_neighbor_cache_free). */
+satf_status satf_maps_prepare(const satf_maps *maps, satf_shell_geom *g,
+                              const satf_map_options *opt, satf_error *err);
+void satf_neighbor_cache_free(satf_neighbor_cache *cache);
+
+/* Azimuths of every sector of a prototype for a viewer at eye and a light
+ * (xyz, w = 0: direction towards the light, w = 1: position), both in the
+ * prototype's local frame. angles: 2 floats per sector (theta_v, theta_l). */
+void satf_maps_angles(const satf_shell_geom *g, const float eye[3],
+                      const float light[4], float *angles);
+
+/* Fills layer k of a cluster's texture (see top of file) from the sector
+ * angles; returns the number of database look-ups made. */
+int satf_maps_build_layer(const satf_maps *maps, const satf_shell_geom *g,
+                          const float *angles, const satf_map_options *opt,
+                          int k, float *texels);
+
+/* Eq. 12 sums: channel 2 of layer k = sum of the alpha of layers m > k. */
+void satf_maps_shadow_sums(const satf_shell_geom *g, int width, float *texels);
+
+/* Texels in one layer: su * width * 2 * st. */
+size_t satf_maps_layer_texels(const satf_shell_geom *g, int width);
+
+#endif

@@ -1,0 +1,215 @@
+/* sequence.c - see sequence.h. */
+#include "satf/render.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "satf/common.h"
+#include "satf/scene.h"
+
+satf_status satf_sequence_check_pattern(const char *pattern, satf_error *err) {
+  int conversions = 0;
+  for (const char *p = pattern; *p; p++) {
+    if (*p != '%')
+      continue;
+    const char *q = p + 1;
+    while (*q >= '0' && *q <= '9')
+      q++;
+    if (*q != 'd' || conversions++)
+      return satf_error_set(err, SATF_ERR_ARGUMENT,
+                            "%s: a frame pattern needs exactly one integer "
+                            "conversion such as %%04d and no other %%",
+                            pattern);
+    p = q;
+  }
+  if (conversions != 1)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "%s: a frame pattern needs one integer conversion "
+                          "such as %%04d",
+                          pattern);
+  return SATF_OK;
+}
+
+static void frame_path(const char *pattern, int frame, char *out, size_t size) {
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+  snprintf(out, size, pattern, frame); /* checked by check_pattern */
+#pragma GCC diagnostic pop
+}
+
+/* A frame counts as done when its EXR decodes completely. */
+static int frame_complete(const char *path) {
+  const char *names[1] = {"A"};
+  float *plane = NULL;
+  int w, h;
+  if (satf_exr_read(path, names, 1, 1LL << 28, NULL, NULL, &w, &h, &plane,
+                    NULL) != SATF_OK)
+    return 0;
+  free(plane);
+  return 1;
+}
+
+enum { SHEET_COLUMNS = 8, SHEET_SCALE = 4 };
+
+typedef struct sheet {
+  satf_image *img;
+  int tw, th, columns;
+} sheet;
+
+/* Box-filtered thumbnail of the R, G, B planes of a frame into cell i. */
+static void sheet_put(sheet *s, const float *const rgb[3], int w, int h,
+                      int i) {
+  int cx = (i % s->columns) * s->tw, cy = (i / s->columns) * s->th;
+  int sw = satf_image_width(s->img);
+  for (int c = 0; c < 3; c++) {
+    float *dst = satf_image_plane(s->img, c);
+    for (int y = 0; y < s->th; y++)
+      for (int x = 0; x < s->tw; x++) {
+        float sum = 0.0f;
+        int n = 0;
+        for (int dy = 0; dy < SHEET_SCALE; dy++)
+          for (int dx = 0; dx < SHEET_SCALE; dx++) {
+            int px = x * SHEET_SCALE + dx, py = y * SHEET_SCALE + dy;
+            if (px < w && py < h) {
+              sum += rgb[c][(size_t)py * w + px];
+              n++;
+            }
+          }
+        dst[(size_t)(cy + y) * sw + cx + x] = n ? sum / (float)n : 0.0f;
+      }
+  }
+}
+
+static satf_status sheet_from_file(sheet *s, const char *path, int i,
+                                   satf_error *err) {
+  const char *names[3] = {"R", "G", "B"};
+  float *planes[3] = {NULL, NULL, NULL};
+  int w, h;
+  satf_status st =
+      satf_exr_read(path, names, 3, 1LL << 28, NULL, NULL, &w, &h, planes, err);
+  if (st == SATF_OK) {
+    const float *rgb[3] = {planes[0], planes[1], planes[2]};
+    sheet_put(s, rgb, w, h, i);
+  }
+  for (int c = 0; c < 3; c++)
+    free(planes[c]);
+  return st;
+}
+
+static satf_status write_png_rgb(const satf_image *img, const char *path,
+                                 satf_error *err) {
+  const char *names[3] = {"R", "G", "B"};
+  satf_image *rgb = NULL;
+  int w = satf_image_width(img), h = satf_image_height(img);
+  satf_status st = satf_image_create(w, h, names, 3, &rgb, err);
+  for (int c = 0; c < 3 && st == SATF_OK; c++)
+    memcpy(satf_image_plane(rgb, c),
+           satf_image_const_plane(img, satf_image_channel_index(img, names[c])),
+           (size_t)w * (size_t)h * sizeof(float));
+  if (st == SATF_OK)
+    st = satf_image_write_png(rgb, path, err);
+  satf_image_destroy(rgb);
+  return st;
+}
+
+satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
+                                 const satf_sequence_opts *o,
+                                 satf_sequence_stats *stats, satf_error *err) {
+  memset(stats, 0, sizeof *stats);
+  satf_status st = SATF_OK;
+  if (o->exr_pattern)
+    st = satf_sequence_check_pattern(o->exr_pattern, err);
+  if (st == SATF_OK && o->png_pattern)
+    st = satf_sequence_check_pattern(o->png_pattern, err);
+  if (st != SATF_OK)
+    return st;
+  if (o->last < o->first || o->last - o->first > 1000000)
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "frame range %d-%d", o->first,
+                          o->last);
+  int count = o->last - o->first + 1;
+  sheet sh = {NULL, 0, 0, SHEET_COLUMNS};
+  if (o->contact_sheet) {
+    const char *names[3] = {"R", "G", "B"};
+    int w, h;
+    satf_renderer_size(r, &w, &h);
+    sh.tw = w / SHEET_SCALE;
+    sh.th = h / SHEET_SCALE;
+    sh.columns = count < SHEET_COLUMNS ? count : SHEET_COLUMNS;
+    int rows = (count + sh.columns - 1) / sh.columns;
+    st = satf_image_create(sh.tw * sh.columns, sh.th * rows, names, 3, &sh.img,
+                           err);
+    if (st != SATF_OK)
+      return st;
+  }
+  satf_progress prog;
+  satf_progress_begin(&prog, stderr, "rendering", "frames", 1, o->quiet);
+  double t0 = satf_now_seconds();
+  satf_scene *snap = NULL;
+  for (int f = o->first; f <= o->last && st == SATF_OK; f++) {
+    char exr[4096] = "", png[4096] = "";
+    if (o->exr_pattern)
+      frame_path(o->exr_pattern, f, exr, sizeof exr);
+    if (o->png_pattern)
+      frame_path(o->png_pattern, f, png, sizeof png);
+    if (o->resume && exr[0] && frame_complete(exr)) {
+      if (sh.img)
+        st = sheet_from_file(&sh, exr, f - o->first, err);
+      stats->skipped++;
+      satf_progress_update(&prog, (size_t)(f - o->first + 1), (size_t)count);
+      continue;
+    }
+    satf_scene *next = NULL;
+    st = satf_scene_at_frame(scene, (double)f, &next, err);
+    if (st == SATF_OK)
+      st = satf_renderer_set_scene(r, next, NULL, err);
+    satf_scene_destroy(snap); /* the renderer now reads `next` */
+    snap = next;
+    satf_image *img = NULL;
+    satf_frame_timing t;
+    if (st == SATF_OK)
+      st = satf_renderer_render_image(r, o->aovs, &img, &t, err);
+    if (st == SATF_OK && exr[0])
+      st = satf_image_write_exr(img, exr, err);
+    if (st == SATF_OK && png[0])
+      st = write_png_rgb(img, png, err);
+    if (st == SATF_OK && sh.img) {
+      const float *rgb[3] = {satf_image_const_plane(img, 0),
+                             satf_image_const_plane(img, 1),
+                             satf_image_const_plane(img, 2)};
+      sheet_put(&sh, rgb, satf_image_width(img), satf_image_height(img),
+                f - o->first);
+    }
+    satf_image_destroy(img);
+    if (st == SATF_OK) {
+      stats->rendered++;
+      stats->mean.index_ms += t.index_ms;
+      stats->mean.maps_ms += t.maps_ms;
+      stats->mean.upload_ms += t.upload_ms;
+      stats->mean.lighting_ms += t.lighting_ms;
+      stats->mean.shadow_ms += t.shadow_ms;
+      stats->mean.total_ms += t.total_ms;
+    }
+    satf_progress_update(&prog, (size_t)(f - o->first + 1), (size_t)count);
+  }
+  satf_progress_end(&prog);
+  /* hand the renderer back its original scene before the snapshot goes */
+  satf_error ignore;
+  if (snap)
+    satf_renderer_set_scene(r, scene, NULL, &ignore);
+  satf_scene_destroy(snap);
+  stats->seconds = satf_now_seconds() - t0;
+  if (stats->rendered > 0) {
+    double n = stats->rendered;
+    stats->mean.index_ms /= n;
+    stats->mean.maps_ms /= n;
+    stats->mean.upload_ms /= n;
+    stats->mean.lighting_ms /= n;
+    stats->mean.shadow_ms /= n;
+    stats->mean.total_ms /= n;
+  }
+  if (st == SATF_OK && sh.img)
+    st = satf_image_write_png(sh.img, o->contact_sheet, err);
+  satf_image_destroy(sh.img);
+  return st;
+}

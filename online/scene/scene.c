@@ -1,0 +1,290 @@
+/* scene.c - scene loading entry points, lifetime and Table-1 totals. */
+#include "satf/scene.h"
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene_anim.h"
+#include "scene_json.h"
+#include "scene_parse.h"
+
+static void line_column(const char *text, size_t offset, int *line,
+                        int *column) {
+  *line = 1;
+  *column = 1;
+  for (size_t i = 0; i < offset; i++) {
+    if (text[i] == '\n') {
+      ++*line;
+      *column = 1;
+    } else {
+      ++*column;
+    }
+  }
+}
+
+static satf_status json_syntax_error(const char *name, const char *text,
+                                     size_t len, size_t offset,
+                                     const char *what, satf_error *err) {
+  int line, column;
+  if (offset > len)
+    offset = len;
+  line_column(text, offset, &line, &column);
+  if (offset >= len)
+    return satf_error_set(err, SATF_ERR_FORMAT,
+                          "%s:%d:%d: malformed JSON: unexpected end of input",
+                          name, line, column);
+  char near[24], quoted[64];
+  size_t n = len - offset < sizeof near - 1 ? len - offset : sizeof near - 1;
+  memcpy(near, text + offset, n);
+  near[n] = '\0';
+  for (size_t i = 0; i < n; i++)
+    if (near[i] == '\n' || near[i] == '\r')
+      near[i] = '\0';
+  return satf_error_set(err, SATF_ERR_FORMAT, "%s:%d:%d: %s near \"%s\"", name,
+                        line, column, what,
+                        scene_quote(near, quoted, sizeof quoted));
+}
+
+static char *base_dir_of(const char *name) {
+  const char *slash = strrchr(name, '/');
+  if (!slash)
+    return NULL;
+  size_t n = (slash == name) ? 1 : (size_t)(slash - name);
+  char *dir = malloc(n + 1);
+  if (dir) {
+    memcpy(dir, name, n);
+    dir[n] = '\0';
+  }
+  return dir;
+}
+
+satf_status satf_scene_parse(const char *json, size_t len,
+                             const char *name_for_messages, satf_scene **out,
+                             satf_error *err) {
+  const char *name = name_for_messages ? name_for_messages : "<scene>";
+  if (!out)
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "%s: no output scene", name);
+  *out = NULL;
+  if (!json && len > 0)
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "%s: no JSON text", name);
+  if (len > SATF_SCENE_MAX_FILE_BYTES)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "%s: %zu bytes is over the scene size limit of %u",
+                          name, len, SATF_SCENE_MAX_FILE_BYTES);
+  const char *nul = len ? memchr(json, '\0', len) : NULL;
+  if (nul) {
+    int line, column;
+    line_column(json, (size_t)(nul - json), &line, &column);
+    return satf_error_set(err, SATF_ERR_FORMAT,
+                          "%s:%d:%d: NUL byte in the text", name, line, column);
+  }
+
+  /* cJSON reads a terminated copy, so it can never run past the caller's
+   * buffer whatever the bytes are. */
+  char *text = malloc(len + 1);
+  if (!text)
+    return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", name);
+  if (len)
+    memcpy(text, json, len);
+  text[len] = '\0';
+  const char *end = NULL;
+  cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
+  if (!root) {
+    size_t offset = end ? (size_t)(end - text) : 0;
+    satf_status s =
+        json_syntax_error(name, text, len, offset, "malformed JSON", err);
+    free(text);
+    return s;
+  }
+
+  satf_status s = SATF_OK;
+  satf_scene *scene = calloc(1, sizeof *scene);
+  char *base_dir = NULL;
+  if (!scene || !(scene->name = malloc(strlen(name) + 1)) ||
+      (strchr(name, '/') && !(base_dir = base_dir_of(name)))) {
+    s = satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", name);
+  } else {
+    strcpy(scene->name, name);
+    scene_ctx ctx = {.name = name, .err = err, .scene = scene};
+    s = scene_parse_root(&ctx, root, base_dir);
+    if (s == SATF_OK)
+      s = scene_warn_dropped(&ctx);
+  }
+  free(base_dir);
+  cJSON_Delete(root);
+  free(text);
+  if (s != SATF_OK) {
+    satf_scene_destroy(scene);
+    return s;
+  }
+  *out = scene;
+  return SATF_OK;
+}
+
+satf_status satf_scene_load(const char *path, satf_scene **out,
+                            satf_error *err) {
+  if (!out || !path)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "satf_scene_load: no path or no output scene");
+  *out = NULL;
+  FILE *f = fopen(path, "rb");
+  if (!f)
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
+                          strerror(errno));
+  /* Read in chunks rather than trusting a seek-reported size, so pipes and
+   * files that change underneath work and the size cap holds. */
+  size_t cap = 1 << 16, len = 0;
+  char *buf = malloc(cap);
+  satf_status s = SATF_OK;
+  while (buf) {
+    size_t got = fread(buf + len, 1, cap - len, f);
+    len += got;
+    if (got == 0)
+      break;
+    if (len == cap) {
+      if (cap > SATF_SCENE_MAX_FILE_BYTES) {
+        s = satf_error_set(err, SATF_ERR_ARGUMENT,
+                           "%s: file is over the scene size limit of %u "
+                           "bytes",
+                           path, SATF_SCENE_MAX_FILE_BYTES);
+        break;
+      }
+      char *grown = realloc(buf, cap * 2);
+      if (!grown) {
+        free(buf);
+        buf = NULL;
+        break;
+      }
+      buf = grown;
+      cap *= 2;
+    }
+  }
+  if (s == SATF_OK && !buf)
+    s = satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
+  if (s == SATF_OK && ferror(f))
+    s = satf_error_set(err, SATF_ERR_IO, "%s: read error: %s", path,
+                       strerror(errno));
+  fclose(f);
+  if (s == SATF_OK)
+    s = satf_scene_parse(buf, len, path, out, err);
+  free(buf);
+  return s;
+}
+
+static void free_cluster(satf_scene_cluster *c) {
+  free(c->trajectory);
+  free(c->a.values);
+  free(c->b.values);
+  free(c->twist.values);
+  free(c->density.vdb_file);
+  free(c->density.vdb_grid);
+}
+
+void satf_scene_destroy(satf_scene *scene) {
+  if (!scene)
+    return;
+  for (int i = 0; i < scene->n_macro_clusters; i++) {
+    satf_scene_macro_cluster *mc = &scene->macro_clusters[i];
+    free(mc->name);
+    free_cluster(&mc->prototype);
+    free(mc->instances);
+  }
+  free(scene->macro_clusters);
+  for (int i = 0; i < scene->n_meshes; i++)
+    free(scene->meshes[i].file);
+  free(scene->meshes);
+  scene_anim_destroy(scene->animation);
+  free(scene->lights);
+  for (int i = 0; i < scene->n_warnings; i++)
+    free(scene->warnings[i]);
+  free(scene->warnings);
+  free(scene->database);
+  free(scene->description);
+  free(scene->name);
+  free(scene);
+}
+
+int satf_scene_warning_count(const satf_scene *scene) {
+  return scene ? scene->n_warnings : 0;
+}
+
+const char *satf_scene_warning(const satf_scene *scene, int index) {
+  if (!scene || index < 0 || index >= scene->n_warnings)
+    return NULL;
+  return scene->warnings[index];
+}
+
+satf_status satf_scene_set_database(satf_scene *scene, const char *path,
+                                    satf_error *err) {
+  if (!scene || !path || !path[0])
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "satf_scene_set_database: empty database path");
+  size_t n = strlen(path) + 1;
+  char *copy = malloc(n);
+  if (!copy)
+    return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory",
+                          scene->name);
+  memcpy(copy, path, n);
+  free(scene->database);
+  scene->database = copy;
+  return SATF_OK;
+}
+
+int satf_scene_cluster_curve_count(const satf_scene_cluster *cluster) {
+  int n = cluster->a.count;
+  if (cluster->b.count > n)
+    n = cluster->b.count;
+  if (cluster->twist.count > n)
+    n = cluster->twist.count;
+  return n;
+}
+
+void satf_scene_curve_expand(const satf_scene_curve *curve, int n, float *out) {
+  for (int i = 0; i < n; i++)
+    out[i] = curve->values[curve->count == 1 ? 0 : i];
+}
+
+uint64_t satf_scene_cluster_hsv_count(const satf_scene_cluster *cluster) {
+  /* SATF eq. 3: st steps along t times su sectors around u, per layer. */
+  return (uint64_t)cluster->shell.layers * (uint64_t)cluster->shell.st *
+         (uint64_t)cluster->shell.su;
+}
+
+uint64_t satf_scene_cluster_count(const satf_scene *scene) {
+  uint64_t n = 0;
+  for (int i = 0; i < scene->n_macro_clusters; i++)
+    n += (uint64_t)scene->macro_clusters[i].n_instances;
+  return n;
+}
+
+uint64_t satf_scene_layer_count(const satf_scene *scene) {
+  uint64_t n = 0;
+  for (int i = 0; i < scene->n_macro_clusters; i++) {
+    const satf_scene_macro_cluster *mc = &scene->macro_clusters[i];
+    n += (uint64_t)mc->n_instances * (uint64_t)mc->prototype.shell.layers;
+  }
+  return n;
+}
+
+uint64_t satf_scene_hsv_count(const satf_scene *scene) {
+  uint64_t n = 0;
+  for (int i = 0; i < scene->n_macro_clusters; i++) {
+    const satf_scene_macro_cluster *mc = &scene->macro_clusters[i];
+    n += (uint64_t)mc->n_instances *
+         satf_scene_cluster_hsv_count(&mc->prototype);
+  }
+  return n;
+}
+
+uint64_t satf_scene_strand_count(const satf_scene *scene) {
+  uint64_t n = 0;
+  for (int i = 0; i < scene->n_macro_clusters; i++) {
+    const satf_scene_macro_cluster *mc = &scene->macro_clusters[i];
+    if (mc->prototype.density.type == SATF_SCENE_DENSITY_PROCEDURAL)
+      n += (uint64_t)mc->n_instances * (uint64_t)mc->prototype.density.strands;
+  }
+  return n;
+}

@@ -1,0 +1,395 @@
+/* scene_cluster.c - the hair part of the scene schema (samples/README.md):
+ * macro-clusters (SATF sec. 3.1; their instance transforms are
+ * scene_instance.c), the generalized-disk prototype cluster (eq. 1-3) and
+ * its density (sec. 3.3). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene_anim.h"
+#include "scene_parse.h"
+#include "scene_transform.h"
+
+static const scene_range R_COORD = {-SATF_SCENE_MAX_COORD, SATF_SCENE_MAX_COORD,
+                                    0, 0};
+static const scene_range R_RADIUS = {0, SATF_SCENE_MAX_COORD, 1, 0};
+static const scene_range R_TWIST = {-1e4, 1e4, 0, 0};
+
+/* ---- cluster (SATF eq. 1-3) ---- */
+
+/* A 1-D B-spline: one number (a constant) or an array of control values. */
+static satf_status parse_curve(scene_ctx *ctx, const cJSON *obj,
+                               const char *key, const scene_range *range,
+                               int required, double def,
+                               satf_scene_curve *out) {
+  const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
+  if (!item && required)
+    return scene_fail_key(ctx, key, SATF_ERR_FORMAT, "missing required key");
+  if (item && !cJSON_IsNumber(item) && !cJSON_IsArray(item))
+    return scene_fail_key(ctx, key, SATF_ERR_FORMAT,
+                          "expected a number or an array of numbers, got %s",
+                          scene_type_name(item));
+  int count = 1;
+  if (item && cJSON_IsArray(item)) {
+    count = cJSON_GetArraySize(item);
+    if (count < 1 || count > SATF_SCENE_MAX_CONTROL_POINTS)
+      return scene_fail_key(ctx, key, SATF_ERR_ARGUMENT,
+                            "has %d control values, expected 1 to %d", count,
+                            SATF_SCENE_MAX_CONTROL_POINTS);
+  }
+  out->values = malloc((size_t)count * sizeof *out->values);
+  if (!out->values)
+    return scene_nomem(ctx);
+  out->count = count;
+  if (!item) {
+    out->values[0] = (float)def;
+    return SATF_OK;
+  }
+  size_t previous = scene_push_key(ctx, key);
+  satf_status s = SATF_OK;
+  double v;
+  if (cJSON_IsNumber(item)) {
+    s = scene_number(ctx, item, range, &v);
+    out->values[0] = (float)v;
+  } else {
+    int i = 0;
+    for (const cJSON *e = item->child; e && s == SATF_OK; e = e->next, i++) {
+      size_t inner = scene_push_index(ctx, i);
+      s = scene_number(ctx, e, range, &v);
+      out->values[i] = (float)v;
+      scene_pop(ctx, inner);
+    }
+  }
+  scene_pop(ctx, previous);
+  return s;
+}
+
+static satf_status copy_curve(scene_ctx *ctx, const satf_scene_curve *from,
+                              satf_scene_curve *to) {
+  to->values = malloc((size_t)from->count * sizeof *to->values);
+  if (!to->values)
+    return scene_nomem(ctx);
+  memcpy(to->values, from->values, (size_t)from->count * sizeof *to->values);
+  to->count = from->count;
+  return SATF_OK;
+}
+
+satf_status scene_parse_cluster_curve(scene_ctx *ctx, const cJSON *obj,
+                                      const char *key, satf_scene_curve *out) {
+  int twist = strcmp(key, "twist") == 0;
+  return parse_curve(ctx, obj, key, twist ? &R_TWIST : &R_RADIUS, !twist, 0.0,
+                     out);
+}
+
+satf_status scene_parse_trajectory(scene_ctx *ctx, const cJSON *obj,
+                                   satf_scene_cluster *c) {
+  const cJSON *arr;
+  int n;
+  satf_status s = scene_key_array(ctx, obj, "trajectory", 1, 2,
+                                  SATF_SCENE_MAX_CONTROL_POINTS, &arr, &n);
+  if (s != SATF_OK)
+    return s;
+  c->trajectory = malloc((size_t)n * 3 * sizeof *c->trajectory);
+  if (!c->trajectory)
+    return scene_nomem(ctx);
+  c->n_points = n;
+  size_t previous = scene_push_key(ctx, "trajectory");
+  int i = 0;
+  double extent = 0.0;
+  for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, i++) {
+    size_t inner = scene_push_index(ctx, i);
+    s = scene_vec(ctx, e, 3, &R_COORD, c->trajectory + 3 * i);
+    scene_pop(ctx, inner);
+    if (s == SATF_OK) {
+      float d[3];
+      for (int k = 0; k < 3; k++)
+        d[k] = c->trajectory[3 * i + k] - c->trajectory[k];
+      double len = scene_vec_length(d);
+      if (len > extent)
+        extent = len;
+    }
+  }
+  /* A curve that never leaves its first point has no tangent, so no normal
+   * plane to sweep the ellipse in (SATF sec. 3.2). */
+  if (s == SATF_OK && !(extent > 1e-6))
+    s = scene_fail(ctx, SATF_ERR_ARGUMENT,
+                   "all %d control points coincide; the trajectory needs a "
+                   "length",
+                   n);
+  scene_pop(ctx, previous);
+  return s;
+}
+
+static satf_status parse_shell(scene_ctx *ctx, const cJSON *cluster,
+                               satf_scene_shell *shell) {
+  static const char *const keys[] = {"layers", "st", "su", "core", NULL};
+  static const scene_range r_layers = {1, SATF_SCENE_MAX_LAYERS, 0, 1};
+  static const scene_range r_st = {1, SATF_SCENE_MAX_ST, 0, 1};
+  static const scene_range r_su = {SATF_SCENE_MIN_SU, SATF_SCENE_MAX_SU, 0, 1};
+  static const scene_range r_core = {0, SATF_SCENE_MAX_CORE, 0, 0};
+  const cJSON *obj;
+  satf_status s = scene_key_object(ctx, cluster, "shell", 0, &obj);
+  if (s != SATF_OK)
+    return s;
+  static const cJSON empty = {0};
+  if (!obj)
+    obj = &empty;
+  size_t previous = scene_push_key(ctx, "shell");
+  if ((s = scene_check_keys(ctx, obj, keys)) == SATF_OK &&
+      (s = scene_key_int(ctx, obj, "layers", &r_layers, 3, &shell->layers)) ==
+          SATF_OK &&
+      (s = scene_key_int(ctx, obj, "st", &r_st, 32, &shell->st)) == SATF_OK &&
+      (s = scene_key_int(ctx, obj, "su", &r_su, 16, &shell->su)) == SATF_OK)
+    s = scene_key_float(ctx, obj, "core", &r_core, 0.5, &shell->core);
+  scene_pop(ctx, previous);
+  return s;
+}
+
+static const char *const layout_names[SATF_SCENE_LAYOUT_COUNT] = {
+    "uniform", "clumped", "gradient", "holes"};
+
+const char *satf_scene_layout_name(satf_scene_layout layout) {
+  return (layout >= 0 && layout < SATF_SCENE_LAYOUT_COUNT)
+             ? layout_names[layout]
+             : "unknown";
+}
+
+/* Layout parameters given for a layout that does not use them are almost
+ * certainly a mistake in the file; say so. */
+static satf_status warn_unused_layout_keys(scene_ctx *ctx, const cJSON *obj,
+                                           satf_scene_layout layout) {
+  static const struct {
+    const char *key;
+    satf_scene_layout used_by;
+  } params[] = {{"clumps", SATF_SCENE_LAYOUT_CLUMPED},
+                {"clump_spread", SATF_SCENE_LAYOUT_CLUMPED},
+                {"holes", SATF_SCENE_LAYOUT_HOLES},
+                {"hole_radius", SATF_SCENE_LAYOUT_HOLES},
+                {"gradient", SATF_SCENE_LAYOUT_GRADIENT}};
+  for (size_t i = 0; i < sizeof params / sizeof params[0]; i++) {
+    if (layout == params[i].used_by ||
+        !cJSON_GetObjectItemCaseSensitive(obj, params[i].key))
+      continue;
+    size_t previous = scene_push_key(ctx, params[i].key);
+    satf_status s = scene_warn(ctx, "ignored: only used by layout \"%s\"",
+                               layout_names[params[i].used_by]);
+    scene_pop(ctx, previous);
+    if (s != SATF_OK)
+      return s;
+  }
+  return SATF_OK;
+}
+
+static satf_status parse_procedural(scene_ctx *ctx, const cJSON *obj,
+                                    satf_scene_density *d) {
+  static const char *const keys[] = {
+      "type",   "strands",      "seed",  "layout",      "strand_width", "scale",
+      "clumps", "clump_spread", "holes", "hole_radius", "gradient",     NULL};
+  static const scene_range r_strands = {1, SATF_SCENE_MAX_STRANDS, 0, 1};
+  static const scene_range r_seed = {0, 9007199254740991.0, 0, 1};
+  static const scene_range r_width = {0, 0.5, 1, 0};
+  static const scene_range r_scale = {0, 100, 1, 0};
+  static const scene_range r_count = {1, SATF_SCENE_MAX_CLUMPS, 0, 1};
+  static const scene_range r_fraction = {0, 1, 1, 0};
+  static const scene_range r_gradient = {-1, 1, 0, 0};
+  double seed;
+  int layout;
+  satf_status s;
+  if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
+      (s = scene_key_int(ctx, obj, "strands", &r_strands, 1000, &d->strands)) !=
+          SATF_OK ||
+      (s = scene_key_number(ctx, obj, "seed", &r_seed, 0, 1, &seed)) !=
+          SATF_OK ||
+      (s = scene_key_enum(ctx, obj, "layout", layout_names,
+                          SATF_SCENE_LAYOUT_COUNT, SATF_SCENE_LAYOUT_UNIFORM,
+                          &layout)) != SATF_OK ||
+      (s = scene_key_float(ctx, obj, "strand_width", &r_width, 0.03,
+                           &d->strand_width)) != SATF_OK ||
+      (s = scene_key_float(ctx, obj, "scale", &r_scale, 1.0, &d->scale)) !=
+          SATF_OK ||
+      (s = scene_key_int(ctx, obj, "clumps", &r_count, 8, &d->clumps)) !=
+          SATF_OK ||
+      (s = scene_key_float(ctx, obj, "clump_spread", &r_fraction, 0.15,
+                           &d->clump_spread)) != SATF_OK ||
+      (s = scene_key_int(ctx, obj, "holes", &r_count, 4, &d->holes)) !=
+          SATF_OK ||
+      (s = scene_key_float(ctx, obj, "hole_radius", &r_fraction, 0.2,
+                           &d->hole_radius)) != SATF_OK ||
+      (s = scene_key_float(ctx, obj, "gradient", &r_gradient, 0.8,
+                           &d->gradient)) != SATF_OK)
+    return s;
+  d->seed = (uint64_t)seed;
+  d->layout = (satf_scene_layout)layout;
+  return warn_unused_layout_keys(ctx, obj, d->layout);
+}
+
+static satf_status parse_density(scene_ctx *ctx, const cJSON *cluster,
+                                 const char *base_dir, satf_scene_density *d) {
+  static const char *const types[] = {"procedural", "vdb"};
+  static const char *const vdb_keys[] = {"type", "file", "grid", NULL};
+  static const cJSON empty = {0};
+  const cJSON *obj;
+  satf_status s = scene_key_object(ctx, cluster, "density", 0, &obj);
+  if (s != SATF_OK)
+    return s;
+  if (!obj)
+    obj = &empty;
+  size_t previous = scene_push_key(ctx, "density");
+  int type;
+  s = scene_key_enum(ctx, obj, "type", types, 2, SATF_SCENE_DENSITY_PROCEDURAL,
+                     &type);
+  d->type = (satf_scene_density_type)type;
+  /* Procedural defaults stay meaningful for a VDB density too. */
+  if (s == SATF_OK)
+    s = parse_procedural(ctx, &empty, d);
+  if (s == SATF_OK && d->type == SATF_SCENE_DENSITY_PROCEDURAL)
+    s = parse_procedural(ctx, obj, d);
+  if (s == SATF_OK && d->type == SATF_SCENE_DENSITY_VDB) {
+    if ((s = scene_check_keys(ctx, obj, vdb_keys)) == SATF_OK &&
+        (s = scene_key_path(ctx, obj, "file", 1, base_dir, &d->vdb_file)) ==
+            SATF_OK) {
+      s = scene_key_copy(ctx, obj, "grid", 0, &d->vdb_grid);
+      if (s == SATF_OK && !d->vdb_grid) {
+        d->vdb_grid = scene_copy_string("density");
+        if (!d->vdb_grid)
+          s = scene_nomem(ctx);
+      }
+    }
+  }
+  scene_pop(ctx, previous);
+  return s;
+}
+
+/* The cluster geometry takes A, B and theta on one shared control polygon
+ * (one parameter per control point), so their counts must agree; a
+ * constant can be repeated to any count. */
+static satf_status check_curve_counts(scene_ctx *ctx,
+                                      const satf_scene_cluster *c) {
+  const satf_scene_curve *curves[3] = {&c->a, &c->b, &c->twist};
+  static const char *const names[3] = {"a", "b", "twist"};
+  int first = -1;
+  for (int i = 0; i < 3; i++) {
+    if (curves[i]->count == 1)
+      continue;
+    if (first < 0) {
+      first = i;
+    } else if (curves[i]->count != curves[first]->count) {
+      return scene_fail_key(ctx, names[i], SATF_ERR_ARGUMENT,
+                            "has %d control values but %s has %d; a, b and "
+                            "twist need the same count (or a single number)",
+                            curves[i]->count, names[first],
+                            curves[first]->count);
+    }
+  }
+  return SATF_OK;
+}
+
+static satf_status parse_cluster(scene_ctx *ctx, const cJSON *obj,
+                                 const char *base_dir, int index,
+                                 satf_scene_cluster *c) {
+  static const char *const keys[] = {"trajectory", "a",       "b",    "twist",
+                                     "shell",      "density", "keys", NULL};
+  satf_status s;
+  if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
+      (s = scene_parse_trajectory(ctx, obj, c)) != SATF_OK ||
+      (s = parse_curve(ctx, obj, "a", &R_RADIUS, 1, 0, &c->a)) != SATF_OK)
+    return s;
+  if (cJSON_GetObjectItemCaseSensitive(obj, "b"))
+    s = parse_curve(ctx, obj, "b", &R_RADIUS, 1, 0, &c->b);
+  else
+    s = copy_curve(ctx, &c->a, &c->b);
+  if (s == SATF_OK &&
+      (s = parse_curve(ctx, obj, "twist", &R_TWIST, 0, 0.0, &c->twist)) ==
+          SATF_OK &&
+      (s = check_curve_counts(ctx, c)) == SATF_OK &&
+      (s = parse_shell(ctx, obj, &c->shell)) == SATF_OK &&
+      (s = parse_density(ctx, obj, base_dir, &c->density)) == SATF_OK)
+    s = scene_anim_parse_prototype_keys(ctx, obj, index, c);
+  return s;
+}
+
+/* ---- macro-clusters (SATF sec. 3.1) ---- */
+
+static satf_status parse_macro_cluster(scene_ctx *ctx, const cJSON *obj,
+                                       const char *base_dir, int index,
+                                       uint64_t *total_clusters,
+                                       uint64_t *total_hsv,
+                                       satf_scene_macro_cluster *mc) {
+  static const char *const keys[] = {"name", "prototype", "instances", NULL};
+  if (!cJSON_IsObject(obj))
+    return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
+                      scene_type_name(obj));
+  const cJSON *proto, *instances;
+  int n;
+  satf_status s;
+  if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
+      (s = scene_key_copy(ctx, obj, "name", 0, &mc->name)) != SATF_OK ||
+      (s = scene_key_object(ctx, obj, "prototype", 1, &proto)) != SATF_OK)
+    return s;
+  size_t previous = scene_push_key(ctx, "prototype");
+  s = parse_cluster(ctx, proto, base_dir, index, &mc->prototype);
+  scene_pop(ctx, previous);
+  if (s != SATF_OK || (s = scene_key_array(ctx, obj, "instances", 0, 1,
+                                           SATF_SCENE_MAX_INSTANCES, &instances,
+                                           &n)) != SATF_OK)
+    return s;
+  if (!instances)
+    n = 1;
+  /* Check the totals before allocating, so an absurd file costs nothing. */
+  *total_clusters += (uint64_t)n;
+  *total_hsv += (uint64_t)n * satf_scene_cluster_hsv_count(&mc->prototype);
+  if (*total_clusters > SATF_SCENE_MAX_CLUSTERS)
+    return scene_fail(ctx, SATF_ERR_ARGUMENT,
+                      "brings the scene to %llu clusters, over the limit of "
+                      "%d",
+                      (unsigned long long)*total_clusters,
+                      SATF_SCENE_MAX_CLUSTERS);
+  if (*total_hsv > SATF_SCENE_MAX_HSV)
+    return scene_fail(ctx, SATF_ERR_ARGUMENT,
+                      "brings the scene's total HSV count (layers x st x su "
+                      "over all instances) to %llu, over the limit of %llu",
+                      (unsigned long long)*total_hsv, SATF_SCENE_MAX_HSV);
+  mc->instances = malloc((size_t)n * sizeof *mc->instances);
+  if (!mc->instances)
+    return scene_nomem(ctx);
+  mc->n_instances = n;
+  if (!instances) {
+    scene_matrix_identity(mc->instances[0].m);
+    return SATF_OK;
+  }
+  previous = scene_push_key(ctx, "instances");
+  int i = 0;
+  for (const cJSON *e = instances->child; e && s == SATF_OK; e = e->next, i++) {
+    size_t inner = scene_push_index(ctx, i);
+    s = scene_parse_instance(ctx, e, index, i, &mc->instances[i]);
+    scene_pop(ctx, inner);
+  }
+  scene_pop(ctx, previous);
+  return s;
+}
+
+satf_status scene_parse_macro_clusters(scene_ctx *ctx, const cJSON *root,
+                                       const char *base_dir) {
+  satf_scene *scene = ctx->scene;
+  const cJSON *arr;
+  int n;
+  satf_status s = scene_key_array(ctx, root, "macro_clusters", 1, 1,
+                                  SATF_SCENE_MAX_MACRO_CLUSTERS, &arr, &n);
+  if (s != SATF_OK)
+    return s;
+  scene->macro_clusters = calloc((size_t)n, sizeof *scene->macro_clusters);
+  if (!scene->macro_clusters)
+    return scene_nomem(ctx);
+  scene->n_macro_clusters = n;
+  uint64_t total_clusters = 0, total_hsv = 0;
+  size_t previous = scene_push_key(ctx, "macro_clusters");
+  int i = 0;
+  for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, i++) {
+    size_t inner = scene_push_index(ctx, i);
+    s = parse_macro_cluster(ctx, e, base_dir, i, &total_clusters, &total_hsv,
+                            &scene->macro_clusters[i]);
+    scene_pop(ctx, inner);
+  }
+  scene_pop(ctx, previous);
+  return s;
+}

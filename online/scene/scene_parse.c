@@ -1,0 +1,374 @@
+/* scene_parse.c - the scene schema (samples/README.md is its reference)
+ * apart from the hair (scene_cluster.c, scene_instance.c) and the keyframes
+ * (scene_anim_parse.c): the root, material, effects, camera, lights and
+ * image, with their defaults and allowed ranges. */
+#include "scene_parse.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene_anim.h"
+
+#define PI 3.14159265358979323846
+
+static const scene_range R_COORD = {-SATF_SCENE_MAX_COORD, SATF_SCENE_MAX_COORD,
+                                    0, 0};
+static const scene_range R_UNIT = {0, 1, 0, 0};
+static const scene_range R_COEF = {0, 100, 0, 0};
+/* ---- material (SATF eq. 9-12, Scheuermann 2004) ---- */
+
+static satf_status parse_material(scene_ctx *ctx, const cJSON *root,
+                                  satf_scene_material *m) {
+  static const char *const keys[] = {
+      "k_dif",   "k_speI",   "k_speII",  "exponent_I", "exponent_II",
+      "shift",   "shift_I",  "shift_II", "f_dif",      "f_speI",
+      "f_speII", "k_shadow", "noise",    NULL};
+  static const scene_range r_exponent = {0, 1e4, 1, 0};
+  static const scene_range r_shift = {-1, 1, 0, 0};
+  static const float dark_brown[3] = {0.24f, 0.15f, 0.09f};
+  static const float white[3] = {1.0f, 1.0f, 1.0f};
+  /* The secondary highlight is light that went through the fibre, so it
+   * takes the hair's colour (SATF sec. 6.3); a brighter brown. */
+  static const float tinted[3] = {0.55f, 0.38f, 0.24f};
+  static const cJSON empty = {0};
+  const cJSON *obj;
+  satf_status s = scene_key_object(ctx, root, "material", 0, &obj);
+  if (s != SATF_OK)
+    return s;
+  if (!obj)
+    obj = &empty;
+  size_t previous = scene_push_key(ctx, "material");
+  float shift = 0.1f;
+  if ((s = scene_check_keys(ctx, obj, keys)) == SATF_OK &&
+      (s = scene_key_float(ctx, obj, "k_dif", &R_COEF, 0.7, &m->k_dif)) ==
+          SATF_OK &&
+      (s = scene_key_float(ctx, obj, "k_speI", &R_COEF, 0.3, &m->k_speI)) ==
+          SATF_OK &&
+      (s = scene_key_float(ctx, obj, "k_speII", &R_COEF, 0.4, &m->k_speII)) ==
+          SATF_OK &&
+      (s = scene_key_float(ctx, obj, "exponent_I", &r_exponent, 80.0,
+                           &m->exponent_I)) == SATF_OK &&
+      (s = scene_key_float(ctx, obj, "exponent_II", &r_exponent, 24.0,
+                           &m->exponent_II)) == SATF_OK &&
+      (s = scene_key_float(ctx, obj, "shift", &r_shift, 0.1, &shift)) ==
+          SATF_OK &&
+      (s = scene_key_float(ctx, obj, "shift_I", &r_shift, shift,
+                           &m->shift_I)) == SATF_OK &&
+      (s = scene_key_float(ctx, obj, "shift_II", &r_shift, shift,
+                           &m->shift_II)) == SATF_OK &&
+      (s = scene_key_vec(ctx, obj, "f_dif", 3, &R_UNIT, dark_brown,
+                         m->f_dif)) == SATF_OK &&
+      (s = scene_key_vec(ctx, obj, "f_speI", 3, &R_UNIT, white, m->f_speI)) ==
+          SATF_OK &&
+      (s = scene_key_vec(ctx, obj, "f_speII", 3, &R_UNIT, tinted,
+                         m->f_speII)) == SATF_OK &&
+      (s = scene_key_float(ctx, obj, "k_shadow", &R_COEF, 0.6, &m->k_shadow)) ==
+          SATF_OK)
+    s = scene_key_float(ctx, obj, "noise", &R_UNIT, 0.5, &m->noise);
+  scene_pop(ctx, previous);
+  return s;
+}
+
+static satf_status parse_effects(scene_ctx *ctx, const cJSON *root,
+                                 satf_scene_effects *e) {
+  static const char *const keys[] = {"satf", "secondary_highlight",
+                                     "self_shadow", "cluster_shadows", NULL};
+  static const cJSON empty = {0};
+  const cJSON *obj;
+  satf_status s = scene_key_object(ctx, root, "effects", 0, &obj);
+  if (s != SATF_OK)
+    return s;
+  if (!obj)
+    obj = &empty;
+  size_t previous = scene_push_key(ctx, "effects");
+  if ((s = scene_check_keys(ctx, obj, keys)) == SATF_OK &&
+      (s = scene_key_bool(ctx, obj, "satf", 1, &e->satf)) == SATF_OK &&
+      (s = scene_key_bool(ctx, obj, "secondary_highlight", 1,
+                          &e->secondary_highlight)) == SATF_OK &&
+      (s = scene_key_bool(ctx, obj, "self_shadow", 1, &e->self_shadow)) ==
+          SATF_OK)
+    s = scene_key_bool(ctx, obj, "cluster_shadows", 1, &e->cluster_shadows);
+  scene_pop(ctx, previous);
+  return s;
+}
+
+/* ---- camera, lights, image ---- */
+
+static void frame_bounds(const satf_scene *scene, float fov_y_deg,
+                         float target[3], float position[3]) {
+  float lo[3], hi[3];
+  satf_scene_bounds(scene, lo, hi);
+  float d[3];
+  for (int k = 0; k < 3; k++) {
+    target[k] = 0.5f * (lo[k] + hi[k]);
+    d[k] = hi[k] - lo[k];
+  }
+  /* Back off along +z until the bounding sphere fits the vertical fov. */
+  double radius = 0.5 * scene_vec_length(d);
+  if (radius < 1e-3)
+    radius = 1e-3;
+  double dist = 1.1 * radius / sin(0.5 * fov_y_deg * PI / 180.0);
+  position[0] = target[0];
+  position[1] = target[1];
+  position[2] = (float)(target[2] + dist);
+}
+
+satf_status scene_check_camera_view(scene_ctx *ctx, satf_scene_camera *cam) {
+  float view[3];
+  for (int k = 0; k < 3; k++)
+    view[k] = cam->target[k] - cam->position[k];
+  double view_len = scene_vec_length(view), up_len = scene_vec_length(cam->up);
+  if (!(view_len > 1e-6))
+    return scene_fail_key(ctx, "target", SATF_ERR_ARGUMENT,
+                          "coincides with the camera position");
+  float cross[3] = {view[1] * cam->up[2] - view[2] * cam->up[1],
+                    view[2] * cam->up[0] - view[0] * cam->up[2],
+                    view[0] * cam->up[1] - view[1] * cam->up[0]};
+  if (!(up_len > 1e-9) || !(scene_vec_length(cross) > 1e-3 * view_len * up_len))
+    return scene_fail_key(ctx, "up", SATF_ERR_ARGUMENT,
+                          "is zero or parallel to the view direction");
+  for (int k = 0; k < 3; k++)
+    cam->up[k] = (float)(cam->up[k] / up_len);
+  return SATF_OK;
+}
+
+static satf_status parse_camera(scene_ctx *ctx, const cJSON *root,
+                                satf_scene_camera *cam) {
+  static const char *const keys[] = {"position", "target", "up",   "fov_y",
+                                     "near",     "far",    "keys", NULL};
+  static const scene_range r_fov = {0.1, 179, 0, 0};
+  static const scene_range r_clip = {0, SATF_SCENE_MAX_COORD * 10, 1, 0};
+  static const float y_up[3] = {0.0f, 1.0f, 0.0f};
+  static const cJSON empty = {0};
+  const cJSON *obj;
+  satf_status s = scene_key_object(ctx, root, "camera", 0, &obj);
+  if (s != SATF_OK)
+    return s;
+  if (!obj)
+    obj = &empty;
+  size_t previous = scene_push_key(ctx, "camera");
+  float auto_target[3], auto_position[3];
+  if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
+      (s = scene_key_float(ctx, obj, "fov_y", &r_fov, 40.0, &cam->fov_y)) !=
+          SATF_OK)
+    goto done;
+  frame_bounds(ctx->scene, cam->fov_y, auto_target, auto_position);
+  cam->automatic = !cJSON_GetObjectItemCaseSensitive(obj, "position");
+  if ((s = scene_key_vec(ctx, obj, "target", 3, &R_COORD, auto_target,
+                         cam->target)) != SATF_OK)
+    goto done;
+  /* Framed from the bounds, but centred on the target the file gave. */
+  for (int k = 0; k < 3; k++)
+    auto_position[k] += cam->target[k] - auto_target[k];
+  if ((s = scene_key_vec(ctx, obj, "position", 3, &R_COORD, auto_position,
+                         cam->position)) != SATF_OK ||
+      (s = scene_key_vec(ctx, obj, "up", 3, &R_COORD, y_up, cam->up)) !=
+          SATF_OK ||
+      (s = scene_key_float(ctx, obj, "near", &r_clip, 0.0, &cam->near_clip)) !=
+          SATF_OK ||
+      (s = scene_key_float(ctx, obj, "far", &r_clip, 0.0, &cam->far_clip)) !=
+          SATF_OK)
+    goto done;
+  if ((s = scene_check_camera_view(ctx, cam)) != SATF_OK)
+    goto done;
+  if (cam->near_clip > 0 && cam->far_clip > 0 &&
+      !(cam->far_clip > cam->near_clip))
+    s = scene_fail_key(ctx, "far", SATF_ERR_ARGUMENT,
+                       "%g must be greater than near (%g)", cam->far_clip,
+                       cam->near_clip);
+  if (s == SATF_OK)
+    s = scene_anim_parse_camera_keys(ctx, obj, cam);
+done:
+  scene_pop(ctx, previous);
+  return s;
+}
+
+satf_status scene_parse_light_values(scene_ctx *ctx, const cJSON *obj,
+                                     const satf_scene_light *def,
+                                     satf_scene_light *light) {
+  static const scene_range r_intensity = {0, 1e6, 0, 0};
+  static const float white[3] = {1.0f, 1.0f, 1.0f};
+  satf_status s;
+  if ((s = scene_key_vec(ctx, obj, "color", 3, &R_UNIT,
+                         def ? def->color : white, light->color)) != SATF_OK ||
+      (s = scene_key_float(ctx, obj, "intensity", &r_intensity,
+                           def ? def->intensity : 1.0, &light->intensity)) !=
+          SATF_OK)
+    return s;
+  if (light->type == SATF_SCENE_LIGHT_POINT)
+    return scene_key_vec(ctx, obj, "position", 3, &R_COORD,
+                         def ? def->position : NULL, light->position);
+  if ((s = scene_key_vec(ctx, obj, "direction", 3, &R_COORD,
+                         def ? def->direction : NULL, light->direction)) !=
+      SATF_OK)
+    return s;
+  double len = scene_vec_length(light->direction);
+  if (!(len > 1e-9))
+    return scene_fail_key(ctx, "direction", SATF_ERR_ARGUMENT,
+                          "has zero length");
+  for (int k = 0; k < 3; k++)
+    light->direction[k] = (float)(light->direction[k] / len);
+  return SATF_OK;
+}
+
+static satf_status parse_light(scene_ctx *ctx, const cJSON *obj, int index,
+                               satf_scene_light *light) {
+  static const char *const types[] = {"directional", "point"};
+  static const char *const dir_keys[] = {"type",      "direction", "color",
+                                         "intensity", "keys",      NULL};
+  static const char *const point_keys[] = {"type",      "position", "color",
+                                           "intensity", "keys",     NULL};
+  if (!cJSON_IsObject(obj))
+    return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
+                      scene_type_name(obj));
+  int type;
+  satf_status s = scene_key_enum(ctx, obj, "type", types, 2,
+                                 SATF_SCENE_LIGHT_DIRECTIONAL, &type);
+  if (s != SATF_OK)
+    return s;
+  light->type = (satf_scene_light_type)type;
+  int point = light->type == SATF_SCENE_LIGHT_POINT;
+  if ((s = scene_check_keys(ctx, obj, point ? point_keys : dir_keys)) !=
+          SATF_OK ||
+      (s = scene_parse_light_values(ctx, obj, NULL, light)) != SATF_OK)
+    return s;
+  return scene_anim_parse_light_keys(ctx, obj, index, light);
+}
+
+static satf_status parse_lights(scene_ctx *ctx, const cJSON *root) {
+  satf_scene *scene = ctx->scene;
+  const cJSON *arr;
+  int n;
+  satf_status s = scene_key_array(ctx, root, "lights", 0, 1,
+                                  SATF_SCENE_MAX_LIGHTS, &arr, &n);
+  if (s != SATF_OK)
+    return s;
+  scene->lights = calloc(arr ? (size_t)n : 1, sizeof *scene->lights);
+  if (!scene->lights)
+    return scene_nomem(ctx);
+  if (!arr) {
+    /* A key light from the upper right, behind the default camera. */
+    satf_scene_light *key = &scene->lights[0];
+    const float from[3] = {0.4f, 0.5f, 0.75f};
+    double len = scene_vec_length(from);
+    key->type = SATF_SCENE_LIGHT_DIRECTIONAL;
+    for (int k = 0; k < 3; k++) {
+      key->direction[k] = (float)(-from[k] / len);
+      key->color[k] = 1.0f;
+    }
+    key->intensity = 1.0f;
+    scene->n_lights = 1;
+    return SATF_OK;
+  }
+  scene->n_lights = n;
+  size_t previous = scene_push_key(ctx, "lights");
+  int i = 0;
+  for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, i++) {
+    size_t inner = scene_push_index(ctx, i);
+    s = parse_light(ctx, e, i, &scene->lights[i]);
+    scene_pop(ctx, inner);
+  }
+  scene_pop(ctx, previous);
+  return s;
+}
+
+static satf_status parse_image(scene_ctx *ctx, const cJSON *root,
+                               satf_scene_image *image) {
+  static const char *const keys[] = {"width", "height", NULL};
+  static const scene_range r_side = {1, SATF_SCENE_MAX_IMAGE, 0, 1};
+  static const cJSON empty = {0};
+  const cJSON *obj;
+  satf_status s = scene_key_object(ctx, root, "image", 0, &obj);
+  if (s != SATF_OK)
+    return s;
+  if (!obj)
+    obj = &empty;
+  size_t previous = scene_push_key(ctx, "image");
+  if ((s = scene_check_keys(ctx, obj, keys)) == SATF_OK &&
+      (s = scene_key_int(ctx, obj, "width", &r_side, 640, &image->width)) ==
+          SATF_OK)
+    s = scene_key_int(ctx, obj, "height", &r_side, 480, &image->height);
+  scene_pop(ctx, previous);
+  return s;
+}
+
+satf_status scene_parse_root(scene_ctx *ctx, const cJSON *root,
+                             const char *base_dir) {
+  static const char *const keys[] = {
+      "description", "macro_clusters", "material",   "effects",
+      "camera",      "lights",         "background", "database",
+      "image",       "animation",      "meshes",     NULL};
+  static const float grey[3] = {0.1f, 0.1f, 0.12f};
+  satf_scene *scene = ctx->scene;
+  if (!cJSON_IsObject(root))
+    return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
+                      scene_type_name(root));
+  satf_status s;
+  if ((s = scene_check_keys(ctx, root, keys)) != SATF_OK ||
+      (s = scene_key_copy(ctx, root, "description", 0, &scene->description)) !=
+          SATF_OK ||
+      (s = scene_anim_parse_settings(ctx, root)) != SATF_OK ||
+      (s = scene_parse_macro_clusters(ctx, root, base_dir)) != SATF_OK ||
+      (s = parse_material(ctx, root, &scene->material)) != SATF_OK ||
+      (s = parse_effects(ctx, root, &scene->effects)) != SATF_OK ||
+      (s = parse_camera(ctx, root, &scene->camera)) != SATF_OK ||
+      (s = parse_lights(ctx, root)) != SATF_OK ||
+      (s = scene_key_vec(ctx, root, "background", 3, &R_UNIT, grey,
+                         scene->background)) != SATF_OK ||
+      (s = scene_key_path(ctx, root, "database", 0, base_dir,
+                          &scene->database)) != SATF_OK ||
+      (s = scene_parse_meshes(ctx, root, base_dir)) != SATF_OK)
+    return s;
+  return parse_image(ctx, root, &scene->image);
+}
+
+static satf_status parse_mesh(scene_ctx *ctx, const cJSON *obj,
+                              const char *base_dir, satf_scene_mesh *mesh) {
+  static const char *const keys[] = {"file", "color", "transform", NULL};
+  static const float skin[3] = {0.55f, 0.42f, 0.36f};
+  if (!cJSON_IsObject(obj))
+    return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
+                      scene_type_name(obj));
+  satf_status s;
+  const cJSON *transform = NULL;
+  if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
+      (s = scene_key_path(ctx, obj, "file", 1, base_dir, &mesh->file)) !=
+          SATF_OK ||
+      (s = scene_key_vec(ctx, obj, "color", 3, &R_UNIT, skin, mesh->color)) !=
+          SATF_OK ||
+      (s = scene_key_object(ctx, obj, "transform", 0, &transform)) != SATF_OK)
+    return s;
+  for (int k = 0; k < 16; k++)
+    mesh->m[k] = k % 5 == 0 ? 1.0f : 0.0f;
+  if (transform) {
+    size_t previous = scene_push_key(ctx, "transform");
+    s = scene_parse_transform(ctx, transform, mesh->m);
+    scene_pop(ctx, previous);
+  }
+  return s;
+}
+
+satf_status scene_parse_meshes(scene_ctx *ctx, const cJSON *root,
+                               const char *base_dir) {
+  satf_scene *scene = ctx->scene;
+  const cJSON *arr;
+  int n;
+  satf_status s = scene_key_array(ctx, root, "meshes", 0, 0,
+                                  SATF_SCENE_MAX_MESHES, &arr, &n);
+  if (s != SATF_OK || !arr || n == 0)
+    return s;
+  scene->meshes = calloc((size_t)n, sizeof *scene->meshes);
+  if (!scene->meshes)
+    return scene_nomem(ctx);
+  scene->n_meshes = n;
+  size_t previous = scene_push_key(ctx, "meshes");
+  int i = 0;
+  for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, i++) {
+    size_t inner = scene_push_index(ctx, i);
+    s = parse_mesh(ctx, e, base_dir, &scene->meshes[i]);
+    scene_pop(ctx, inner);
+  }
+  scene_pop(ctx, previous);
+  return s;
+}

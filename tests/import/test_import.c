@@ -1,0 +1,444 @@
+/* test_import.c - strands to clusters (satf/import.h): k-means, recovery of
+ * a known generalized cylinder from strands generated around it, density
+ * mass (per cluster and in the world-space .vdb, read back with OpenVDB),
+ * macro-clusters from copies under known similarity transforms, and scene
+ * files that satf_scene_load accepts. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "satf/common.h"
+#include "satf/import.h"
+#include "test_util.h"
+
+#define PI_F 3.14159265358979f
+
+/* The known cylinder: a bent trajectory about 21 long, A from 1.8 to 1.2
+ * along n1, B from 0.9 to 0.6 along n2 and a twist of 2 radians (all
+ * linear, so control values are function values). */
+static satf_cluster *known_cluster(void) {
+  static const float traj[] = {0, 0,   0,    0,    -4,  1, 1, -8,  3,
+                               2, -12, 3.5f, 2.5f, -16, 3, 3, -20, 2};
+  float a[2] = {1.8f, 1.2f}, b[2] = {0.9f, 0.6f}, tw[2] = {0.0f, 2.0f};
+  satf_cluster_desc d = {6, traj, 2, a, b, tw};
+  satf_cluster *c;
+  satf_error err;
+  assert_int_equal(satf_cluster_create(&d, &c, &err), SATF_OK);
+  return c;
+}
+
+/* n strands of m points at fixed (v, u), v = sqrt(uniform) so they fill
+ * the cross-section uniformly, optionally mapped by the 3x4 matrix mat. */
+static void gc_strands(const satf_cluster *c, int n, int m, uint64_t seed,
+                       const double *mat, float *pts, int *counts) {
+  satf_rng rng;
+  satf_rng_seed(&rng, seed, 0);
+  for (int i = 0; i < n; i++) {
+    float v = (float)sqrt(satf_rng_uniform(&rng));
+    float u = (float)(2.0 * 3.14159265358979323846 * satf_rng_uniform(&rng));
+    counts[i] = m;
+    for (int k = 0; k < m; k++) {
+      float p[3], *q = pts + 3 * ((size_t)i * m + k);
+      satf_cluster_point(c, (float)k / (float)(m - 1), v, u, p);
+      for (int r = 0; r < 3; r++)
+        q[r] = mat ? (float)(mat[4 * r] * p[0] + mat[4 * r + 1] * p[1] +
+                             mat[4 * r + 2] * p[2] + mat[4 * r + 3])
+                   : p[r];
+    }
+  }
+}
+
+static satf_strand_set *known_strands(int n, int m) {
+  satf_cluster *c = known_cluster();
+  float *pts = malloc(3 * (size_t)n * m * sizeof(float));
+  int *counts = malloc((size_t)n * sizeof(int));
+  gc_strands(c, n, m, 42, NULL, pts, counts);
+  satf_strand_set *s;
+  satf_error err;
+  assert_int_equal(satf_strand_set_create(n, counts, pts, NULL, &s, &err),
+                   SATF_OK);
+  free(pts);
+  free(counts);
+  satf_cluster_destroy(c);
+  return s;
+}
+
+static int *all_members(int n) {
+  int *m = malloc((size_t)n * sizeof(int));
+  for (int i = 0; i < n; i++)
+    m[i] = i;
+  return m;
+}
+
+static void fit_recovers_known_cylinder(void **state) {
+  (void)state;
+  enum { N = 400, M = 25 };
+  satf_strand_set *s = known_strands(N, M);
+  int *members = all_members(N);
+  satf_import_fit fit;
+  satf_error err;
+  satf_import_fit_params p = satf_import_fit_params_default();
+  assert_int_equal(satf_import_fit_cluster(s, members, N, &p, &fit, &err),
+                   SATF_OK);
+  assert_int_equal(fit.strands, N);
+  assert_int_equal(fit.points, N * M);
+  /* envelope coverage at least 95% */
+  assert_true((double)fit.inside >= 0.95 * (double)fit.points);
+  satf_cluster *truth = known_cluster(), *got;
+  assert_int_equal(satf_import_fit_cluster_create(&fit, &got, &err), SATF_OK);
+  assert_float_equal(fit.length, satf_cluster_length(truth),
+                     0.01f * satf_cluster_length(truth));
+  satf_cluster_section s0, g0;
+  satf_cluster_section_at(truth, 0.0f, &s0);
+  satf_cluster_section_at(got, 0.0f, &g0);
+  for (int k = 0; k <= 20; k++) {
+    float t = (float)k / 20.0f, p3[3], tf, d, xy[2];
+    satf_cluster_trajectory(truth, t, p3, NULL);
+    satf_import_project_point(got, p3, &tf, &d, xy);
+    /* the trajectory within 0.08 (4% of the smallest radius x 2) */
+    if (d > 0.08f)
+      fail_msg("t = %g: trajectory off by %g", (double)t, (double)d);
+    if (k < 2 || k > 18)
+      continue; /* radii and twist: away from the ends */
+    satf_cluster_section st, sg;
+    satf_cluster_section_at(truth, t, &st);
+    satf_cluster_section_at(got, tf, &sg);
+    /* 95% of a uniform disk lies within sqrt(0.95) = 0.975 of its edge */
+    if (fabsf(sg.a / (0.975f * st.a) - 1.0f) > 0.08f ||
+        fabsf(sg.b / (0.975f * st.b) - 1.0f) > 0.08f)
+      fail_msg("t = %g: axes %g x %g, expected %g x %g", (double)t,
+               (double)sg.a, (double)sg.b, (double)(0.975f * st.a),
+               (double)(0.975f * st.b));
+    float tw_true = st.theta - s0.theta, tw_got = sg.theta - g0.theta;
+    if (fabsf(tw_true - tw_got) > 0.12f)
+      fail_msg("t = %g: twist %g, expected %g", (double)t, (double)tw_got,
+               (double)tw_true);
+  }
+  /* mean distance of points to the trajectory: about 2/3 of the mean
+   * radius for a uniform disk */
+  double mean = fit.distance_sum / (double)fit.points;
+  assert_true(mean > 0.5 && mean < 1.0);
+  satf_cluster_destroy(truth);
+  satf_cluster_destroy(got);
+  satf_import_fit_free(&fit);
+  free(members);
+  satf_strand_set_destroy(s);
+}
+
+static void density_mass(void **state) {
+  (void)state;
+  enum { N = 300, M = 25 };
+  satf_strand_set *s = known_strands(N, M);
+  int *members = all_members(N);
+  int *labels = calloc(N, sizeof(int));
+  satf_import_fit fit;
+  satf_error err;
+  satf_import_fit_params p = satf_import_fit_params_default();
+  assert_int_equal(satf_import_fit_cluster(s, members, N, &p, &fit, &err),
+                   SATF_OK);
+  satf_cluster *cl;
+  assert_int_equal(satf_import_fit_cluster_create(&fit, &cl, &err), SATF_OK);
+  satf_import_projection proj;
+  assert_int_equal(satf_import_project(s, members, N, cl, &proj, &err),
+                   SATF_OK);
+  satf_import_estimate_density(&proj, &fit);
+  /* uniform disk: mean nearest-neighbour distance ~ 0.5 / sqrt(N / pi) */
+  float expect_w = 2.0f * 0.5f / sqrtf((float)N / PI_F);
+  assert_true(fit.strand_width > 0.7f * expect_w &&
+              fit.strand_width < 1.3f * expect_w);
+  assert_int_equal(fit.layout, SATF_SCENE_LAYOUT_UNIFORM);
+  /* per cluster, in (t, v, u): every slice holds N strands of pi sigma^2 */
+  satf_import_density d;
+  float sigma = 0.04f;
+  assert_int_equal(
+      satf_import_cluster_density(&proj, 10, 64, 1.5f, sigma, &d, &err),
+      SATF_OK);
+  for (int i = 0; i < 10; i++)
+    assert_float_equal(satf_import_density_slice_mass(&d, i),
+                       N * PI_F * sigma * sigma,
+                       0.01 * N * PI_F * sigma * sigma);
+  satf_import_density_free(&d);
+  /* world space: strand count x per-strand mass pi sigma^2 L */
+  float ws = satf_import_world_sigma(&fit);
+  double expect = 0.0;
+  for (int i = 0; i < N; i++)
+    expect += PI_F * ws * ws * satf_strand_set_length(s, i);
+  satf_vdb_builder *b;
+  assert_int_equal(
+      satf_import_build_vdb(s, labels, &fit, 0.25f, &b, NULL, NULL, &err),
+      SATF_OK);
+  satf_vdb_grid *mem, *disk;
+  assert_int_equal(satf_vdb_builder_to_grid(b, &mem, &err), SATF_OK);
+  assert_float_equal(satf_vdb_total_mass(mem), expect, 0.01 * expect);
+  char path[512];
+  test_path(path, sizeof path, "import_density.vdb");
+  assert_int_equal(satf_vdb_builder_write(b, path, "density", &err), SATF_OK);
+  assert_int_equal(satf_vdb_read(path, "density", &disk, &err), SATF_OK);
+  assert_float_equal(satf_vdb_total_mass(disk), satf_vdb_total_mass(mem),
+                     1e-5 * expect);
+  for (int i = 0; i < N; i += 7) {
+    const float *q = satf_strand_set_strand(s, i, NULL);
+    float at[3] = {q[36], q[37] + 0.05f, q[38]};
+    float dm = satf_vdb_sample(mem, at), dd = satf_vdb_sample(disk, at);
+    assert_true(dm > 0.0f);
+    assert_float_equal(dd, dm, 1e-6f * dm);
+  }
+  satf_vdb_grid_destroy(mem);
+  satf_vdb_grid_destroy(disk);
+  satf_vdb_builder_destroy(b);
+  satf_import_projection_free(&proj);
+  satf_cluster_destroy(cl);
+  satf_import_fit_free(&fit);
+  free(labels);
+  free(members);
+  satf_strand_set_destroy(s);
+}
+
+/* 3 x 4 similarity: scale s, rotation of `angle` about unit `axis`, then
+ * translation. */
+static void similarity(double s, const double axis[3], double angle,
+                       const double t[3], double m[16]) {
+  double c = cos(angle), n = sin(angle), x = axis[0], y = axis[1], z = axis[2];
+  double r[9] = {
+      c + x * x * (1 - c),     x * y * (1 - c) - z * n, x * z * (1 - c) + y * n,
+      y * x * (1 - c) + z * n, c + y * y * (1 - c),     y * z * (1 - c) - x * n,
+      z * x * (1 - c) - y * n, z * y * (1 - c) + x * n, c + z * z * (1 - c)};
+  memset(m, 0, 16 * sizeof(double));
+  for (int i = 0; i < 3; i++) {
+    for (int j = 0; j < 3; j++)
+      m[4 * i + j] = s * r[3 * i + j];
+    m[4 * i + 3] = t[i];
+  }
+  m[15] = 1.0;
+}
+
+static void similarity_recovered(void **state) {
+  (void)state;
+  double from[30], to[30], m[16], got[16];
+  double axis[3] = {0.48, 0.6, 0.64}, t[3] = {3, -2, 7};
+  similarity(1.7, axis, 2.2, t, m);
+  satf_rng rng;
+  satf_rng_seed(&rng, 5, 0);
+  for (int i = 0; i < 10; i++) {
+    for (int c = 0; c < 3; c++)
+      from[3 * i + c] = satf_rng_range(&rng, -5, 5);
+    for (int r = 0; r < 3; r++)
+      to[3 * i + r] = m[4 * r] * from[3 * i] + m[4 * r + 1] * from[3 * i + 1] +
+                      m[4 * r + 2] * from[3 * i + 2] + m[4 * r + 3];
+  }
+  assert_true(satf_import_similarity(from, to, 10, got) < 1e-9);
+  for (int k = 0; k < 16; k++)
+    assert_float_equal(got[k], m[k], 1e-9);
+}
+
+static void macro_clusters_from_copies(void **state) {
+  (void)state;
+  enum { N = 150, M = 16, COPIES = 4 };
+  satf_cluster *c = known_cluster();
+  double mats[COPIES][16];
+  double axes[COPIES][3] = {{0, 1, 0},
+                            {0, 1, 0},
+                            {0.7071067811865476, 0.7071067811865476, 0},
+                            {0, 0, 1}};
+  double angles[COPIES] = {0.0, 1.5707963267948966, 0.7853981633974483,
+                           3.141592653589793};
+  double scales[COPIES] = {1.0, 1.0, 0.7, 1.3};
+  double moves[COPIES][3] = {{0, 0, 0}, {40, 0, 0}, {0, 0, 50}, {-40, 10, 0}};
+  float *pts = malloc(3 * (size_t)COPIES * N * M * sizeof(float));
+  int *counts = malloc((size_t)COPIES * N * sizeof(int));
+  for (int k = 0; k < COPIES; k++) {
+    similarity(scales[k], axes[k], angles[k], moves[k], mats[k]);
+    gc_strands(c, N, M, 100 + (uint64_t)k, mats[k], pts + 3 * (size_t)k * N * M,
+               counts + k * N);
+  }
+  satf_cluster_destroy(c);
+  satf_strand_set *s;
+  satf_error err;
+  assert_int_equal(
+      satf_strand_set_create(COPIES * N, counts, pts, NULL, &s, &err), SATF_OK);
+  free(pts);
+  free(counts);
+  /* k-means separates the copies exactly */
+  satf_import_cluster_params cp = satf_import_cluster_params_default();
+  cp.clusters = COPIES;
+  int *labels = malloc((size_t)COPIES * N * sizeof(int)), n_clusters;
+  assert_int_equal(
+      satf_import_kmeans(s, &cp, labels, &n_clusters, NULL, NULL, NULL, &err),
+      SATF_OK);
+  assert_int_equal(n_clusters, COPIES);
+  for (int i = 0; i < COPIES * N; i++)
+    assert_int_equal(labels[i], i / N); /* renumbered in strand order */
+  satf_import_fit fits[COPIES];
+  satf_import_fit_params fp = satf_import_fit_params_default();
+  for (int k = 0; k < COPIES; k++) {
+    int *members, n;
+    assert_int_equal(
+        satf_import_members(labels, COPIES * N, k, &members, &n, &err),
+        SATF_OK);
+    assert_int_equal(n, N);
+    assert_int_equal(
+        satf_import_fit_cluster(s, members, n, &fp, &fits[k], &err), SATF_OK);
+    free(members);
+  }
+  satf_import_macro macro;
+  assert_int_equal(satf_import_find_macro(fits, COPIES, 0.05f, &macro, &err),
+                   SATF_OK);
+  assert_int_equal(macro.n_macro, 1);
+  assert_int_equal(macro.prototype[0], 0);
+  for (int k = 0; k < COPIES; k++) {
+    assert_int_equal(macro.macro_of[k], 0);
+    const float *m = macro.transform + 16 * k;
+    for (int r = 0; r < 3; r++) {
+      for (int e = 0; e < 3; e++)
+        if (fabs(m[4 * r + e] - mats[k][4 * r + e]) > 0.04)
+          fail_msg("copy %d: matrix[%d][%d] = %g, expected %g", k, r, e,
+                   (double)m[4 * r + e], mats[k][4 * r + e]);
+      if (fabs(m[4 * r + 3] - mats[k][4 * r + 3]) > 0.3)
+        fail_msg("copy %d: translation[%d] = %g, expected %g", k, r,
+                 (double)m[4 * r + 3], mats[k][4 * r + 3]);
+    }
+  }
+  assert_true(macro.bytes_shared < macro.bytes_separate);
+  assert_int_equal(macro.bytes_separate, 4 * (24 + 24) * sizeof(float));
+  assert_int_equal(macro.bytes_shared, (48 + 3 * 12) * sizeof(float));
+
+  /* the scene: one macro-cluster of 4 instances, N strands each */
+  satf_import_scene_options o = {0};
+  char *json;
+  assert_int_equal(
+      satf_import_scene_json(fits, COPIES, &macro, &o, &json, &err), SATF_OK);
+  satf_scene *scene;
+  assert_int_equal(
+      satf_scene_parse(json, strlen(json), "import.json", &scene, &err),
+      SATF_OK);
+  free(json);
+  assert_int_equal(scene->n_macro_clusters, 1);
+  assert_int_equal(scene->macro_clusters[0].n_instances, COPIES);
+  assert_int_equal(satf_scene_strand_count(scene), COPIES * N);
+  assert_int_equal(satf_scene_warning_count(scene), 0);
+  /* instance 2 maps the prototype's first control point where the fit of
+   * copy 2 put it */
+  float p0[3];
+  satf_scene_instance_apply(&scene->macro_clusters[0].instances[2],
+                            scene->macro_clusters[0].prototype.trajectory, p0);
+  for (int r = 0; r < 3; r++)
+    assert_float_equal(p0[r], fits[2].traj[r], 0.2);
+  satf_scene_destroy(scene);
+
+  /* no tolerance: every cluster its own prototype */
+  satf_import_macro_free(&macro);
+  assert_int_equal(satf_import_find_macro(fits, COPIES, 0.0f, &macro, &err),
+                   SATF_OK);
+  assert_int_equal(macro.n_macro, COPIES);
+  assert_int_equal(macro.bytes_shared, macro.bytes_separate);
+  satf_import_macro_free(&macro);
+  for (int k = 0; k < COPIES; k++)
+    satf_import_fit_free(&fits[k]);
+  free(labels);
+  satf_strand_set_destroy(s);
+}
+
+static void kmeans_chooses_count(void **state) {
+  (void)state;
+  /* four tight bundles of 30 parallel strands, 50 apart */
+  enum { B = 4, N = 30, M = 10 };
+  float pts[B * N * M * 3];
+  int counts[B * N];
+  satf_rng rng;
+  satf_rng_seed(&rng, 9, 0);
+  for (int i = 0; i < B * N; i++) {
+    float ox = 50.0f * (float)(i / N) + (float)satf_rng_range(&rng, -1, 1);
+    float oz = (float)satf_rng_range(&rng, -1, 1);
+    counts[i] = M;
+    for (int k = 0; k < M; k++) {
+      float *p = pts + 3 * (i * M + k);
+      p[0] = ox;
+      p[1] = -(float)k * 3.0f;
+      p[2] = oz + 0.1f * (float)k;
+    }
+  }
+  satf_strand_set *s;
+  satf_error err;
+  assert_int_equal(satf_strand_set_create(B * N, counts, pts, NULL, &s, &err),
+                   SATF_OK);
+  satf_import_cluster_params cp = satf_import_cluster_params_default();
+  int k;
+  assert_int_equal(satf_import_choose_clusters(s, &cp, &k, &err), SATF_OK);
+  assert_int_equal(k, 4);
+  int labels[B * N], n;
+  float rms;
+  assert_int_equal(
+      satf_import_kmeans(s, &cp, labels, &n, &rms, NULL, NULL, &err), SATF_OK);
+  assert_int_equal(n, 4);
+  for (int i = 0; i < B * N; i++)
+    assert_int_equal(labels[i], i / N);
+  /* RMS of a uniform square of half-width 1: sqrt(2/3) */
+  assert_true(rms > 0.6f && rms < 1.0f);
+  /* an absurd count is refused */
+  cp.clusters = SATF_IMPORT_MAX_CLUSTERS + 1;
+  assert_int_equal(
+      satf_import_kmeans(s, &cp, labels, &n, &rms, NULL, NULL, &err),
+      SATF_ERR_ARGUMENT);
+  satf_strand_set_destroy(s);
+}
+
+static void scene_file_with_vdb(void **state) {
+  (void)state;
+  enum { N = 200, M = 20 };
+  satf_strand_set *s = known_strands(N, M);
+  int *members = all_members(N);
+  satf_import_fit fit;
+  satf_error err;
+  satf_import_fit_params p = satf_import_fit_params_default();
+  assert_int_equal(satf_import_fit_cluster(s, members, N, &p, &fit, &err),
+                   SATF_OK);
+  satf_scene_shell sh = satf_import_choose_shell(&fit);
+  assert_true(sh.layers >= 3 && sh.layers <= 6);
+  assert_true(sh.st >= 8 && sh.st <= 64);
+  assert_true(sh.su >= 16 && sh.su <= 32);
+  satf_import_scene_options o = {"hair.vdb", "density", "db.exr", "test",
+                                 320,        200,       7,        NULL};
+  char path[512];
+  test_path(path, sizeof path, "import_scene.json");
+  assert_int_equal(satf_import_write_scene(path, &fit, 1, NULL, &o, &err),
+                   SATF_OK);
+  satf_scene *scene;
+  assert_int_equal(satf_scene_load(path, &scene, &err), SATF_OK);
+  const satf_scene_cluster *c = &scene->macro_clusters[0].prototype;
+  assert_int_equal(c->density.type, SATF_SCENE_DENSITY_VDB);
+  const char *f = c->density.vdb_file;
+  assert_string_equal(f + strlen(f) - 9, "/hair.vdb");
+  assert_string_equal(c->density.vdb_grid, "density");
+  assert_int_equal(c->n_points, 8);
+  assert_int_equal(c->shell.layers, sh.layers);
+  assert_int_equal(scene->image.width, 320);
+  assert_int_equal(scene->camera.automatic, 0);
+  /* the camera looks at the middle of the hair */
+  float lo[3], hi[3];
+  satf_scene_bounds(scene, lo, hi);
+  for (int k = 0; k < 3; k++)
+    assert_float_equal(scene->camera.target[k], 0.5f * (lo[k] + hi[k]), 1e-3);
+  satf_scene_destroy(scene);
+  satf_import_fit_free(&fit);
+  free(members);
+  satf_strand_set_destroy(s);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(fit_recovers_known_cylinder),
+      cmocka_unit_test(density_mass),
+      cmocka_unit_test(similarity_recovered),
+      cmocka_unit_test(macro_clusters_from_copies),
+      cmocka_unit_test(kmeans_chooses_count),
+      cmocka_unit_test(scene_file_with_vdb),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,516 @@
+/* test_render.c - whole frames of the online renderer (renderer.h) on Mesa's
+ * llvmpipe through a headless EGL context, with a small database built in
+ * the test: determinism, the AOV layers and their EXR file, the effect
+ * switches of the paper's Fig. 4, order-independent compositing (eq. 14),
+ * the background, and rejected input. */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+/* cmocka needs the headers above first */
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "satf/common.h"
+#include "satf/gl.h"
+#include "satf/render.h"
+#include "render_fixture.h"
+#include "test_util.h"
+
+#define W 160
+#define H 120
+
+/* One cluster, bent and twisted, lit from the upper right. */
+static const char *scene_one =
+    "{\"macro_clusters\": [{\"prototype\": {"
+    "  \"trajectory\": [[0, -3, 0], [0.4, 0, 0.3], [0, 3, 0]],"
+    "  \"a\": 1.0, \"b\": 0.7, \"twist\": [0, 1.2, 2.4],"
+    "  \"shell\": {\"layers\": 4, \"st\": 12, \"su\": 10, \"core\": 0.4},"
+    "  \"density\": {\"strands\": 800, \"seed\": 5, \"strand_width\": 0.05}}}],"
+    " \"camera\": {\"position\": [0, 0, 12], \"target\": [0, 0, 0],"
+    "              \"fov_y\": 40},"
+    " \"lights\": [{\"direction\": [-0.3, -0.4, -0.85]}],"
+    " \"background\": [0.2, 0.3, 0.4],"
+    " \"image\": {\"width\": 160, \"height\": 120}}";
+
+/* Three macro-clusters crossing on screen (the second with two
+ * instances), listed in either order. */
+static const char *macro[3] = {
+    "{\"name\": \"vertical\", \"prototype\": {"
+    "  \"trajectory\": [[0, -3, 0], [0, 3, 0]], \"a\": 0.9,"
+    "  \"shell\": {\"layers\": 3, \"st\": 8, \"su\": 10},"
+    "  \"density\": {\"strands\": 600, \"seed\": 1}}}",
+    "{\"name\": \"diagonal\", \"prototype\": {"
+    "  \"trajectory\": [[-3, -2, 1], [3, 2, 1]], \"a\": 0.7, \"b\": 0.5,"
+    "  \"shell\": {\"layers\": 3, \"st\": 8, \"su\": 10},"
+    "  \"density\": {\"strands\": 500, \"seed\": 2, \"layout\": \"clumped\"}},"
+    " \"instances\": [{}, {\"translate\": [0, 0, -2], "
+    "                    \"rotate\": {\"axis\": [0, 0, 1], \"angle\": 70}}]}",
+    "{\"name\": \"horizontal\", \"prototype\": {"
+    "  \"trajectory\": [[-3, 0.5, -1], [0, 0.2, -0.5], [3, 0.5, -1]],"
+    "  \"a\": 0.8, \"twist\": [0, 2, 4],"
+    "  \"shell\": {\"layers\": 4, \"st\": 10, \"su\": 8},"
+    "  \"density\": {\"strands\": 700, \"seed\": 3, \"layout\": \"holes\"}}}"};
+
+static const char *scene_tail =
+    "], \"camera\": {\"position\": [1, 2, 12], \"target\": [0, 0, 0]},"
+    " \"lights\": [{\"direction\": [-0.5, -0.3, -0.8]},"
+    "             {\"type\": \"point\", \"position\": [4, 4, 6],"
+    "              \"intensity\": 6, \"color\": [0.8, 0.9, 1]}],"
+    " \"background\": [0.05, 0.05, 0.1]}";
+
+typedef struct fixture {
+  satf_gl_context *ctx;
+  satf_db *db;
+  satf_scene *one;
+  satf_renderer *r; /* scene_one at W x H */
+} fixture;
+
+static const char *const all_channels[] = {
+    "R",         "G",         "B",        "A",       "diffuse.R",
+    "diffuse.G", "diffuse.B", "specI.R",  "specI.G", "specI.B",
+    "specII.R",  "specII.G",  "specII.B", "shadow",  "alpha"};
+#define NCHANNELS 15
+
+static int setup(void **state) {
+  fixture *f = calloc(1, sizeof *f);
+  satf_error err;
+  if (!f)
+    return -1;
+  if (satf_gl_context_create_headless(W, H, &f->ctx, &err) != SATF_OK) {
+    fprintf(stderr, "%s\n", err.message);
+    return -1;
+  }
+  if (!(f->db = fixture_db()) || !(f->one = fixture_scene(scene_one)))
+    return -1;
+  if (satf_renderer_create(f->one, f->db, W, H, 0, &f->r, &err) != SATF_OK) {
+    fprintf(stderr, "%s\n", err.message);
+    return -1;
+  }
+  *state = f;
+  return 0;
+}
+
+static int teardown(void **state) {
+  fixture *f = *state;
+  satf_renderer_destroy(f->r);
+  satf_scene_destroy(f->one);
+  satf_db_destroy(f->db);
+  satf_gl_context_destroy(f->ctx);
+  free(f);
+  return 0;
+}
+
+static satf_image *render(satf_renderer *r, int aovs) {
+  satf_image *img = NULL;
+  satf_error err;
+  satf_frame_timing t;
+  if (satf_renderer_render_image(r, aovs, &img, &t, &err) != SATF_OK) {
+    fprintf(stderr, "%s\n", err.message);
+    return NULL;
+  }
+  return img;
+}
+
+static double luminance(const satf_image *img, size_t i) {
+  return 0.2126 * fixture_plane(img, "R")[i] +
+         0.7152 * fixture_plane(img, "G")[i] +
+         0.0722 * fixture_plane(img, "B")[i];
+}
+
+/* The frame target is RGBA32F or RGBA16F: a value written into it comes
+ * back as the float itself or as one of the two halves (11 significant
+ * bits, normal range) around it; GL leaves the rounding of floats to
+ * halves to the implementation (llvmpipe truncates clear colours). */
+static int stored_exactly(float got, float want) {
+  int e;
+  double m = frexp((double)want, &e);
+  double lo = ldexp(floor(ldexp(m, 11)), e - 11);
+  double hi = ldexp(ceil(ldexp(m, 11)), e - 11);
+  return got == want || (double)got == lo || (double)got == hi;
+}
+
+/* Pixels the hair covers noticeably. */
+static size_t hair_pixels(const satf_image *img, float min_alpha) {
+  const float *a = fixture_plane(img, "A");
+  size_t n = 0, px = (size_t)satf_image_width(img) * satf_image_height(img);
+  for (size_t i = 0; i < px; i++)
+    n += a[i] > min_alpha;
+  return n;
+}
+
+static void test_deterministic(void **state) {
+  fixture *f = *state;
+  satf_image *a = render(f->r, 1), *b = render(f->r, 1);
+  assert_non_null(a);
+  assert_non_null(b);
+  for (int c = 0; c < NCHANNELS; c++)
+    if (!fixture_same_bits(a, b, all_channels[c]))
+      fail_msg("channel %s differs between two renders", all_channels[c]);
+  /* a second renderer of the same scene draws the same frame */
+  satf_renderer *r2 = NULL;
+  satf_error err;
+  assert_int_equal(satf_renderer_create(f->one, f->db, W, H, 1, &r2, &err),
+                   SATF_OK);
+  satf_image *c = render(r2, 0);
+  assert_non_null(c);
+  for (int k = 0; k < 4; k++)
+    assert_true(fixture_same_bits(a, c, all_channels[k]));
+  satf_image_destroy(c);
+  satf_renderer_destroy(r2);
+  satf_image_destroy(a);
+  satf_image_destroy(b);
+}
+
+/* Background where no hair is; hair pixels have coverage; the frame is
+ * not empty. */
+static void test_background_and_coverage(void **state) {
+  fixture *f = *state;
+  satf_image *img = render(f->r, 1);
+  assert_non_null(img);
+  assert_int_equal(satf_image_width(img), W);
+  assert_int_equal(satf_image_height(img), H);
+  const size_t corners[4] = {0, W - 1, (size_t)W * (H - 1), (size_t)W * H - 1};
+  const float *bg = f->one->background;
+  for (int k = 0; k < 4; k++) {
+    size_t i = corners[k];
+    for (int c = 0; c < 3; c++)
+      assert_true(
+          stored_exactly(fixture_plane(img, all_channels[c])[i], bg[c]));
+    assert_true(fixture_plane(img, "A")[i] == 0.0f);
+    for (int c = 4; c < NCHANNELS; c++) /* AOVs are over black */
+      assert_true(fixture_plane(img, all_channels[c])[i] == 0.0f);
+  }
+  size_t centre = (size_t)W * (H / 2) + W / 2;
+  assert_true(fixture_plane(img, "A")[centre] > 0.1f);
+  size_t covered = hair_pixels(img, 0.01f);
+  printf("hair covers %zu of %d pixels\n", covered, W * H);
+  assert_true(covered > 500 && covered < (size_t)W * H / 2);
+  /* coverage and colour stay in range */
+  for (size_t i = 0; i < (size_t)W * H; i++) {
+    float a = fixture_plane(img, "A")[i];
+    assert_true(a >= 0.0f && a <= 1.0f);
+    for (int c = 0; c < 3; c++)
+      assert_true(isfinite(fixture_plane(img, all_channels[c])[i]) &&
+                  fixture_plane(img, all_channels[c])[i] >= 0.0f);
+  }
+  satf_image_destroy(img);
+}
+
+/* The AOVs decompose the frame: every layer is composited with the same
+ * fragments and alphas, and eq. 14 is linear in colour, so beauty = bg (1 -
+ * A) + diffuse + specI + specII, the alpha AOV is A, and the shadow AOV
+ * (transmittance x coverage) lies in [0, A]. Fragments are stored as
+ * halves per pass, hence the tolerance. */
+static void test_aovs_decompose_beauty(void **state) {
+  fixture *f = *state;
+  satf_image *img = render(f->r, 1);
+  assert_non_null(img);
+  const float *bg = f->one->background;
+  const char *layers[3][3] = {{"diffuse.R", "specI.R", "specII.R"},
+                              {"diffuse.G", "specI.G", "specII.G"},
+                              {"diffuse.B", "specI.B", "specII.B"}};
+  const float *A = fixture_plane(img, "A");
+  double worst = 0.0, spec2 = 0.0;
+  for (size_t i = 0; i < (size_t)W * H; i++) {
+    for (int c = 0; c < 3; c++) {
+      double sum = bg[c] * (1.0 - A[i]);
+      for (int l = 0; l < 3; l++)
+        sum += fixture_plane(img, layers[c][l])[i];
+      double beauty = fixture_plane(img, all_channels[c])[i];
+      double d = fabs(beauty - sum);
+      worst = d > worst ? d : worst;
+      if (d > 2e-3 * fabs(beauty) + 2e-4)
+        fail_msg("pixel %zu channel %d: beauty %.6f, bg (1 - A) + AOVs %.6f", i,
+                 c, beauty, sum);
+      spec2 = fmax(spec2, fixture_plane(img, layers[c][2])[i]);
+    }
+    float alpha = fixture_plane(img, "alpha")[i];
+    float shadow = fixture_plane(img, "shadow")[i];
+    assert_true(fabsf(alpha - A[i]) <= 1e-5f);
+    assert_true(shadow >= 0.0f && shadow <= alpha + 1e-5f);
+  }
+  printf("largest |beauty - (bg (1 - A) + AOVs)| = %.2e\n", worst);
+  assert_true(spec2 > 0.0);
+  satf_image_destroy(img);
+}
+
+/* satf-render --aov: the frame and every AOV in one EXR, read back through
+ * OpenEXR with the documented channel names, values rounded to half. */
+static void test_exr_with_aovs(void **state) {
+  fixture *f = *state;
+  satf_image *img = render(f->r, 1);
+  assert_non_null(img);
+  assert_int_equal(satf_image_channel_count(img), NCHANNELS);
+  for (int c = 0; c < NCHANNELS; c++)
+    assert_string_equal(satf_image_channel_name(img, c), all_channels[c]);
+  char path[1024];
+  test_path(path, sizeof path, "test_render_aov.exr");
+  satf_error err;
+  assert_int_equal(satf_image_write_exr(img, path, &err), SATF_OK);
+  float *planes[NCHANNELS] = {NULL};
+  int w = 0, h = 0;
+  satf_status st = satf_exr_read(path, all_channels, NCHANNELS, 1 << 24, NULL,
+                                 NULL, &w, &h, planes, &err);
+  if (st != SATF_OK)
+    fail_msg("%s", err.message);
+  assert_int_equal(w, W);
+  assert_int_equal(h, H);
+  for (int c = 0; c < NCHANNELS; c++) {
+    const float *want = fixture_plane(img, all_channels[c]);
+    for (size_t i = 0; i < (size_t)W * H; i++)
+      if (fabsf(planes[c][i] - want[i]) > 5e-4f * fabsf(want[i]) + 1e-7f)
+        fail_msg("%s pixel %zu: file %.6f, image %.6f", all_channels[c], i,
+                 (double)planes[c][i], (double)want[i]);
+    free(planes[c]);
+  }
+  remove(path);
+  satf_image_destroy(img);
+}
+
+/* Fig. 4(b): without the secondary highlight only specII (and the beauty
+ * colour, by exactly specII) changes. */
+static void test_secondary_highlight_off(void **state) {
+  fixture *f = *state;
+  satf_scene_effects *e = satf_renderer_effects(f->r);
+  satf_image *on = render(f->r, 1);
+  e->secondary_highlight = 0;
+  satf_image *off = render(f->r, 1);
+  e->secondary_highlight = 1;
+  assert_non_null(on);
+  assert_non_null(off);
+  const char *same[] = {"A",         "diffuse.R", "diffuse.G",
+                        "diffuse.B", "specI.R",   "specI.G",
+                        "specI.B",   "shadow",    "alpha"};
+  for (size_t k = 0; k < sizeof same / sizeof same[0]; k++)
+    if (!fixture_same_bits(on, off, same[k]))
+      fail_msg("%s changed with the secondary highlight off", same[k]);
+  const char *spec2[3] = {"specII.R", "specII.G", "specII.B"};
+  double most = 0.0;
+  for (int c = 0; c < 3; c++) {
+    const float *s_on = fixture_plane(on, spec2[c]);
+    const float *s_off = fixture_plane(off, spec2[c]);
+    const float *b_on = fixture_plane(on, all_channels[c]);
+    const float *b_off = fixture_plane(off, all_channels[c]);
+    for (size_t i = 0; i < (size_t)W * H; i++) {
+      assert_true(s_off[i] == 0.0f);
+      most = fmax(most, s_on[i]);
+      double d = (double)b_on[i] - b_off[i];
+      assert_true(fabs(d - s_on[i]) <= 2e-3 * fabs(b_on[i]) + 2e-4);
+    }
+  }
+  printf("largest specII: %.4f\n", most);
+  assert_true(most > 0.01);
+  assert_true(fixture_max_diff(on, off, "R") > 0.01);
+  satf_image_destroy(on);
+  satf_image_destroy(off);
+}
+
+/* Fig. 4(c): without the s-maps of eq. 12 inner layers are lit fully, so
+ * hair gets brighter; the shadow AOV then carries only the deep opacity
+ * map, and without that too it is the coverage itself. */
+static void test_self_shadow_off(void **state) {
+  fixture *f = *state;
+  satf_scene_effects *e = satf_renderer_effects(f->r);
+  satf_image *on = render(f->r, 1);
+  e->self_shadow = 0;
+  satf_image *off = render(f->r, 1);
+  e->cluster_shadows = 0;
+  satf_image *none = render(f->r, 1);
+  e->self_shadow = 1;
+  e->cluster_shadows = 1;
+  assert_non_null(on);
+  assert_non_null(off);
+  assert_non_null(none);
+  assert_true(fixture_same_bits(on, off, "A"));
+  double lum_on = 0, lum_off = 0, sh_on = 0, sh_off = 0;
+  size_t n = 0;
+  const float *A = fixture_plane(on, "A");
+  for (size_t i = 0; i < (size_t)W * H; i++)
+    if (A[i] > 0.05f) {
+      lum_on += luminance(on, i);
+      lum_off += luminance(off, i);
+      sh_on += fixture_plane(on, "shadow")[i];
+      sh_off += fixture_plane(off, "shadow")[i];
+      n++;
+      assert_true(fixture_plane(off, "shadow")[i] >=
+                  fixture_plane(on, "shadow")[i] - 1e-5f);
+    }
+  assert_true(n > 0);
+  printf("mean luminance over %zu hair pixels: %.4f with s-maps, %.4f "
+         "without; mean shadow AOV %.4f, %.4f\n",
+         n, lum_on / n, lum_off / n, sh_on / n, sh_off / n);
+  assert_true(lum_off > 1.03 * lum_on);
+  assert_true(sh_off > sh_on);
+  for (size_t i = 0; i < (size_t)W * H; i++)
+    assert_true(fabsf(fixture_plane(none, "shadow")[i] -
+                      fixture_plane(none, "alpha")[i]) <= 1e-5f);
+  satf_image_destroy(on);
+  satf_image_destroy(off);
+  satf_image_destroy(none);
+}
+
+/* Fig. 4(a): plain Kajiya-Kay without the database looks clearly
+ * different from SATF. */
+static void test_satf_off(void **state) {
+  fixture *f = *state;
+  satf_scene_effects *e = satf_renderer_effects(f->r);
+  satf_image *on = render(f->r, 0);
+  e->satf = 0;
+  satf_image *off = render(f->r, 0);
+  e->satf = 1;
+  assert_non_null(on);
+  assert_non_null(off);
+  double sum = 0.0;
+  size_t n = 0;
+  const float *A = fixture_plane(on, "A");
+  for (size_t i = 0; i < (size_t)W * H; i++)
+    if (A[i] > 0.05f) {
+      sum += fabs(luminance(on, i) - luminance(off, i));
+      n++;
+    }
+  double max_rgb = fmax(
+      fixture_max_diff(on, off, "R"),
+      fmax(fixture_max_diff(on, off, "G"), fixture_max_diff(on, off, "B")));
+  printf("SATF vs plain Kajiya-Kay: mean |dL| %.4f over %zu hair pixels, max "
+         "%.4f\n",
+         n ? sum / n : 0.0, n, max_rgb);
+  assert_true(n > 0);
+  assert_true(sum / n > 0.01);
+  assert_true(max_rgb > 0.05);
+  satf_image_destroy(on);
+  satf_image_destroy(off);
+}
+
+static satf_scene *macro_scene(const int order[3]) {
+  size_t len = 64 + strlen(scene_tail);
+  for (int k = 0; k < 3; k++)
+    len += strlen(macro[k]) + 2;
+  char *json = malloc(len);
+  if (!json)
+    return NULL;
+  strcpy(json, "{\"macro_clusters\": [");
+  for (int k = 0; k < 3; k++) {
+    if (k)
+      strcat(json, ", ");
+    strcat(json, macro[order[k]]);
+  }
+  strcat(json, scene_tail);
+  satf_scene *s = fixture_scene(json);
+  free(json);
+  return s;
+}
+
+/* Eq. 14 through sorted per-pixel fragment lists: the order in which the
+ * clusters are drawn does not change the picture. */
+static void test_order_independence(void **state) {
+  fixture *f = *state;
+  const int fwd[3] = {0, 1, 2}, rev[3] = {2, 1, 0};
+  satf_scene *a = macro_scene(fwd), *b = macro_scene(rev);
+  assert_non_null(a);
+  assert_non_null(b);
+  satf_renderer *ra = NULL, *rb = NULL;
+  satf_error err;
+  assert_int_equal(satf_renderer_create(a, f->db, W, H, 0, &ra, &err), SATF_OK);
+  assert_int_equal(satf_renderer_create(b, f->db, W, H, 0, &rb, &err), SATF_OK);
+  satf_render_stats sa, sb;
+  satf_renderer_stats(ra, &sa);
+  satf_renderer_stats(rb, &sb);
+  /* 1 + 2 + 1 clusters of 3, 3 and 4 layers */
+  assert_int_equal(sa.macro_clusters, 3);
+  assert_int_equal(sa.clusters, 4);
+  assert_int_equal(sa.layers, 3 + 2 * 3 + 4);
+  assert_int_equal(sa.hsvs, 3 * 8 * 10 + 2 * 3 * 8 * 10 + 4 * 10 * 8);
+  assert_int_equal(sa.strands, 600 + 2 * 500 + 700);
+  assert_int_equal(sa.prototypes_shared, 1);
+  assert_memory_equal(&sa, &sb, sizeof sa);
+  satf_image *ia = render(ra, 0), *ib = render(rb, 0);
+  assert_non_null(ia);
+  assert_non_null(ib);
+  double worst = 0.0;
+  for (int c = 0; c < 4; c++)
+    worst = fmax(worst, fixture_max_diff(ia, ib, all_channels[c]));
+  size_t covered = hair_pixels(ia, 0.01f);
+  printf("order: max difference %.2e (%zu hair pixels)\n", worst, covered);
+  assert_true(covered > 1000);
+  assert_true(worst <= 1.0 / 255.0);
+  satf_image_destroy(ia);
+  satf_image_destroy(ib);
+  satf_renderer_destroy(ra);
+  satf_renderer_destroy(rb);
+  satf_scene_destroy(a);
+  satf_scene_destroy(b);
+}
+
+/* Resizing re-allocates the screen buffers; going back to the first size
+ * draws the first frame again. */
+static void test_resize(void **state) {
+  fixture *f = *state;
+  satf_error err;
+  satf_image *a = render(f->r, 0);
+  assert_int_equal(satf_renderer_resize(f->r, W / 2, H / 2, &err), SATF_OK);
+  satf_image *small = render(f->r, 0);
+  assert_non_null(small);
+  assert_int_equal(satf_image_width(small), W / 2);
+  assert_int_equal(satf_image_height(small), H / 2);
+  assert_true(hair_pixels(small, 0.01f) > 100);
+  assert_int_equal(satf_renderer_resize(f->r, 0, H, &err), SATF_ERR_ARGUMENT);
+  assert_int_equal(satf_renderer_resize(f->r, W, H, &err), SATF_OK);
+  satf_image *b = render(f->r, 0);
+  assert_non_null(a);
+  assert_non_null(b);
+  for (int c = 0; c < 4; c++)
+    assert_true(fixture_same_bits(a, b, all_channels[c]));
+  satf_image_destroy(a);
+  satf_image_destroy(small);
+  satf_image_destroy(b);
+}
+
+/* Bad input is refused with a message, never drawn: records wider than
+ * the renderer's maps support, and an empty frame. */
+static void test_rejects_bad_input(void **state) {
+  fixture *f = *state;
+  satf_build_params p = fixture_db_params();
+  p.samples = 2;
+  p.n_view = 2;
+  p.n_light = 2;
+  p.grid = 4;
+  p.trace.width = 1024;
+  satf_db *wide = NULL;
+  satf_error err;
+  assert_int_equal(satf_db_create(&p, &wide, &err), SATF_OK);
+  assert_int_equal(satf_db_finalize(wide, &err), SATF_OK);
+  satf_renderer *r = (satf_renderer *)&err; /* must be reset to NULL */
+  satf_status st = satf_renderer_create(f->one, wide, W, H, 0, &r, &err);
+  assert_int_not_equal(st, SATF_OK);
+  assert_int_equal(st, SATF_ERR_INCOMPATIBLE);
+  assert_null(r);
+  assert_non_null(strstr(err.message, "1024"));
+  printf("width 1024: %s\n", err.message);
+  satf_db_destroy(wide);
+
+  r = (satf_renderer *)&err;
+  st = satf_renderer_create(f->one, f->db, 0, H, 0, &r, &err);
+  assert_int_equal(st, SATF_ERR_ARGUMENT);
+  assert_null(r);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_deterministic),
+      cmocka_unit_test(test_background_and_coverage),
+      cmocka_unit_test(test_aovs_decompose_beauty),
+      cmocka_unit_test(test_exr_with_aovs),
+      cmocka_unit_test(test_secondary_highlight_off),
+      cmocka_unit_test(test_self_shadow_off),
+      cmocka_unit_test(test_satf_off),
+      cmocka_unit_test(test_order_independence),
+      cmocka_unit_test(test_resize),
+      cmocka_unit_test(test_rejects_bad_input),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}

@@ -1,0 +1,41 @@
+/* frontend.h - what satf-render and satf-view share: loading a scene with
+ * its database, the effect switches of the paper's Fig. 4, and the Table 1
+ * row. */
+#ifndef SATF_ONLINE_FRONTEND_H
+#define SATF_ONLINE_FRONTEND_H
+
+#include <stdio.h>
+
+#include "satf/render.h"
+
+typedef struct satf_frontend {
+  satf_scene *scene;
+  satf_db *db;
+} satf_frontend;
+
+/* Loads SCENE (printing its warnings to stderr) and the database (db_path,
+ * or the scene's "database"); a zero *width takes the scene's image size.
+ * On failure prints "PROG: reason" and returns non-OK. */
+satf_status satf_frontend_load(const char *prog, const char *scene_path,
+                               const char *db_path, long *width, long *height,
+                               satf_frontend *fe);
+
+/* Turns off the effects cleared in `off` and sets the compositing mode. */
+void satf_frontend_apply(satf_renderer *r, const satf_scene_effects *off,
+                         int composite);
+void satf_frontend_free(satf_frontend *fe);
+
+/* Applies a --no-EFFECT flag; returns 1 if arg was one. */
+int satf_frontend_effect_flag(const char *arg, satf_scene_effects *e);
+extern const char *const satf_frontend_effect_help;
+
+/* Parses --composite's value ("exact" or "ordered"); -1 if neither. */
+int satf_frontend_composite(const char *value);
+
+/* Table 1 of the paper: C#, L#, S#, H#, then ms for I, C, M, L, S and FPS. */
+void satf_frontend_table_header(FILE *out);
+void satf_frontend_table_row(FILE *out, const char *name,
+                             const satf_render_stats *s,
+                             const satf_frame_timing *mean, double fps);
+
+#endif
