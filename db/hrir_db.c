@@ -1,12 +1,11 @@
 /* hrir_db.c - the in-memory HRIR database and the SATF look-up (eq. 4). */
 #include "hrir_db_internal.h"
+#include "satf/math.h"
 
 #include <Imath/half.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#define TWO_PI 6.283185307179586
 
 satf_build_params satf_build_params_default(void) {
   satf_build_params p;
@@ -197,7 +196,7 @@ int satf_db_nearest(const satf_db *db, const float feature[SATF_FEATURES],
  * within 1e-4 of a grid angle snap to it, so a look-up at a stored angle
  * returns the stored record exactly despite float rounding of 2 pi k / n. */
 static void angle_cell(float theta, int n, int *i0, int *i1, float *f) {
-  double x = (double)theta / TWO_PI * n;
+  double x = (double)theta / SATF_TWO_PI * n;
   x -= floor(x / n) * n; /* into [0, n) */
   double r = floor(x + 0.5);
   if (fabs(x - r) < 1e-4)

@@ -5,12 +5,10 @@
 #include <math.h>
 
 #include "satf/db.h"
-
-#define PI_F 3.14159265358979f
-#define TWO_PI_F 6.28318530717959f
+#include "satf/math.h"
 
 satf_sector_shape satf_sector_shape_default(void) {
-  satf_sector_shape s = {0.8f, 1.0f, 2.0f * PI_F / 16.0f};
+  satf_sector_shape s = {0.8f, 1.0f, 2.0f * SATF_PI_F / 16.0f};
   return s;
 }
 
@@ -22,7 +20,7 @@ satf_status satf_sector_shape_check(const satf_sector_shape *s,
                           "sector radii must satisfy 0 < r_inner (%g) < "
                           "r_outer (%g)",
                           (double)s->r_inner, (double)s->r_outer);
-  if (!(s->phase_span > 0.0f) || !(s->phase_span <= PI_F))
+  if (!(s->phase_span > 0.0f) || !(s->phase_span <= SATF_PI_F))
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "sector phase span %g must be in (0, pi]",
                           (double)s->phase_span);
@@ -74,8 +72,8 @@ void satf_sector_extent(const satf_sector_shape *sh, const float e[2],
   float half = 0.5f * sh->phase_span;
   float radii[2] = {sh->r_inner, sh->r_outer};
   float phis[4] = {-half, half, atan2f(e[1], e[0]), 0.0f};
-  phis[3] =
-      phis[2] > 0.0f ? phis[2] - TWO_PI_F * 0.5f : phis[2] + TWO_PI_F * 0.5f;
+  phis[3] = phis[2] > 0.0f ? phis[2] - SATF_TWO_PI_F * 0.5f
+                           : phis[2] + SATF_TWO_PI_F * 0.5f;
   float mn = INFINITY, mx = -INFINITY;
   for (int r = 0; r < 2; r++) {
     for (int k = 0; k < 4; k++) {

@@ -5,13 +5,12 @@
  * their front-to-back weights only on the view azimuth (one pass per view),
  * and only the Phong shading of the samples needs both. satf_trace_hrir runs
  * the same code for a single pair, so both entry points agree exactly. */
+#include "satf/math.h"
 #include "satf/offline.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#define TWO_PI_F 6.28318530717959f
 
 /* SATF eq. 5, written with the weight w = alpha (1 - acc_alpha) so the
  * tracer can keep w per sample and shade later with the same arithmetic. */
@@ -317,9 +316,9 @@ satf_status satf_trace_all(const satf_sector *sector,
   if (!angles)
     return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate angles");
   for (int i = 0; i < n_view; i++)
-    angles[i] = TWO_PI_F * (float)i / (float)n_view;
+    angles[i] = SATF_TWO_PI_F * (float)i / (float)n_view;
   for (int i = 0; i < n_light; i++)
-    angles[n_view + i] = TWO_PI_F * (float)i / (float)n_light;
+    angles[n_view + i] = SATF_TWO_PI_F * (float)i / (float)n_light;
   trace_job job = {n_view, n_light, angles, angles + n_view};
   satf_status st = trace_grid(sector, p, &job, re, alpha, err);
   free(angles);

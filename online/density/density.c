@@ -1,5 +1,6 @@
 /* density.c - see density.h. */
 #include "satf/density.h"
+#include "satf/math.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -7,8 +8,6 @@
 
 #include "satf/common.h"
 #include "satf/db.h"
-
-#define TWO_PI_F 6.28318530717959f
 
 struct satf_strands {
   int n;
@@ -26,7 +25,7 @@ struct satf_strands {
 
 static void disk_uniform(satf_rng *rng, float xy[2]) {
   float r = sqrtf((float)satf_rng_uniform(rng));
-  float a = TWO_PI_F * (float)satf_rng_uniform(rng);
+  float a = SATF_TWO_PI_F * (float)satf_rng_uniform(rng);
   xy[0] = r * cosf(a);
   xy[1] = r * sinf(a);
 }
@@ -110,7 +109,7 @@ satf_status satf_strands_create(const satf_scene_density *d, satf_strands **out,
     w[0] = WOBBLE * (float)satf_rng_range(&rng, -1, 1);
     w[1] = WOBBLE * (float)satf_rng_range(&rng, -1, 1);
     w[2] = (float)satf_rng_range(&rng, 0.5, 2.0);
-    w[3] = (float)satf_rng_range(&rng, 0, TWO_PI_F);
+    w[3] = (float)satf_rng_range(&rng, 0, SATF_TWO_PI_F);
   }
   /* counting sort of strands into buckets by base position */
   int *cellof = malloc(n * sizeof(int));
@@ -156,7 +155,7 @@ int satf_strands_count(const satf_strands *s) { return s->n; }
 
 void satf_strands_position(const satf_strands *s, int i, float t, float xy[2]) {
   const float *w = s->wobble + 4 * i;
-  float k = sinf(TWO_PI_F * w[2] * t + w[3]);
+  float k = sinf(SATF_TWO_PI_F * w[2] * t + w[3]);
   xy[0] = s->base[2 * i] + w[0] * k;
   xy[1] = s->base[2 * i + 1] + w[1] * k;
 }
@@ -215,8 +214,8 @@ static int features_slice(void *vctx, size_t i, int thread) {
   for (int k = 0; k < sh->layers; k++) {
     float v0 = satf_shell_layer_v(sh, k), v1 = satf_shell_layer_v(sh, k + 1);
     for (int j = 0; j < sh->su; j++) {
-      float u0 = TWO_PI_F * (float)j / (float)sh->su;
-      float du = TWO_PI_F / (float)sh->su;
+      float u0 = SATF_TWO_PI_F * (float)j / (float)sh->su;
+      float du = SATF_TWO_PI_F / (float)sh->su;
       for (int b = 0; b < G; b++) { /* t of the sector: along the phase */
         float u = u0 + du * (float)b / (float)(G - 1);
         for (int a = 0; a < G; a++) { /* s of the sector: along the radius */

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "satf/math.h"
 
 /* Samples of the frame table (1024 intervals). Between samples the frame
  * is interpolated and re-orthogonalised against the exact tangent; this
@@ -30,31 +31,7 @@ struct satf_cluster {
   double n1[FRAME_SAMPLES][3];      /* rotation-minimising normal */
 };
 
-/* ---- small double-precision vector helpers ---- */
-
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const double a[3], const double b[3], double out[3]) {
-  double x = a[1] * b[2] - a[2] * b[1];
-  double y = a[2] * b[0] - a[0] * b[2];
-  double z = a[0] * b[1] - a[1] * b[0];
-  out[0] = x;
-  out[1] = y;
-  out[2] = z;
-}
-
-/* Normalises v in place; returns its former length. */
-static double normalize3(double v[3]) {
-  double len = sqrt(dot3(v, v));
-  if (len > 0.0) {
-    v[0] /= len;
-    v[1] /= len;
-    v[2] /= len;
-  }
-  return len;
-}
+/* ---- small vector helpers (the common ones are in satf/math.h) ---- */
 
 static void to_float3(const double in[3], float out[3]) {
   out[0] = (float)in[0];
@@ -77,10 +54,10 @@ static void any_perpendicular(const double t[3], double out[3]) {
     axis = 2;
   double e[3] = {0.0, 0.0, 0.0};
   e[axis] = 1.0;
-  double d = dot3(e, t);
+  double d = satf_dot3d(e, t);
   for (int c = 0; c < 3; c++)
     out[c] = e[c] - d * t[c];
-  normalize3(out);
+  satf_normalize3d(out);
 }
 
 /* ---- validation ---- */
@@ -154,7 +131,7 @@ static double sample_trajectory(satf_cluster *cl) {
   for (int i = 0; i <= n; i++) {
     eval_traj(cl, sample_t(i), cl->pos[i], cl->tangent[i], NULL);
     double w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
-    sum += w * sqrt(dot3(cl->tangent[i], cl->tangent[i]));
+    sum += w * sqrt(satf_dot3d(cl->tangent[i], cl->tangent[i]));
   }
   return sum / (3.0 * n);
 }
@@ -176,13 +153,13 @@ static void build_tangent_table(satf_cluster *cl, double speed_eps) {
   int first_valid = -1;
   for (int i = 0; i < FRAME_SAMPLES; i++) {
     double *tan = cl->tangent[i];
-    valid[i] = normalize3(tan) > speed_eps;
+    valid[i] = satf_normalize3d(tan) > speed_eps;
     if (!valid[i]) {
       const double *p0 = cl->pos[i > 0 ? i - 1 : 0];
       const double *p1 = cl->pos[i < FRAME_SAMPLES - 1 ? i + 1 : i];
       for (int c = 0; c < 3; c++)
         tan[c] = p1[c] - p0[c];
-      valid[i] = normalize3(tan) > speed_eps / FRAME_SAMPLES;
+      valid[i] = satf_normalize3d(tan) > speed_eps / FRAME_SAMPLES;
     }
     if (valid[i] && first_valid < 0)
       first_valid = i;
@@ -203,30 +180,31 @@ static void double_reflection_step(const double x0[3], const double x1[3],
                                    const double t0[3], const double r0[3],
                                    const double t1[3], double r1[3]) {
   double v1[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]};
-  double c1 = dot3(v1, v1);
+  double c1 = satf_dot3d(v1, v1);
   double rl[3], tl[3];
   memcpy(rl, r0, sizeof rl);
   memcpy(tl, t0, sizeof tl);
   if (c1 > 0.0) {
-    double kr = 2.0 / c1 * dot3(v1, r0), kt = 2.0 / c1 * dot3(v1, t0);
+    double kr = 2.0 / c1 * satf_dot3d(v1, r0),
+           kt = 2.0 / c1 * satf_dot3d(v1, t0);
     for (int c = 0; c < 3; c++) {
       rl[c] = r0[c] - kr * v1[c];
       tl[c] = t0[c] - kt * v1[c];
     }
   }
   double v2[3] = {t1[0] - tl[0], t1[1] - tl[1], t1[2] - tl[2]};
-  double c2 = dot3(v2, v2);
+  double c2 = satf_dot3d(v2, v2);
   memcpy(r1, rl, sizeof rl);
   if (c2 > 0.0) {
-    double k = 2.0 / c2 * dot3(v2, rl);
+    double k = 2.0 / c2 * satf_dot3d(v2, rl);
     for (int c = 0; c < 3; c++)
       r1[c] = rl[c] - k * v2[c];
   }
   /* Keep exact orthonormality against t1 despite rounding. */
-  double d = dot3(r1, t1);
+  double d = satf_dot3d(r1, t1);
   for (int c = 0; c < 3; c++)
     r1[c] -= d * t1[c];
-  if (normalize3(r1) == 0.0)
+  if (satf_normalize3d(r1) == 0.0)
     any_perpendicular(t1, r1);
 }
 
@@ -325,24 +303,24 @@ static void frame_at(const satf_cluster *cl, double t, double d1[3],
   table_locate(t, &i, &f);
   eval_traj(cl, t, NULL, d1, d2);
   memcpy(tan, d1, sizeof(double) * 3);
-  *speed = normalize3(tan);
+  *speed = satf_normalize3d(tan);
   if (!(*speed > 1e-9 * cl->length)) {
     *speed = 0.0;
     for (int c = 0; c < 3; c++)
       tan[c] = (1.0 - f) * cl->tangent[i][c] + f * cl->tangent[i + 1][c];
-    normalize3(tan);
+    satf_normalize3d(tan);
   }
   double r[3];
   for (int c = 0; c < 3; c++)
     r[c] = (1.0 - f) * cl->n1[i][c] + f * cl->n1[i + 1][c];
-  double d = dot3(r, tan);
+  double d = satf_dot3d(r, tan);
   for (int c = 0; c < 3; c++)
     r[c] -= d * tan[c];
-  if (normalize3(r) < 1e-12)
+  if (satf_normalize3d(r) < 1e-12)
     any_perpendicular(tan, r);
   memcpy(n1, r, sizeof r);
-  cross3(tan, n1, n2);
-  normalize3(n2);
+  satf_cross3d(tan, n1, n2);
+  satf_normalize3d(n2);
 }
 
 void satf_cluster_frame(const satf_cluster *cluster, float t, float tangent[3],
@@ -364,7 +342,7 @@ static void rmf_normal_derivative(const double d2[3], double speed,
     dn[0] = dn[1] = dn[2] = 0.0;
     return;
   }
-  double k = dot3(d2, n) / speed; /* n . dtan/dt, as n is normal to tan */
+  double k = satf_dot3d(d2, n) / speed; /* n . dtan/dt, as n is normal to tan */
   for (int c = 0; c < 3; c++)
     dn[c] = -k * tan[c];
 }
@@ -444,7 +422,7 @@ void satf_cluster_section_hair_tangent(const satf_cluster_section *s, float v,
                                        float u, float dir[3]) {
   double d[3];
   point_dt(s, v, (double)s->theta + u, d);
-  if (normalize3(d) == 0.0)
+  if (satf_normalize3d(d) == 0.0)
     to_double3(s->tangent, d);
   to_float3(d, dir);
 }
@@ -455,17 +433,17 @@ void satf_cluster_section_surface_normal(const satf_cluster_section *s, float v,
   /* dP/du = v dE/du; the positive factor v does not change the direction. */
   ellipse_du(s, phi, eu);
   point_dt(s, v > 0.0f ? v : 0.0f, phi, pt);
-  cross3(eu, pt, out);
+  satf_cross3d(eu, pt, out);
   /* The outward normal of the ellipse within its plane, for orientation and
    * as the fallback where the surface is degenerate. */
   double in_plane[3];
   double x = s->b * cos(phi), y = s->a * sin(phi);
   for (int c = 0; c < 3; c++)
     in_plane[c] = x * s->n1[c] + y * s->n2[c];
-  normalize3(in_plane);
-  if (normalize3(out) < 1e-20)
+  satf_normalize3d(in_plane);
+  if (satf_normalize3d(out) < 1e-20)
     memcpy(out, in_plane, sizeof out);
-  if (dot3(out, in_plane) < 0.0)
+  if (satf_dot3d(out, in_plane) < 0.0)
     for (int c = 0; c < 3; c++)
       out[c] = -out[c];
   to_float3(out, n);

@@ -9,8 +9,8 @@
 #include <string.h>
 
 #include "satf/import.h"
+#include "satf/math.h"
 
-#define PI_F 3.14159265358979f
 #define WIDTH_SLICES 5
 #define WIDTH_PROBES 1500
 
@@ -136,7 +136,7 @@ static void add_cross_section(float *slice, int n, float extent, float sigma,
   int cx = (int)lroundf(fx), cy = (int)lroundf(fy);
   double total = 0.0;
   for (int pass = 0; pass < 2; pass++) {
-    double k = pass ? PI_F * sigma * sigma / (total * h * h) : 0.0;
+    double k = pass ? SATF_PI_F * sigma * sigma / (total * h * h) : 0.0;
     for (int y = cy - r; y <= cy + r; y++) {
       if (y < 0 || y >= n)
         continue;
@@ -153,7 +153,7 @@ static void add_cross_section(float *slice, int n, float extent, float sigma,
     }
     if (!(total > 0.0)) { /* narrower than a cell: all in the nearest */
       if (cx >= 0 && cx < n && cy >= 0 && cy < n)
-        slice[cy * n + cx] += PI_F * sigma * sigma / (h * h);
+        slice[cy * n + cx] += SATF_PI_F * sigma * sigma / (h * h);
       return;
     }
   }
@@ -212,7 +212,7 @@ satf_status satf_import_build_vdb(const satf_strand_set *s, const int *labels,
   int n = satf_strand_set_count(s);
   for (int i = 0; i < n && st == SATF_OK; i++) {
     float sigma = satf_import_world_sigma(&fits[labels[i]]);
-    float mpl = PI_F * sigma * sigma;
+    float mpl = SATF_PI_F * sigma * sigma;
     int m;
     const float *p = satf_strand_set_strand(s, i, &m);
     for (int k = 0; k + 1 < m && st == SATF_OK; k++)

@@ -13,10 +13,10 @@
 #include "satf/common.h"
 #include "satf/geometry.h"
 #include "satf/import.h"
+#include "satf/math.h"
 
 #define TABLE 257 /* trajectory samples for the coarse closest-point search */
 #define TWIST_BINS 32
-#define PI_D 3.14159265358979323846
 
 satf_import_fit_params satf_import_fit_params_default(void) {
   satf_import_fit_params p = {8, 8, 32, 0.95f, 0.0f};
@@ -419,7 +419,7 @@ static void fit_twist(const satf_import_projection *raw, const float *a,
       double phase = atan2(y, x), v = sqrt(x * x + y * y);
       if (k > 0) {
         double dphi = phase - prev_phase, dt = t - prev_t;
-        dphi -= 2.0 * PI_D * floor((dphi + PI_D) / (2.0 * PI_D));
+        dphi -= 2.0 * SATF_PI * floor((dphi + SATF_PI) / (2.0 * SATF_PI));
         double wv = v < prev_v ? v : prev_v;
         if (fabs(dt) > 1e-6 && wv > 0.1)
           spread_over_bins(prev_t, t, wv * wv * dphi, wv * wv * dt, num, den);

@@ -19,10 +19,10 @@
 
 #include "satf/common.h"
 #include "satf/import.h"
+#include "satf/math.h"
 
 enum { TFX3_HEADER = 296, TFX3_OFFSETS = 144, TFX4_HEADER = 160 };
 #define TFX_MAX_VERTICES 4096
-#define PI 3.14159265358979323846
 
 static uint32_t le32(const unsigned char *p) {
   return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 |
@@ -306,23 +306,6 @@ satf_status satf_tfx_write(const char *path, const satf_strand_set *s,
 
 /* ---- Follow strands ---------------------------------------------------- */
 
-static void normalize3(double v[3]) {
-  double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  if (l > 0)
-    for (int c = 0; c < 3; c++)
-      v[c] /= l;
-}
-
-static void cross3(const double a[3], const double b[3], double o[3]) {
-  o[0] = a[1] * b[2] - a[2] * b[1];
-  o[1] = a[2] * b[0] - a[0] * b[2];
-  o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 /* Direction of the guide at vertex k: its outgoing segment (the incoming
  * one at the tip), or the previous direction across repeated points. */
 static void guide_tangent(const float *p, int n, int k, const double prev[3],
@@ -330,9 +313,9 @@ static void guide_tangent(const float *p, int n, int k, const double prev[3],
   int a = k < n - 1 ? k : n - 2;
   for (int c = 0; c < 3; c++)
     t[c] = (double)p[3 * (a + 1) + c] - p[3 * a + c];
-  if (dot3(t, t) < 1e-24)
+  if (satf_dot3d(t, t) < 1e-24)
     memcpy(t, prev, 3 * sizeof(double));
-  normalize3(t);
+  satf_normalize3d(t);
 }
 
 /* Rotates n by the smallest rotation that turns t0 into t1 (Rodrigues),
@@ -340,20 +323,20 @@ static void guide_tangent(const float *p, int n, int k, const double prev[3],
  * guide. */
 static void transport(const double t0[3], const double t1[3], double n[3]) {
   double k[3];
-  cross3(t0, t1, k);
-  double s = sqrt(dot3(k, k)), c = dot3(t0, t1);
+  satf_cross3d(t0, t1, k);
+  double s = sqrt(satf_dot3d(k, k)), c = satf_dot3d(t0, t1);
   if (s < 1e-12)
     return;
   for (int i = 0; i < 3; i++)
     k[i] /= s;
-  double kn[3], kd = dot3(k, n);
-  cross3(k, n, kn);
+  double kn[3], kd = satf_dot3d(k, n);
+  satf_cross3d(k, n, kn);
   for (int i = 0; i < 3; i++)
     n[i] = n[i] * c + kn[i] * s + k[i] * kd * (1.0 - c);
-  double m = dot3(n, t1);
+  double m = satf_dot3d(n, t1);
   for (int i = 0; i < 3; i++)
     n[i] -= m * t1[i];
-  normalize3(n);
+  satf_normalize3d(n);
 }
 
 static void any_perpendicular(const double t[3], double n[3]) {
@@ -362,9 +345,9 @@ static void any_perpendicular(const double t[3], double n[3]) {
                                   : (fabs(t[1]) < fabs(t[2]) ? 1 : 2);
   a[k] = 1.0;
   double c[3];
-  cross3(t, a, c);
-  cross3(c, t, n);
-  normalize3(n);
+  satf_cross3d(t, a, c);
+  satf_cross3d(c, t, n);
+  satf_normalize3d(n);
 }
 
 satf_status satf_strand_set_add_follow(const satf_strand_set *guides,
@@ -408,7 +391,7 @@ satf_status satf_strand_set_add_follow(const satf_strand_set *guides,
     satf_rng_seed(&rng, p->seed, (uint64_t)i);
     for (int f = 0; f < p->count; f++) {
       double r = p->radius * sqrt(satf_rng_uniform(&rng));
-      double phi = 2.0 * PI * satf_rng_uniform(&rng);
+      double phi = 2.0 * SATF_PI * satf_rng_uniform(&rng);
       double ox = r * cos(phi), oy = r * sin(phi);
       double t[3] = {0, 0, 1}, n1[3], n2[3];
       guide_tangent(q, n, 0, t, t);
@@ -420,7 +403,7 @@ satf_status satf_strand_set_add_follow(const satf_strand_set *guides,
           transport(t, t1, n1);
           memcpy(t, t1, sizeof t);
         }
-        cross3(t, n1, n2);
+        satf_cross3d(t, n1, n2);
         double grow = 1.0 + p->tip_separation * (double)k / (double)(n - 1);
         for (int c = 0; c < 3; c++)
           w[3 * k + c] =
