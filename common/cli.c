@@ -1,4 +1,5 @@
-/* cli.c - see cli.h. All parsers return 0 on success, -1 after printing. */
+/* cli.c - the argument loop and number parsers declared in satf/common.h.
+ * All return 0 on success, -1 after printing (satf_cli_unknown: 2). */
 #include "satf/common.h"
 
 #include <errno.h>
@@ -85,4 +86,79 @@ int satf_cli_size(const char *prog, const char *flag, const char *text, long lo,
       satf_cli_int(prog, flag, x + 1, lo, hi, h) != 0)
     return -1;
   return 0;
+}
+
+void satf_cli_begin(satf_cli_args *it, const char *prog, int argc,
+                    char *const *argv) {
+  memset(it, 0, sizeof *it);
+  it->prog = prog;
+  it->argc = argc;
+  it->argv = argv;
+  it->next = 1;
+  it->hint = " (see --help)";
+}
+
+int satf_cli_next(satf_cli_args *it) {
+  it->arg = NULL;
+  if (it->next >= it->argc)
+    return 0;
+  it->arg = it->argv[it->next++];
+  if (it->dashdash && !it->only_positional && !strcmp(it->arg, "--")) {
+    it->only_positional = 1;
+    return satf_cli_next(it);
+  }
+  return 1;
+}
+
+int satf_cli_is(const satf_cli_args *it, const char *short_name,
+                const char *long_name) {
+  if (!it->arg || it->only_positional)
+    return 0;
+  return (short_name && !strcmp(it->arg, short_name)) ||
+         (long_name && !strcmp(it->arg, long_name));
+}
+
+int satf_cli_positional(const satf_cli_args *it) {
+  return it->arg && (it->only_positional || it->arg[0] != '-');
+}
+
+int satf_cli_value(satf_cli_args *it, const char **value) {
+  if (it->next >= it->argc) {
+    fprintf(stderr, "%s: %s needs a value%s\n", it->prog, it->arg, it->hint);
+    return -1;
+  }
+  *value = it->argv[it->next++];
+  return 0;
+}
+
+int satf_cli_value_int(satf_cli_args *it, long lo, long hi, long *out) {
+  const char *v;
+  return satf_cli_value(it, &v)
+             ? -1
+             : satf_cli_int(it->prog, it->arg, v, lo, hi, out);
+}
+
+int satf_cli_value_u64(satf_cli_args *it, uint64_t *out) {
+  const char *v;
+  return satf_cli_value(it, &v) ? -1 : satf_cli_u64(it->prog, it->arg, v, out);
+}
+
+int satf_cli_value_double(satf_cli_args *it, double lo, double hi,
+                          double *out) {
+  const char *v;
+  return satf_cli_value(it, &v)
+             ? -1
+             : satf_cli_double(it->prog, it->arg, v, lo, hi, out);
+}
+
+int satf_cli_value_size(satf_cli_args *it, long lo, long hi, long *w, long *h) {
+  const char *v;
+  return satf_cli_value(it, &v)
+             ? -1
+             : satf_cli_size(it->prog, it->arg, v, lo, hi, w, h);
+}
+
+int satf_cli_unknown(const satf_cli_args *it) {
+  fprintf(stderr, "%s: unknown option '%s'%s\n", it->prog, it->arg, it->hint);
+  return 2;
 }

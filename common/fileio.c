@@ -1,10 +1,12 @@
-/* fileio.c - see fileio.h. */
+/* fileio.c - crash-safe output and capped input, declared in
+ * satf/common.h. */
 #define _POSIX_C_SOURCE 200809L
 #include "satf/common.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -57,4 +59,57 @@ long long satf_file_size(const char *path) {
   if (stat(path, &st) != 0)
     return -1;
   return (long long)st.st_size;
+}
+
+/* Reads exactly n bytes into buf and then checks that the file ends there,
+ * so a file that changed after fstat cannot come back truncated. */
+static satf_status read_exactly(FILE *f, const char *path, unsigned char *buf,
+                                size_t n, satf_error *err) {
+  size_t got = fread(buf, 1, n, f);
+  if (ferror(f))
+    return satf_error_set(err, SATF_ERR_IO, "%s: read failed: %s", path,
+                          strerror(errno));
+  if (got != n || fgetc(f) != EOF)
+    return satf_error_set(err, SATF_ERR_IO, "%s: changed size while being read",
+                          path);
+  return SATF_OK;
+}
+
+satf_status satf_read_file(const char *path, size_t max_bytes, void **data,
+                           size_t *size, satf_error *err) {
+  *data = NULL;
+  *size = 0;
+  FILE *f = fopen(path, "rb");
+  if (!f)
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
+                          strerror(errno));
+  /* fstat the open file, not the path, so the checks hold for what is read */
+  struct stat st;
+  satf_status s = SATF_OK;
+  if (fstat(fileno(f), &st) != 0)
+    s = satf_error_set(err, SATF_ERR_IO, "%s: read failed: %s", path,
+                       strerror(errno));
+  else if (!S_ISREG(st.st_mode))
+    s = satf_error_set(err, SATF_ERR_IO, "%s: not a regular file", path);
+  else if ((unsigned long long)st.st_size > max_bytes ||
+           (unsigned long long)st.st_size >= SIZE_MAX)
+    s = satf_error_set(err, SATF_ERR_IO,
+                       "%s: %lld bytes is over the limit of %zu bytes", path,
+                       (long long)st.st_size, max_bytes);
+  unsigned char *buf = NULL;
+  size_t n = s == SATF_OK ? (size_t)st.st_size : 0;
+  if (s == SATF_OK && !(buf = malloc(n + 1)))
+    s = satf_error_set(err, SATF_ERR_NOMEM, "%s: cannot hold %lld bytes", path,
+                       (long long)st.st_size);
+  if (s == SATF_OK)
+    s = read_exactly(f, path, buf, n, err);
+  fclose(f);
+  if (s != SATF_OK) {
+    free(buf);
+    return s;
+  }
+  buf[n] = '\0';
+  *data = buf;
+  *size = n;
+  return SATF_OK;
 }

@@ -17,10 +17,70 @@
 extern "C" {
 #endif
 
-/* cli.h - strict parsing of command-line numbers. Each parser rejects empty
- * strings, trailing garbage, NaN/inf and values outside [lo, hi], and prints
- * "PROG: --flag: ..." to stderr so every tool words its errors the same. */
+/* cli.h - the command-line argument loop every tool shares, and strict
+ * parsing of command-line numbers. Each parser rejects empty strings,
+ * trailing garbage, NaN/inf and values outside [lo, hi], and prints
+ * "PROG: --flag: ..." to stderr so every tool words its errors the same.
+ * All functions returning int return 0 on success and -1 after printing,
+ * except satf_cli_unknown, which returns the usage exit status 2.
+ *
+ * The loop:
+ *
+ *   satf_cli_args it;
+ *   satf_cli_begin(&it, PROG, argc, argv);
+ *   while (satf_cli_next(&it)) {
+ *     if (satf_cli_is(&it, "-h", "--help")) {
+ *       usage(stdout);
+ *       return 0;
+ *     } else if (satf_cli_is(&it, "-o", "--output")) {
+ *       if (satf_cli_value(&it, &out))      // "PROG: -o needs a value
+ *         return 2;                         //  (see --help)"
+ *     } else if (satf_cli_is(&it, NULL, "--samples")) {
+ *       if (satf_cli_value_int(&it, 1, 1000000, &samples))
+ *         return 2;
+ *     } else if (satf_cli_positional(&it)) {
+ *       input = it.arg;
+ *     } else {
+ *       return satf_cli_unknown(&it);       // "PROG: unknown option 'X'
+ *     }                                     //  (see --help)", returns 2
+ *   }
+ *
+ * Messages name the flag as the user spelled it (it.arg). */
 
+typedef struct satf_cli_args {
+  const char *prog;    /* "PROG" of every message */
+  int argc;            /* argv[0] is the program and is skipped */
+  char *const *argv;   /* argv[argc] need not exist */
+  int next;            /* index of the next argument; set it to start later */
+  const char *arg;     /* the current argument, after satf_cli_next */
+  const char *hint;    /* ends the messages; " (see --help)" by default */
+  int dashdash;        /* 0 by default: "--" is an ordinary (unknown) option;
+                          1: "--" is skipped and every later argument is
+                          positional */
+  int only_positional; /* a "--" was seen (with dashdash) */
+} satf_cli_args;
+
+void satf_cli_begin(satf_cli_args *it, const char *prog, int argc,
+                    char *const *argv);
+/* Moves to the next argument (it->arg); returns 0 when there is none. */
+int satf_cli_next(satf_cli_args *it);
+/* Whether the current argument is the option short_name or long_name (either
+ * may be NULL). Never true after "--". */
+int satf_cli_is(const satf_cli_args *it, const char *short_name,
+                const char *long_name);
+/* Whether the current argument is not an option: it does not start with '-'
+ * (a lone "-" counts as an option), or it follows "--". */
+int satf_cli_positional(const satf_cli_args *it);
+/* Takes the argument after the current option as its value, whatever it
+ * looks like; prints "PROG: FLAG needs a value HINT" if there is none. */
+int satf_cli_value(satf_cli_args *it, const char **value);
+/* satf_cli_value, then the matching parser below with it->arg as the flag. */
+int satf_cli_value_int(satf_cli_args *it, long lo, long hi, long *out);
+int satf_cli_value_u64(satf_cli_args *it, uint64_t *out);
+int satf_cli_value_double(satf_cli_args *it, double lo, double hi, double *out);
+int satf_cli_value_size(satf_cli_args *it, long lo, long hi, long *w, long *h);
+/* Prints "PROG: unknown option 'ARG' HINT" and returns 2. */
+int satf_cli_unknown(const satf_cli_args *it);
 
 int satf_cli_int(const char *prog, const char *flag, const char *text, long lo,
                  long hi, long *out);
@@ -36,8 +96,6 @@ int satf_cli_size(const char *prog, const char *flag, const char *text, long lo,
  * then rename into place, so a killed process never leaves a half-written
  * file under the final name. */
 
-
-
 /* Fills tmp with a temporary path in the same directory as path. */
 satf_status satf_temp_path(const char *path, char *tmp, size_t size,
                            satf_error *err);
@@ -50,10 +108,24 @@ satf_status satf_write_file_atomic(const char *path, const void *data,
 /* Size of a file in bytes, or -1. */
 long long satf_file_size(const char *path);
 
+/* Reads the whole regular file at path into *data (malloc'd, caller frees;
+ * one NUL byte follows the *size bytes, so text can be used as a string).
+ * The size is checked against max_bytes before anything is allocated, and a
+ * file that grows or shrinks while it is read is an error, never a silently
+ * truncated result. On failure *data is NULL, *size is 0 and err holds one
+ * of (SATF_ERR_IO unless noted):
+ *   "PATH: cannot open: REASON"          (missing, no permission, ...)
+ *   "PATH: not a regular file"           (a directory, a FIFO, a device)
+ *   "PATH: N bytes is over the limit of MAX bytes"
+ *   "PATH: cannot hold N bytes"          (SATF_ERR_NOMEM)
+ *   "PATH: read failed: REASON"
+ *   "PATH: changed size while being read" */
+satf_status satf_read_file(const char *path, size_t max_bytes, void **data,
+                           size_t *size, satf_error *err);
+
 /* parallel.h - a minimal parallel-for over pthreads. Work items are claimed
  * from an atomic counter, so the result of each item must not depend on
  * which thread ran it. */
-
 
 /* Called for item i on some thread; `thread` is in [0, threads). Returns 0 on
  * success; a non-zero return stops further items from being claimed and is
@@ -74,7 +146,6 @@ int satf_cpu_count(void);
 /* progress.h - progress reporting on stderr: a redrawn bar (percent, rate,
  * ETA) when stderr is a terminal, a plain line every few seconds otherwise,
  * so logs from CI and pipes stay readable. */
-
 
 typedef struct satf_progress {
   FILE *out;
@@ -103,7 +174,6 @@ const char *satf_format_bytes(double bytes, char *buf, size_t size);
  * BigCrush for our use). Stream i of seed s is independent of thread count,
  * which is what makes database builds bit-identical across --threads. */
 
-
 typedef struct satf_rng {
   uint64_t state;
 } satf_rng;
@@ -124,8 +194,6 @@ double satf_rng_normal(satf_rng *rng);
  * OpenEXRCore: single-part scanline images of planar float channels, plus a
  * callback for custom header attributes. Used by the HRIR database (whose
  * container is an EXR image) and by the renderer's frame output. */
-
-
 
 typedef struct satf_exr_channel {
   const char *name;

@@ -40,76 +40,125 @@ static void on_progress(void *ctx, size_t done, size_t total) {
   satf_progress_update(ctx, done, total);
 }
 
-int main(int argc, char **argv) {
-  satf_build_params p = satf_build_params_default();
-  const char *out = NULL;
-  long threads = 0, v;
-  int quiet = 0;
-  for (int i = 1; i < argc; i++) {
-    const char *a = argv[i];
-    const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEED_VALUE                                                             \
-  if (!val) {                                                                  \
-    fprintf(stderr, "%s: %s needs a value (see --help)\n", PROG, a);           \
-    return 2;                                                                  \
-  }                                                                            \
-  i++;
-    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+typedef struct options {
+  satf_build_params p;
+  const char *out;
+  long threads;
+  int quiet;
+} options;
+
+static int parse_angles(satf_cli_args *it, satf_build_params *p) {
+  const char *val;
+  long nv, nl;
+  if (satf_cli_value(it, &val))
+    return -1;
+  if (strchr(val, 'x')) {
+    if (satf_cli_size(PROG, it->arg, val, 1, 1024, &nv, &nl))
+      return -1;
+  } else {
+    if (satf_cli_int(PROG, it->arg, val, 1, 1024, &nv))
+      return -1;
+    nl = nv;
+  }
+  p->n_view = (int)nv;
+  p->n_light = (int)nl;
+  return 0;
+}
+
+/* Parses one option into o; returns -1 on a bad value or unknown option. */
+static int parse_option(satf_cli_args *it, options *o) {
+  satf_build_params *p = &o->p;
+  long v;
+  double k;
+  if (satf_cli_is(it, "-o", "--output"))
+    return satf_cli_value(it, &o->out);
+  if (satf_cli_is(it, NULL, "--angles"))
+    return parse_angles(it, p);
+  if (satf_cli_is(it, NULL, "--seed"))
+    return satf_cli_value_u64(it, &p->seed);
+  if (satf_cli_is(it, NULL, "--threads"))
+    return satf_cli_value_int(it, 0, 1024, &o->threads);
+  if (satf_cli_is(it, NULL, "--no-shadow")) {
+    p->trace.self_shadow = 0;
+  } else if (satf_cli_is(it, "-q", "--quiet")) {
+    o->quiet = 1;
+  } else if (satf_cli_is(it, NULL, "--samples")) {
+    if (satf_cli_value_int(it, 1, 1000000, &v))
+      return -1;
+    p->samples = (int)v;
+  } else if (satf_cli_is(it, NULL, "--width")) {
+    if (satf_cli_value_int(it, 2, 4096, &v))
+      return -1;
+    p->trace.width = (int)v;
+  } else if (satf_cli_is(it, NULL, "--grid")) {
+    if (satf_cli_value_int(it, 4, 1024, &v))
+      return -1;
+    p->grid = (int)v;
+  } else if (satf_cli_is(it, NULL, "--extinction")) {
+    if (satf_cli_value_double(it, 0.0, 1e6, &k))
+      return -1;
+    p->trace.extinction = (float)k;
+  } else {
+    satf_cli_unknown(it);
+    return -1;
+  }
+  return 0;
+}
+
+/* Returns -1 to go on, else the exit status. */
+static int parse_args(int argc, char **argv, options *o) {
+  memset(o, 0, sizeof *o);
+  o->p = satf_build_params_default();
+  satf_cli_args it;
+  satf_cli_begin(&it, PROG, argc, argv);
+  while (satf_cli_next(&it)) {
+    if (satf_cli_is(&it, "-h", "--help")) {
       usage(stdout);
       return 0;
-    } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
-      NEED_VALUE out = val;
-    } else if (!strcmp(a, "--samples")) {
-      NEED_VALUE if (satf_cli_int(PROG, a, val, 1, 1000000, &v)) return 2;
-      p.samples = (int)v;
-    } else if (!strcmp(a, "--angles")) {
-      NEED_VALUE long nv, nl;
-      if (strchr(val, 'x')) {
-        if (satf_cli_size(PROG, a, val, 1, 1024, &nv, &nl))
-          return 2;
-      } else {
-        if (satf_cli_int(PROG, a, val, 1, 1024, &nv))
-          return 2;
-        nl = nv;
-      }
-      p.n_view = (int)nv;
-      p.n_light = (int)nl;
-    } else if (!strcmp(a, "--width")) {
-      NEED_VALUE if (satf_cli_int(PROG, a, val, 2, 4096, &v)) return 2;
-      p.trace.width = (int)v;
-    } else if (!strcmp(a, "--grid")) {
-      NEED_VALUE if (satf_cli_int(PROG, a, val, 4, 1024, &v)) return 2;
-      p.grid = (int)v;
-    } else if (!strcmp(a, "--seed")) {
-      NEED_VALUE if (satf_cli_u64(PROG, a, val, &p.seed)) return 2;
-    } else if (!strcmp(a, "--threads")) {
-      NEED_VALUE if (satf_cli_int(PROG, a, val, 0, 1024, &threads)) return 2;
-    } else if (!strcmp(a, "--extinction")) {
-      double k;
-      NEED_VALUE if (satf_cli_double(PROG, a, val, 0.0, 1e6, &k)) return 2;
-      p.trace.extinction = (float)k;
-    } else if (!strcmp(a, "--no-shadow")) {
-      p.trace.self_shadow = 0;
-    } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
-      quiet = 1;
-    } else {
-      fprintf(stderr, "%s: unknown option '%s' (see --help)\n", PROG, a);
-      return 2;
     }
-#undef NEED_VALUE
+    if (parse_option(&it, o))
+      return 2;
   }
-  if (!out) {
+  if (!o->out) {
     fprintf(stderr, "%s: no output file: give -o DATABASE.exr (see --help)\n",
             PROG);
     return 2;
   }
+  return -1;
+}
+
+static void print_summary(const options *o, int nthreads, double t_total,
+                          double t_build) {
+  const satf_build_params *p = &o->p;
+  char size[32];
+  double records = (double)p->n_view * (double)p->n_light * p->samples;
+  printf(
+      "%s: wrote %s\n"
+      "  records   %.0f HRIRs (%d samples x %dx%d azimuths), %d values each\n"
+      "  file      %s\n"
+      "  time      %.2f s (trace %.2f s, write %.2f s)\n"
+      "  speed     %.0f HRIRs/s on %d thread%s\n",
+      PROG, o->out, records, p->samples, p->n_view, p->n_light, p->trace.width,
+      satf_format_bytes((double)satf_file_size(o->out), size, sizeof size),
+      t_total, t_build, t_total - t_build, records / t_build, nthreads,
+      nthreads == 1 ? "" : "s");
+}
+
+int main(int argc, char **argv) {
+  options o;
+  int rc = parse_args(argc, argv, &o);
+  if (rc >= 0)
+    return rc;
+  satf_build_params p = o.p;
+  const char *out = o.out;
+  int quiet = o.quiet;
   satf_error err;
   satf_error_clear(&err);
   if (satf_build_params_check(&p, &err) != SATF_OK) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
     return 2;
   }
-  int nthreads = threads > 0 ? (int)threads : satf_cpu_count();
+  int nthreads = o.threads > 0 ? (int)o.threads : satf_cpu_count();
   size_t per = (size_t)p.n_view * (size_t)p.n_light;
   if (!quiet)
     fprintf(stderr,
@@ -132,17 +181,6 @@ int main(int argc, char **argv) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
     return 1;
   }
-  char size[32];
-  double records = (double)per * p.samples;
-  printf(
-      "%s: wrote %s\n"
-      "  records   %.0f HRIRs (%d samples x %dx%d azimuths), %d values each\n"
-      "  file      %s\n"
-      "  time      %.2f s (trace %.2f s, write %.2f s)\n"
-      "  speed     %.0f HRIRs/s on %d thread%s\n",
-      PROG, out, records, p.samples, p.n_view, p.n_light, p.trace.width,
-      satf_format_bytes((double)satf_file_size(out), size, sizeof size),
-      t_total, t_build, t_total - t_build, records / t_build, nthreads,
-      nthreads == 1 ? "" : "s");
+  print_summary(&o, nthreads, t_total, t_build);
   return 0;
 }
