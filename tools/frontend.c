@@ -1,7 +1,12 @@
 /* frontend.c - see frontend.h. */
 #include "frontend.h"
 
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
+
+#include "satf/common.h"
+#include "satf/math.h"
 
 satf_status satf_frontend_load(const char *prog, const char *scene_path,
                                const char *db_path, long *width, long *height,
@@ -97,4 +102,112 @@ void satf_frontend_table_row(FILE *out, const char *name,
       out, "%-16s %4ld %4ld %6.1f %6.1f %7.1f %7.1f %7.1f %7.1f %7.1f %7.1f\n",
       name, s->clusters, s->layers, s->strands / 1000.0, s->hsvs / 1000.0,
       m->index_ms, m->maps_ms, m->upload_ms, m->lighting_ms, m->shadow_ms, fps);
+}
+
+satf_status satf_frontend_frame_range(const satf_scene *scene, const char *text,
+                                      int *first, int *last, satf_error *err) {
+  char tail = 0;
+  if (!strcmp(text, "all")) {
+    satf_scene_frame_range(scene, first, last);
+  } else if (sscanf(text, "%d-%d%c", first, last, &tail) != 2) {
+    if (sscanf(text, "%d%c", first, &tail) != 1)
+      return satf_error_set(err, SATF_ERR_ARGUMENT,
+                            "--frames: expected A-B, N or all, got '%s'", text);
+    *last = *first;
+  }
+  return SATF_OK;
+}
+
+satf_status satf_frontend_write_png(const satf_image *img, const char *path,
+                                    satf_error *err) {
+  const char *names[3] = {"R", "G", "B"};
+  int w = satf_image_width(img), h = satf_image_height(img);
+  satf_image *rgb = NULL;
+  satf_status st = satf_image_create(w, h, names, 3, &rgb, err);
+  for (int c = 0; c < 3 && st == SATF_OK; c++)
+    memcpy(satf_image_plane(rgb, c),
+           satf_image_const_plane(img, satf_image_channel_index(img, names[c])),
+           (size_t)w * (size_t)h * sizeof(float));
+  if (st == SATF_OK)
+    st = satf_image_write_png(rgb, path, err);
+  satf_image_destroy(rgb);
+  return st;
+}
+
+/* Rotates the eye about the up axis through the target (Rodrigues). */
+static void orbit(satf_scene_camera *cam, const satf_scene_camera *start,
+                  float angle) {
+  float v[3], kx[3];
+  for (int a = 0; a < 3; a++)
+    v[a] = start->position[a] - start->target[a];
+  float c = cosf(angle), s = sinf(angle);
+  float kv = satf_dot3f(start->up, v);
+  satf_cross3f(start->up, v, kx);
+  for (int a = 0; a < 3; a++)
+    cam->position[a] =
+        start->target[a] + v[a] * c + kx[a] * s + start->up[a] * kv * (1 - c);
+}
+
+/* Shows frame f of the bench: an animation frame (kept in *snap until the
+ * next) or a step of the orbit. */
+static satf_status bench_step(satf_renderer *r, const satf_scene *scene,
+                              const satf_scene_camera *start, long f,
+                              long frames, const int range[3],
+                              satf_scene **snap, satf_error *err) {
+  if (!range[0]) {
+    orbit(satf_renderer_camera(r), start,
+          SATF_TWO_PI_F * (float)f / (float)frames);
+    return SATF_OK;
+  }
+  /* play the animation: moving clusters are rebuilt */
+  satf_scene *next = NULL;
+  double frame = range[1] + (double)(f % (range[2] - range[1] + 1));
+  satf_status st = satf_scene_at_frame(scene, frame, &next, err);
+  if (st == SATF_OK)
+    st = satf_renderer_set_scene(r, next, NULL, err);
+  satf_scene_destroy(*snap);
+  *snap = next;
+  return st;
+}
+
+satf_status satf_frontend_bench(satf_renderer *r, const satf_scene *scene,
+                                long frames, satf_frame_timing *mean,
+                                double *fps, satf_error *err) {
+  satf_scene_camera start = *satf_renderer_camera(r);
+  satf_frame_timing t;
+  memset(mean, 0, sizeof *mean);
+  satf_status st = satf_renderer_render(r, SATF_AOV_BEAUTY, &t, err);
+  if (st != SATF_OK)
+    return st;
+  int range[3]; /* animated, first, last */
+  range[1] = range[2] = 0;
+  range[0] = satf_scene_frame_range(scene, &range[1], &range[2]);
+  satf_scene *snap = NULL;
+  double b0 = satf_now_seconds(), n = (double)frames;
+  for (long f = 0; f < frames && st == SATF_OK; f++) {
+    double s0 = satf_now_seconds();
+    st = bench_step(r, scene, &start, f, frames, range, &snap, err);
+    double s1 = satf_now_seconds();
+    if (st == SATF_OK)
+      st = satf_renderer_render(r, SATF_AOV_BEAUTY, &t, err);
+    if (st != SATF_OK)
+      break;
+    /* interpolating the frame and rebuilding moving clusters counts as
+     * index calculation (Table 1's I) */
+    t.index_ms += 1e3 * (s1 - s0);
+    mean->index_ms += t.index_ms / n;
+    mean->maps_ms += t.maps_ms / n;
+    mean->upload_ms += t.upload_ms / n;
+    mean->lighting_ms += t.lighting_ms / n;
+    mean->shadow_ms += t.shadow_ms / n;
+  }
+  *fps = n / (satf_now_seconds() - b0);
+  if (snap) {
+    satf_error ignore;
+    satf_renderer_set_scene(r, scene, NULL, &ignore);
+    satf_scene_destroy(snap);
+  }
+  if (st == SATF_OK)
+    *satf_renderer_camera(r) = start;
+  return st;
 }

@@ -38,4 +38,21 @@ void satf_frontend_table_row(FILE *out, const char *name,
                              const satf_render_stats *s,
                              const satf_frame_timing *mean, double fps);
 
+/* Parses --frames' value: "A-B", "N" or "all" (the scene's range). */
+satf_status satf_frontend_frame_range(const satf_scene *scene, const char *text,
+                                      int *first, int *last, satf_error *err);
+
+/* Writes the composite (img's R, G, B over the background) as an opaque
+ * sRGB PNG. */
+satf_status satf_frontend_write_png(const satf_image *img, const char *path,
+                                    satf_error *err);
+
+/* Table 1's measurement: one warm-up frame, then `frames` timed frames of
+ * the scene's animation, or, for a static scene, of the camera orbiting its
+ * target once. Fills the mean stage times and the frame rate; on success
+ * the renderer shows `scene` from its original camera again. */
+satf_status satf_frontend_bench(satf_renderer *r, const satf_scene *scene,
+                                long frames, satf_frame_timing *mean,
+                                double *fps, satf_error *err);
+
 #endif

@@ -184,6 +184,11 @@ satf_status satf_db_write_atlas(const satf_db *db, const char *path,
  * parameters, the features and every stored value. */
 uint64_t satf_db_payload_hash(const satf_db *db);
 
+/* atlas.c - the image size of the database file and of its atlas: one row
+ * per sample and light azimuth, one record of width values per view
+ * azimuth. */
+void satf_db_atlas_size(const satf_db *db, int *width, int *height);
+
 #ifdef __cplusplus
 }
 #endif

@@ -8,6 +8,7 @@
 
 #include "satf/common.h"
 #include "satf/db.h"
+#include "satf/math.h"
 
 static const char *PROG = "satf-db";
 
@@ -91,8 +92,8 @@ static int cmd_atlas(const char *path, const char *out) {
   satf_db *db = NULL;
   if (load(path, &db))
     return 1;
-  const satf_build_params *p = satf_db_params(db);
-  int w = p->n_view * p->trace.width, h = p->samples * p->n_light;
+  int w, h;
+  satf_db_atlas_size(db, &w, &h);
   satf_error err;
   satf_error_clear(&err);
   satf_status st = satf_db_write_atlas(db, out, &err);
@@ -119,42 +120,54 @@ static int parse_rho(const char *text, float rho[3]) {
   return tok ? -1 : 0;
 }
 
-static int cmd_lookup(const char *path, int argc, char **argv) {
-  float rho[3] = {0, 0.5f, 0.5f};
-  double view = 0, light = 0;
-  long k = 1;
+typedef struct lookup_opts {
+  float rho[3];
+  double view, light;
+  long k;
+} lookup_opts;
+
+/* Parses the options after "lookup FILE"; returns 0 or the exit status 2. */
+static int parse_lookup(int argc, char **argv, lookup_opts *o) {
   int have_rho = 0;
-  for (int i = 0; i < argc; i++) {
-    const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-    if (!val) {
-      fprintf(stderr, "%s: %s needs a value\n", PROG, argv[i]);
+  satf_cli_args it;
+  satf_cli_begin(&it, PROG, argc, argv);
+  it.next = 3;
+  it.hint = "";
+  while (satf_cli_next(&it)) {
+    const char *val; /* every lookup option takes a value */
+    if (satf_cli_value(&it, &val))
       return 2;
-    }
-    if (!strcmp(argv[i], "--rho")) {
-      if (parse_rho(val, rho)) {
+    if (satf_cli_is(&it, NULL, "--rho")) {
+      if (parse_rho(val, o->rho)) {
         fprintf(stderr, "%s: --rho: expected D,S,T\n", PROG);
         return 2;
       }
       have_rho = 1;
-    } else if (!strcmp(argv[i], "--view")) {
-      if (satf_cli_double(PROG, "--view", val, -1e4, 1e4, &view))
+    } else if (satf_cli_is(&it, NULL, "--view")) {
+      if (satf_cli_double(PROG, "--view", val, -1e4, 1e4, &o->view))
         return 2;
-    } else if (!strcmp(argv[i], "--light")) {
-      if (satf_cli_double(PROG, "--light", val, -1e4, 1e4, &light))
+    } else if (satf_cli_is(&it, NULL, "--light")) {
+      if (satf_cli_double(PROG, "--light", val, -1e4, 1e4, &o->light))
         return 2;
-    } else if (!strcmp(argv[i], "--k")) {
-      if (satf_cli_int(PROG, "--k", val, 1, 16, &k))
+    } else if (satf_cli_is(&it, NULL, "--k")) {
+      if (satf_cli_int(PROG, "--k", val, 1, 16, &o->k))
         return 2;
     } else {
-      fprintf(stderr, "%s: unknown option '%s'\n", PROG, argv[i]);
-      return 2;
+      return satf_cli_unknown(&it);
     }
-    i++;
   }
   if (!have_rho) {
     fprintf(stderr, "%s: lookup needs --rho D,S,T\n", PROG);
     return 2;
   }
+  return 0;
+}
+
+static int cmd_lookup(const char *path, int argc, char **argv) {
+  lookup_opts o = {{0, 0.5f, 0.5f}, 0, 0, 1};
+  int rc = parse_lookup(argc, argv, &o);
+  if (rc)
+    return rc;
   satf_db *db = NULL;
   if (load(path, &db))
     return 1;
@@ -164,8 +177,8 @@ static int cmd_lookup(const char *path, int argc, char **argv) {
     satf_db_destroy(db);
     return 1;
   }
-  satf_db_lookup(db, rho, (float)(view * 3.14159265358979 / 180.0),
-                 (float)(light * 3.14159265358979 / 180.0), (int)k, re, al);
+  satf_db_lookup(db, o.rho, (float)(o.view * SATF_PI / 180.0),
+                 (float)(o.light * SATF_PI / 180.0), (int)o.k, re, al);
   printf("j\treflectance\talpha\n");
   for (int j = 0; j < w; j++)
     printf("%d\t%.5f\t%.5f\n", j, (double)re[j], (double)al[j]);
@@ -200,7 +213,7 @@ int main(int argc, char **argv) {
     return cmd_atlas(path, argv[4]);
   }
   if (!strcmp(cmd, "lookup"))
-    return cmd_lookup(path, argc - 3, argv + 3);
+    return cmd_lookup(path, argc, argv);
   fprintf(stderr, "%s: unknown command '%s' (see --help)\n", PROG, cmd);
   return 2;
 }

@@ -1,11 +1,10 @@
 /* satf-render - headless SATF rendering to OpenEXR (and PNG) through EGL. */
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "satf/common.h"
 #include "frontend.h"
+#include "satf/common.h"
 #include "satf/gl.h"
 #include "satf/render.h"
 #include "satf/scene.h"
@@ -47,239 +46,224 @@ static void usage(FILE *out) {
       PROG, satf_frontend_effect_help);
 }
 
-static void orbit(satf_scene_camera *cam, const satf_scene_camera *start,
-                  float angle) {
-  /* rotate the eye about the up axis through the target (Rodrigues) */
-  float v[3], k[3] = {start->up[0], start->up[1], start->up[2]};
-  for (int a = 0; a < 3; a++)
-    v[a] = start->position[a] - start->target[a];
-  float c = cosf(angle), s = sinf(angle);
-  float kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
-  float kx[3] = {k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2],
-                 k[0] * v[1] - k[1] * v[0]};
-  for (int a = 0; a < 3; a++)
-    cam->position[a] =
-        start->target[a] + v[a] * c + kx[a] * s + k[a] * kv * (1 - c);
+typedef struct options {
+  const char *scene_path, *db_path, *exr, *png, *mesh_path, *frames, *sheet;
+  long w, h, bench, threads;
+  int resume, aov, quiet, composite;
+  satf_scene_effects off;
+} options;
+
+/* An option that takes a path, or NULL. */
+static const char **path_option(satf_cli_args *it, options *o) {
+  if (satf_cli_is(it, "-o", "--output"))
+    return &o->exr;
+  if (satf_cli_is(it, NULL, "--png"))
+    return &o->png;
+  if (satf_cli_is(it, NULL, "--frames"))
+    return &o->frames;
+  if (satf_cli_is(it, NULL, "--contact-sheet"))
+    return &o->sheet;
+  if (satf_cli_is(it, NULL, "--export-mesh"))
+    return &o->mesh_path;
+  if (satf_cli_is(it, NULL, "--db"))
+    return &o->db_path;
+  return NULL;
 }
 
-int main(int argc, char **argv) {
-  const char *scene_path = NULL, *db_path = NULL, *exr = NULL, *png = NULL;
-  const char *mesh_path = NULL, *frames = NULL, *sheet = NULL;
-  int resume = 0;
-  long w = 0, h = 0, bench = 0, threads = 0;
-  int aov = 0, quiet = 0;
-  satf_scene_effects off = {1, 1, 1, 1};
-  int composite = SATF_COMPOSITE_EXACT;
-  for (int i = 1; i < argc; i++) {
-    const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEED_VALUE                                                             \
-  if (!val) {                                                                  \
-    fprintf(stderr, "%s: %s needs a value (see --help)\n", PROG, a);           \
-    return 2;                                                                  \
-  }                                                                            \
-  i++;
-    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-      usage(stdout);
-      return 0;
-    } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
-      NEED_VALUE exr = val;
-    } else if (!strcmp(a, "--png")) {
-      NEED_VALUE png = val;
-    } else if (!strcmp(a, "--frames")) {
-      NEED_VALUE frames = val;
-    } else if (!strcmp(a, "--contact-sheet")) {
-      NEED_VALUE sheet = val;
-    } else if (!strcmp(a, "--resume")) {
-      resume = 1;
-    } else if (!strcmp(a, "--export-mesh")) {
-      NEED_VALUE mesh_path = val;
-    } else if (!strcmp(a, "--db")) {
-      NEED_VALUE db_path = val;
-    } else if (!strcmp(a, "--size")) {
-      NEED_VALUE if (satf_cli_size(PROG, a, val, 16, 8192, &w, &h)) return 2;
-    } else if (!strcmp(a, "--bench")) {
-      NEED_VALUE if (satf_cli_int(PROG, a, val, 1, 100000, &bench)) return 2;
-    } else if (!strcmp(a, "--threads")) {
-      NEED_VALUE if (satf_cli_int(PROG, a, val, 0, 1024, &threads)) return 2;
-    } else if (!strcmp(a, "--composite")) {
-      NEED_VALUE composite = satf_frontend_composite(val);
-      if (composite < 0) {
-        fprintf(stderr,
-                "%s: --composite: expected exact or ordered, got '%s'\n", PROG,
-                val);
-        return 2;
-      }
-    } else if (!strcmp(a, "--aov")) {
-      aov = 1;
-    } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
-      quiet = 1;
-    } else if (satf_frontend_effect_flag(a, &off)) {
-    } else if (a[0] == '-') {
-      fprintf(stderr, "%s: unknown option '%s' (see --help)\n", PROG, a);
-      return 2;
-    } else if (!scene_path) {
-      scene_path = a;
-    } else {
-      fprintf(stderr, "%s: more than one scene ('%s', '%s')\n", PROG,
-              scene_path, a);
-      return 2;
-    }
-#undef NEED_VALUE
+/* Parses one argument into o; returns -1 after printing an error. */
+static int parse_one(satf_cli_args *it, options *o) {
+  const char **path = path_option(it, o), *val;
+  if (path)
+    return satf_cli_value(it, path);
+  if (satf_cli_is(it, NULL, "--size"))
+    return satf_cli_value_size(it, 16, 8192, &o->w, &o->h);
+  if (satf_cli_is(it, NULL, "--bench"))
+    return satf_cli_value_int(it, 1, 100000, &o->bench);
+  if (satf_cli_is(it, NULL, "--threads"))
+    return satf_cli_value_int(it, 0, 1024, &o->threads);
+  if (satf_cli_is(it, NULL, "--composite")) {
+    if (satf_cli_value(it, &val))
+      return -1;
+    o->composite = satf_frontend_composite(val);
+    if (o->composite < 0)
+      fprintf(stderr, "%s: --composite: expected exact or ordered, got '%s'\n",
+              PROG, val);
+    return o->composite < 0 ? -1 : 0;
   }
-  if (!scene_path) {
+  if (satf_cli_is(it, NULL, "--resume"))
+    o->resume = 1;
+  else if (satf_cli_is(it, NULL, "--aov"))
+    o->aov = 1;
+  else if (satf_cli_is(it, "-q", "--quiet"))
+    o->quiet = 1;
+  else if (satf_frontend_effect_flag(it->arg, &o->off))
+    return 0;
+  else if (!satf_cli_positional(it)) {
+    satf_cli_unknown(it);
+    return -1;
+  } else if (!o->scene_path)
+    o->scene_path = it->arg;
+  else {
+    fprintf(stderr, "%s: more than one scene ('%s', '%s')\n", PROG,
+            o->scene_path, it->arg);
+    return -1;
+  }
+  return 0;
+}
+
+/* Checks that the options make a job. */
+static int check_args(const options *o) {
+  if (!o->scene_path) {
     fprintf(stderr, "%s: no scene given (see --help)\n", PROG);
     return 2;
   }
-  if ((resume || sheet) && !frames) {
+  if ((o->resume || o->sheet) && !o->frames) {
     fprintf(stderr, "%s: --resume and --contact-sheet go with --frames\n",
             PROG);
     return 2;
   }
-  if (!exr && !png && !bench && !mesh_path && !sheet) {
+  if (!o->exr && !o->png && !o->bench && !o->mesh_path && !o->sheet) {
     fprintf(stderr,
             "%s: nothing to do: give -o FRAME.exr, --png, --bench or "
             "--export-mesh\n",
             PROG);
     return 2;
   }
+  return -1;
+}
+
+/* Returns -1 to go on, else the exit status. */
+static int parse_args(int argc, char **argv, options *o) {
+  memset(o, 0, sizeof *o);
+  o->off = (satf_scene_effects){1, 1, 1, 1};
+  o->composite = SATF_COMPOSITE_EXACT;
+  satf_cli_args it;
+  satf_cli_begin(&it, PROG, argc, argv);
+  while (satf_cli_next(&it)) {
+    if (satf_cli_is(&it, "-h", "--help")) {
+      usage(stdout);
+      return 0;
+    }
+    if (parse_one(&it, o))
+      return 2;
+  }
+  return check_args(o);
+}
+
+/* --frames: the range through the sequence renderer; -o and --png were
+ * patterns and are done afterwards. */
+static satf_status render_frames(options *o, satf_renderer *r,
+                                 const satf_scene *scene, satf_error *err) {
+  satf_sequence_opts so = {0,        0,         o->exr, o->png,
+                           o->sheet, o->resume, o->aov, o->quiet};
+  satf_sequence_stats ss;
+  satf_status st =
+      satf_frontend_frame_range(scene, o->frames, &so.first, &so.last, err);
+  if (st == SATF_OK)
+    st = satf_sequence_render(r, scene, &so, &ss, err);
+  if (st != SATF_OK)
+    return st;
+  if (!o->quiet)
+    printf("%s: frames %d-%d: %d rendered, %d already complete, %.1f s "
+           "(%.1f ms a frame: I %.1f C %.1f M %.1f L %.1f S %.1f)\n",
+           PROG, so.first, so.last, ss.rendered, ss.skipped, ss.seconds,
+           ss.mean.total_ms, ss.mean.index_ms, ss.mean.maps_ms,
+           ss.mean.upload_ms, ss.mean.lighting_ms, ss.mean.shadow_ms);
+  o->exr = o->png = NULL;
+  return SATF_OK;
+}
+
+static satf_status export_meshes(const options *o, satf_renderer *r,
+                                 satf_error *err) {
+  int files = 0;
+  satf_status st = satf_renderer_export_meshes(r, o->mesh_path, &files, err);
+  if (st == SATF_OK && !o->quiet)
+    printf("%s: wrote %d layer meshes (%s)\n", PROG, files, o->mesh_path);
+  return st;
+}
+
+/* One frame to -o (EXR) and --png. */
+static satf_status render_still(const options *o, satf_renderer *r,
+                                const satf_render_stats *stats, double t_setup,
+                                satf_error *err) {
+  satf_image *img = NULL;
+  satf_frame_timing t;
+  satf_status st = satf_renderer_render_image(r, o->aov, &img, &t, err);
+  if (st == SATF_OK && o->exr)
+    st = satf_image_write_exr(img, o->exr, err);
+  if (st == SATF_OK && o->png)
+    st = satf_frontend_write_png(img, o->png, err);
+  satf_image_destroy(img);
+  if (st == SATF_OK && !o->quiet)
+    printf("%s: %s%s%s: %ldx%ld, %ld clusters, %ld layers, %.1fK HSVs, "
+           "%ld look-ups, %.1fM fragments, frame %.1f ms (set-up %.2f s)\n",
+           PROG, o->exr ? o->exr : "", o->exr && o->png ? " + " : "",
+           o->png ? o->png : "", o->w, o->h, stats->clusters, stats->layers,
+           stats->hsvs / 1000.0, t.lookups, t.fragments / 1e6, t.total_ms,
+           t_setup);
+  return st;
+}
+
+/* --bench N: prints the Table 1 row. */
+static satf_status bench(const options *o, satf_renderer *r,
+                         const satf_scene *scene,
+                         const satf_render_stats *stats, satf_error *err) {
+  satf_frame_timing mean;
+  double fps;
+  satf_status st = satf_frontend_bench(r, scene, o->bench, &mean, &fps, err);
+  if (st != SATF_OK)
+    return st;
+  const char *base = strrchr(o->scene_path, '/');
+  satf_frontend_table_header(stdout);
+  satf_frontend_table_row(stdout, base ? base + 1 : o->scene_path, stats, &mean,
+                          fps);
+  return SATF_OK;
+}
+
+static satf_status run(options *o, const satf_frontend *fe, satf_error *err) {
+  satf_gl_context *ctx = NULL;
+  satf_renderer *r = NULL;
+  double t0 = satf_now_seconds();
+  satf_status st =
+      satf_gl_context_create_headless((int)o->w, (int)o->h, &ctx, err);
+  if (st == SATF_OK)
+    st = satf_renderer_create(fe->scene, fe->db, (int)o->w, (int)o->h,
+                              (int)o->threads, &r, err);
+  double t_setup = satf_now_seconds() - t0;
+  satf_render_stats stats; /* of the scene as loaded */
+  if (st == SATF_OK) {
+    satf_frontend_apply(r, &o->off, o->composite);
+    satf_renderer_stats(r, &stats);
+  }
+  if (st == SATF_OK && o->frames)
+    st = render_frames(o, r, fe->scene, err);
+  if (st == SATF_OK && o->mesh_path)
+    st = export_meshes(o, r, err);
+  if (st == SATF_OK && (o->exr || o->png))
+    st = render_still(o, r, &stats, t_setup, err);
+  if (st == SATF_OK && o->bench)
+    st = bench(o, r, fe->scene, &stats, err);
+  satf_renderer_destroy(r);
+  satf_gl_context_destroy(ctx);
+  return st;
+}
+
+int main(int argc, char **argv) {
+  options o;
+  int rc = parse_args(argc, argv, &o);
+  if (rc >= 0)
+    return rc;
   satf_frontend fe;
-  if (satf_frontend_load(PROG, scene_path, db_path, &w, &h, &fe) != SATF_OK)
+  if (satf_frontend_load(PROG, o.scene_path, o.db_path, &o.w, &o.h, &fe) !=
+      SATF_OK)
     return 1;
   satf_error err;
   satf_error_clear(&err);
-  int rc = 1;
-  satf_gl_context *ctx = NULL;
-  satf_renderer *r = NULL;
-  satf_image *img = NULL;
-  double t0 = satf_now_seconds();
-  if (satf_gl_context_create_headless((int)w, (int)h, &ctx, &err) != SATF_OK ||
-      satf_renderer_create(fe.scene, fe.db, (int)w, (int)h, (int)threads, &r,
-                           &err) != SATF_OK)
-    goto done;
-  double t_setup = satf_now_seconds() - t0;
-  satf_frontend_apply(r, &off, composite);
-  satf_render_stats stats;
-  satf_renderer_stats(r, &stats);
-  if (frames) {
-    satf_sequence_opts so = {0, 0, exr, png, sheet, resume, aov, quiet};
-    char tail = 0;
-    if (!strcmp(frames, "all")) {
-      satf_scene_frame_range(fe.scene, &so.first, &so.last);
-    } else if (sscanf(frames, "%d-%d%c", &so.first, &so.last, &tail) != 2) {
-      if (sscanf(frames, "%d%c", &so.first, &tail) != 1) {
-        satf_error_set(&err, SATF_ERR_ARGUMENT,
-                       "--frames: expected A-B, N or all, got '%s'", frames);
-        goto done;
-      }
-      so.last = so.first;
-    }
-    satf_sequence_stats ss;
-    if (satf_sequence_render(r, fe.scene, &so, &ss, &err) != SATF_OK)
-      goto done;
-    if (!quiet)
-      printf("%s: frames %d-%d: %d rendered, %d already complete, %.1f s "
-             "(%.1f ms a frame: I %.1f C %.1f M %.1f L %.1f S %.1f)\n",
-             PROG, so.first, so.last, ss.rendered, ss.skipped, ss.seconds,
-             ss.mean.total_ms, ss.mean.index_ms, ss.mean.maps_ms,
-             ss.mean.upload_ms, ss.mean.lighting_ms, ss.mean.shadow_ms);
-    exr = png = NULL; /* they were patterns, now done */
-  }
-  if (mesh_path) {
-    int files = 0;
-    if (satf_renderer_export_meshes(r, mesh_path, &files, &err) != SATF_OK)
-      goto done;
-    if (!quiet)
-      printf("%s: wrote %d layer meshes (%s)\n", PROG, files, mesh_path);
-  }
-  satf_frame_timing t;
-  if (exr || png) {
-    if (satf_renderer_render_image(r, aov, &img, &t, &err) != SATF_OK)
-      goto done;
-    if (exr && satf_image_write_exr(img, exr, &err) != SATF_OK)
-      goto done;
-    if (png) {
-      /* the PNG shows the composite over the background, opaque */
-      satf_image *rgb = NULL;
-      const char *names[3] = {"R", "G", "B"};
-      if (satf_image_create((int)w, (int)h, names, 3, &rgb, &err) != SATF_OK)
-        goto done;
-      for (int c = 0; c < 3; c++)
-        memcpy(satf_image_plane(rgb, c),
-               satf_image_const_plane(img,
-                                      satf_image_channel_index(img, names[c])),
-               (size_t)w * (size_t)h * sizeof(float));
-      satf_status st = satf_image_write_png(rgb, png, &err);
-      satf_image_destroy(rgb);
-      if (st != SATF_OK)
-        goto done;
-    }
-    if (!quiet)
-      printf("%s: %s%s%s: %ldx%ld, %ld clusters, %ld layers, %.1fK HSVs, "
-             "%ld look-ups, %.1fM fragments, frame %.1f ms (set-up %.2f s)\n",
-             PROG, exr ? exr : "", exr && png ? " + " : "", png ? png : "", w,
-             h, stats.clusters, stats.layers, stats.hsvs / 1000.0, t.lookups,
-             t.fragments / 1e6, t.total_ms, t_setup);
-  }
-  if (bench) {
-    satf_scene_camera start = *satf_renderer_camera(r);
-    satf_frame_timing sum;
-    memset(&sum, 0, sizeof sum);
-    /* one warm-up frame, then N timed frames over a full orbit */
-    if (satf_renderer_render(r, SATF_AOV_BEAUTY, &t, &err) != SATF_OK)
-      goto done;
-    int first = 0, last = 0;
-    int animated = satf_scene_frame_range(fe.scene, &first, &last);
-    satf_scene *snap = NULL;
-    double b0 = satf_now_seconds();
-    for (long f = 0; f < bench; f++) {
-      double s0 = satf_now_seconds();
-      if (animated) { /* play the animation: moving clusters are rebuilt */
-        satf_scene *next = NULL;
-        double frame = first + (double)(f % (last - first + 1));
-        satf_status st = satf_scene_at_frame(fe.scene, frame, &next, &err);
-        if (st == SATF_OK)
-          st = satf_renderer_set_scene(r, next, NULL, &err);
-        satf_scene_destroy(snap);
-        snap = next;
-        if (st != SATF_OK)
-          break;
-      } else {
-        orbit(satf_renderer_camera(r), &start,
-              6.2831853f * (float)f / (float)bench);
-      }
-      double s1 = satf_now_seconds();
-      if (satf_renderer_render(r, SATF_AOV_BEAUTY, &t, &err) != SATF_OK)
-        break;
-      /* interpolating the frame and rebuilding moving clusters counts as
-       * index calculation (Table 1's I) */
-      t.index_ms += 1e3 * (s1 - s0);
-      sum.index_ms += t.index_ms / (double)bench;
-      sum.maps_ms += t.maps_ms / (double)bench;
-      sum.upload_ms += t.upload_ms / (double)bench;
-      sum.lighting_ms += t.lighting_ms / (double)bench;
-      sum.shadow_ms += t.shadow_ms / (double)bench;
-    }
-    double fps = (double)bench / (satf_now_seconds() - b0);
-    if (snap) {
-      satf_error ignore;
-      satf_renderer_set_scene(r, fe.scene, NULL, &ignore);
-      satf_scene_destroy(snap);
-    }
-    if (err.status != SATF_OK)
-      goto done;
-    *satf_renderer_camera(r) = start;
-    const char *base = strrchr(scene_path, '/');
-    satf_frontend_table_header(stdout);
-    satf_frontend_table_row(stdout, base ? base + 1 : scene_path, &stats, &sum,
-                            fps);
-  }
   rc = 0;
-done:
-  if (rc != 0)
+  if (run(&o, &fe, &err) != SATF_OK) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
-  satf_image_destroy(img);
-  satf_renderer_destroy(r);
-  satf_gl_context_destroy(ctx);
+    rc = 1;
+  }
   satf_frontend_free(&fe);
   return rc;
 }
