@@ -4,14 +4,23 @@
  * clusters (generalized disks, sec. 3.2) -> hair density (sec. 3.3), plus
  * the material (sec. 6.3-6.4), effect switches, camera, lights, background
  * and the HRIR database to render it with, optionally animated by
- * keyframes (satf/anim.h).
+ * keyframes (the animation API at the end of this header).
  *
  * samples/README.md is the format reference (every key, type, unit, default
  * and allowed range). This header owns the in-memory data model: a
  * satf_scene is a plain tree of structs, allocated by satf_scene_load /
  * satf_scene_parse and freed as a whole by satf_scene_destroy. Every field
  * has been validated and defaulted when the load succeeds; callers read the
- * fields directly and must not modify or free them. */
+ * fields directly and must not modify or free them. A program that builds a
+ * scene (the importer) starts from satf_scene_create, fills the fields with
+ * malloc'ed arrays and strings that satf_scene_destroy will free, and
+ * writes it with satf_scene_write: the one writer of the format.
+ *
+ * Inside the library (online/scene/README.md) the reader is a chain
+ * without cycles: report (key paths, messages) -> values (typed JSON reads)
+ * -> tracks (the one "keys" reader) -> parse_instance -> parse_cluster ->
+ * parse -> load; snapshots use only check (validation), interp and the
+ * keyframe data (anim); write and equal read the data model only. */
 #ifndef SATF_SCENE_H
 #define SATF_SCENE_H
 
@@ -24,10 +33,6 @@
 extern "C" {
 #endif
 
-
-
-
-
 /* Limits enforced by validation (documented in samples/README.md). */
 #define SATF_SCENE_MAX_LAYERS 256
 #define SATF_SCENE_MAX_ST 4096
@@ -39,7 +44,7 @@ extern "C" {
 #define SATF_SCENE_MAX_MACRO_CLUSTERS 65536
 #define SATF_SCENE_MAX_INSTANCES 65536  /* per macro-cluster */
 #define SATF_SCENE_MAX_CLUSTERS 1000000 /* instances over the scene */
-#define SATF_SCENE_MAX_LIGHTS 64
+#define SATF_SCENE_MAX_LIGHTS 8         /* what the renderer draws */
 #define SATF_SCENE_MAX_STRANDS 10000000 /* per cluster */
 #define SATF_SCENE_MAX_CLUMPS 16        /* clumps or holes per cluster */
 #define SATF_SCENE_MAX_COORD 1e6        /* |coordinate| in scene units */
@@ -185,7 +190,7 @@ typedef struct satf_scene_image {
   int width, height;
 } satf_scene_image;
 
-/* Keyframes of an animated scene: opaque, read through satf/anim.h. */
+/* Keyframes of an animated scene: opaque, read through the functions below. */
 typedef struct satf_scene_animation satf_scene_animation;
 
 typedef struct satf_scene {
@@ -206,8 +211,8 @@ typedef struct satf_scene {
   /* Warnings (unknown keys); read them with satf_scene_warning*. */
   int n_warnings;
   char **warnings;
-  /* NULL for a static scene and for a snapshot (satf/anim.h); the fields
-   * above then hold the static values, the defaults of every key. */
+  /* NULL for a static scene and for a snapshot (satf_scene_at_frame); the
+   * fields above then hold the static values, the defaults of every key. */
   satf_scene_animation *animation;
 } satf_scene;
 
@@ -225,6 +230,32 @@ satf_status satf_scene_parse(const char *json, size_t len,
                              satf_error *err);
 
 void satf_scene_destroy(satf_scene *scene);
+
+/* A scene named `name` with no macro-clusters and every other value at the
+ * default a file would get: material, effects, an automatic camera, one
+ * key light, background and image size. The caller adds macro-clusters
+ * (and may replace any field) before using or writing it. */
+satf_status satf_scene_create(const char *name, satf_scene **out,
+                              satf_error *err);
+
+/* The scene as JSON text (malloc'ed, NUL-terminated) in the format of
+ * samples/README.md, every value written so that satf_scene_parse gives
+ * the same scene back (satf_scene_equal) and writing that gives the same
+ * text. Paths under base_dir (the directory the text will be read from;
+ * NULL: none) are written relative to it, others as held. */
+satf_status satf_scene_to_json(const satf_scene *scene, const char *base_dir,
+                               char **json, satf_error *err);
+
+/* satf_scene_to_json into path, through a temporary file renamed into
+ * place; paths are written relative to path's directory when under it,
+ * and a relative path that is not is made absolute, so loading the file
+ * finds the same files. */
+satf_status satf_scene_write(const satf_scene *scene, const char *path,
+                             satf_error *err);
+
+/* Equality of everything a scene file says (not the name or warnings):
+ * every field, every key. Bitwise on the floats. */
+int satf_scene_equal(const satf_scene *a, const satf_scene *b);
 
 /* Non-fatal findings (unknown keys), each "NAME: key.path: message". */
 int satf_scene_warning_count(const satf_scene *scene);
@@ -265,7 +296,7 @@ void satf_scene_bounds(const satf_scene *scene, float lo[3], float hi[3]);
 
 const char *satf_scene_layout_name(satf_scene_layout layout);
 
-/* anim.h - keyframe animation of a scene (samples/README.md, "Animation";
+/* Animation - keyframes of a scene (samples/README.md, "Animation";
  * SATF Fig. 8): the frame range and rate of an animated scene, static
  * snapshots of it at any frame, and cheap comparisons that tell a renderer
  * what changed between two snapshots.
@@ -276,7 +307,20 @@ const char *satf_scene_layout_name(satf_scene_layout layout);
  * value interpolated; render it as any loaded scene and free it with
  * satf_scene_destroy. */
 
+/* Makes a built scene animated over frames [first, last] at fps (both in
+ * the limits above); fails when it is animated already. */
+satf_status satf_scene_set_animation(satf_scene *scene, double fps, int first,
+                                     int last, satf_error *err);
 
+/* Appends a key at `frame` (in the range, after the previous key) to
+ * macro_clusters[index].prototype: copies of its trajectory (3 * n_points)
+ * and of a, b and twist (each with the static count); NULL keeps the
+ * static value. The values are not validated here: loading the written
+ * file does that. */
+satf_status satf_scene_add_prototype_key(satf_scene *scene, int index,
+                                         double frame, const float *trajectory,
+                                         const float *a, const float *b,
+                                         const float *twist, satf_error *err);
 
 /* 1 when the scene file had an "animation" object (even with no keys). */
 int satf_scene_is_animated(const satf_scene *scene);

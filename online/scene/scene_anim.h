@@ -1,32 +1,43 @@
 /* scene_anim.h - the keyframes of an animated scene (samples/README.md,
- * "Animation"): owns struct satf_scene_animation, the per-object key tracks
- * hung off a satf_scene, and the parsers that fill them. Interpolation
- * itself is scene_interp.h; snapshots are scene_anim.c. */
+ * "Animation"): struct satf_scene_animation, the per-object key tracks hung
+ * off a satf_scene, and their lifetime. Plain data: reading them from JSON
+ * is scene_tracks.h and the parsers, interpolating them scene_interp.h and
+ * scene_snapshot.c, writing them scene_write.c. */
 #ifndef SATF_ONLINE_SCENE_ANIM_H
 #define SATF_ONLINE_SCENE_ANIM_H
 
-#include <cjson/cJSON.h>
-
-#include "scene_json.h"
 #include "satf/scene.h"
 
-/* A prototype's geometry at one key; a NULL array is the static one. */
+/* Keys of one animated object: frames strictly increasing, keys an array of
+ * n_keys structs of the object's key type (below). */
+typedef struct scene_track {
+  int n_keys; /* 0: the object does not move */
+  double *frames;
+  void *keys;
+} scene_track;
+
+/* A prototype's geometry at one key; a NULL array is the static one (the
+ * key did not give it). */
 typedef struct scene_proto_key {
   float *trajectory; /* 3 * n_points */
   float *a, *b, *twist;
 } scene_proto_key;
 
-typedef struct scene_proto_track {
-  int n_keys; /* 0: the prototype does not move */
-  double *frames;
-  scene_proto_key *keys;
-} scene_proto_track;
-
-/* An instance transform at one key, both as the static parser composes it
- * (m, used as is on a key) and split for interpolation: m = T(translate)
- * R(rotation) S(stretch). */
-typedef struct scene_xform_key {
+/* A transform as written: a matrix, or translate / rotate (axis as written,
+ * angle in degrees) / scale. m is composed from it. */
+typedef struct scene_xform {
+  int is_matrix;
   float m[16];
+  float translate[3];
+  float axis[3];
+  double degrees;
+  float scale[3];
+} scene_xform;
+
+/* An instance transform at one key: as written, and split for
+ * interpolation into m = T(translate) R(rotation) S(stretch). */
+typedef struct scene_xform_key {
+  scene_xform form;
   float translate[3];
   float stretch[9];   /* symmetric for a matrix key, diag(scale) for TRS */
   double rotation[4]; /* unit quaternion (w, x, y, z) */
@@ -34,88 +45,62 @@ typedef struct scene_xform_key {
 
 typedef struct scene_instance_track {
   int macro_cluster, instance;
-  int n_keys;
-  double *frames;
-  scene_xform_key *keys;
+  scene_xform base;  /* the static transform as written */
+  scene_track track; /* of scene_xform_key */
 } scene_instance_track;
+
+/* What a camera or light key gave; the rest is the static value. */
+enum {
+  SCENE_GIVES_POSITION = 1,
+  SCENE_GIVES_TARGET = 2,
+  SCENE_GIVES_UP = 4,
+  SCENE_GIVES_FOV = 8,
+  SCENE_GIVES_VECTOR = 16,
+  SCENE_GIVES_COLOR = 32,
+  SCENE_GIVES_INTENSITY = 64
+};
 
 typedef struct scene_camera_key {
   float position[3], target[3], up[3];
   float fov_y;
+  unsigned given;
 } scene_camera_key;
 
 typedef struct scene_light_key {
   float vector[3]; /* direction or position, by the light's type */
   float color[3];
   float intensity;
+  unsigned given;
 } scene_light_key;
-
-typedef struct scene_camera_track {
-  int n_keys;
-  int sets_position; /* some key gives "position": no longer automatic */
-  double *frames;
-  scene_camera_key *keys;
-} scene_camera_track;
-
-typedef struct scene_light_track {
-  int n_keys;
-  double *frames;
-  scene_light_key *keys;
-} scene_light_track;
 
 struct satf_scene_animation {
   double fps;
-  int first, last; /* frame range, first <= last */
-  long total_keys; /* over the scene, against SATF_SCENE_MAX_KEYS_TOTAL */
-  int n_protos;    /* = n_macro_clusters once a prototype has keys */
-  scene_proto_track *protos;
+  int first, last;     /* frame range, first <= last */
+  long total_keys;     /* over the scene, against SATF_SCENE_MAX_KEYS_TOTAL */
+  int n_protos;        /* = n_macro_clusters once a prototype has keys */
+  scene_track *protos; /* of scene_proto_key */
   int n_instance_tracks, instance_capacity;
   scene_instance_track *instances; /* in file order */
-  scene_camera_track camera;
-  int n_lights; /* = scene n_lights once a light has keys */
-  scene_light_track *lights;
+  scene_track camera;              /* of scene_camera_key */
+  int camera_sets_position; /* some key gives "position": not automatic */
+  int n_lights;             /* = scene n_lights once a light has keys */
+  scene_track *lights;      /* of scene_light_key */
 };
 
+satf_scene_animation *scene_anim_create(double fps, int first, int last);
 void scene_anim_destroy(satf_scene_animation *anim);
 
-/* root.animation into ctx->scene->animation (left NULL when absent). */
-satf_status scene_anim_parse_settings(scene_ctx *ctx, const cJSON *root);
+/* anim->protos (or lights) for n objects, allocated on first use; NULL
+ * when out of memory. */
+scene_track *scene_anim_proto_tracks(satf_scene_animation *anim, int n);
+scene_track *scene_anim_light_tracks(satf_scene_animation *anim, int n);
 
-/* obj.keys: absent gives *count 0; present it needs the animation object,
- * must be an array of 1..SATF_SCENE_MAX_KEYS and is counted against the
- * scene-wide key limit. */
-satf_status scene_anim_keys_array(scene_ctx *ctx, const cJSON *obj,
-                                  const cJSON **arr, int *count);
+/* A new, zeroed instance track; NULL when out of memory. */
+scene_instance_track *scene_anim_add_instance(satf_scene_animation *anim,
+                                              int macro_cluster, int instance);
 
-/* keys[index].frame (key is that entry; the path already ends in
- * "keys[index]"): an object with a number in the frame range, after
- * previous (index > 0). */
-satf_status scene_anim_key_frame(scene_ctx *ctx, const cJSON *key, int index,
-                                 double previous, double *frame);
-
-/* Fails with "KEY: cannot be animated; ..." for each of obj's keys listed in
- * fixed (the static-only keys of that object). */
-satf_status scene_anim_reject_fixed(scene_ctx *ctx, const cJSON *obj,
-                                    const char *const *fixed, const char *what);
-
-/* The keys of macro_clusters[index].prototype (obj), the static cluster c
- * already parsed; the ctx path is the prototype's. */
-satf_status scene_anim_parse_prototype_keys(scene_ctx *ctx, const cJSON *obj,
-                                            int index,
-                                            const satf_scene_cluster *c);
-
-/* A new, zeroed instance track of n keys, frames and keys allocated. */
-satf_status scene_anim_add_instance_track(scene_ctx *ctx, int macro_cluster,
-                                          int instance, int n,
-                                          scene_instance_track **out);
-
-/* The keys of the camera (obj, the ctx path is "camera"). */
-satf_status scene_anim_parse_camera_keys(scene_ctx *ctx, const cJSON *obj,
-                                         const satf_scene_camera *cam);
-
-/* The keys of lights[index] (obj; the ctx path is the light's). */
-satf_status scene_anim_parse_light_keys(scene_ctx *ctx, const cJSON *obj,
-                                        int index,
-                                        const satf_scene_light *light);
+/* Allocates n zeroed keys of key_size bytes and their frames into t;
+ * returns 0 when out of memory. */
+int scene_track_alloc(scene_track *t, int n, size_t key_size);
 
 #endif

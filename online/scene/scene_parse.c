@@ -1,21 +1,21 @@
 /* scene_parse.c - the scene schema (samples/README.md is its reference)
- * apart from the hair (scene_cluster.c, scene_instance.c) and the keyframes
- * (scene_anim_parse.c): the root, material, effects, camera, lights and
- * image, with their defaults and allowed ranges. */
+ * apart from the hair (scene_parse_cluster.c, scene_parse_instance.c): the
+ * root, material, effects, camera and lights with their keys, image and
+ * meshes, with their defaults and allowed ranges. */
 #include "scene_parse.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "scene_anim.h"
-
-#define PI 3.14159265358979323846
+#include "satf/math.h"
+#include "scene_check.h"
 
 static const scene_range R_COORD = {-SATF_SCENE_MAX_COORD, SATF_SCENE_MAX_COORD,
                                     0, 0};
 static const scene_range R_UNIT = {0, 1, 0, 0};
 static const scene_range R_COEF = {0, 100, 0, 0};
+static const float BACKGROUND[3] = {0.1f, 0.1f, 0.12f};
 /* ---- material (SATF eq. 9-12, Scheuermann 2004) ---- */
 
 static satf_status parse_material(scene_ctx *ctx, const cJSON *root,
@@ -108,29 +108,64 @@ static void frame_bounds(const satf_scene *scene, float fov_y_deg,
   double radius = 0.5 * scene_vec_length(d);
   if (radius < 1e-3)
     radius = 1e-3;
-  double dist = 1.1 * radius / sin(0.5 * fov_y_deg * PI / 180.0);
+  double dist = 1.1 * radius / sin(0.5 * fov_y_deg * SATF_PI / 180.0);
   position[0] = target[0];
   position[1] = target[1];
   position[2] = (float)(target[2] + dist);
 }
 
-satf_status scene_check_camera_view(scene_ctx *ctx, satf_scene_camera *cam) {
-  float view[3];
-  for (int k = 0; k < 3; k++)
-    view[k] = cam->target[k] - cam->position[k];
-  double view_len = scene_vec_length(view), up_len = scene_vec_length(cam->up);
-  if (!(view_len > 1e-6))
-    return scene_fail_key(ctx, "target", SATF_ERR_ARGUMENT,
-                          "coincides with the camera position");
-  float cross[3] = {view[1] * cam->up[2] - view[2] * cam->up[1],
-                    view[2] * cam->up[0] - view[0] * cam->up[2],
-                    view[0] * cam->up[1] - view[1] * cam->up[0]};
-  if (!(up_len > 1e-9) || !(scene_vec_length(cross) > 1e-3 * view_len * up_len))
-    return scene_fail_key(ctx, "up", SATF_ERR_ARGUMENT,
-                          "is zero or parallel to the view direction");
-  for (int k = 0; k < 3; k++)
-    cam->up[k] = (float)(cam->up[k] / up_len);
+/* A camera key over the static camera `user`: position, target, up and
+ * fov_y, the view checked as the static one is. */
+static satf_status read_camera_key(scene_ctx *ctx, const cJSON *e, void *out,
+                                   const void *user) {
+  static const char *const keys[] = {"frame", "position", "target",
+                                     "up",    "fov_y",    NULL};
+  static const char *const fixed[] = {"near", "far", NULL};
+  static const char *const given[] = {"position", "target", "up", "fov_y"};
+  static const scene_range r_fov = {0.1, 179, 0, 0};
+  const satf_scene_camera *cam = user;
+  scene_camera_key *key = out;
+  satf_scene_camera tmp = *cam;
+  satf_status s;
+  if ((s = scene_check_keys(ctx, e, keys)) != SATF_OK ||
+      (s = scene_tracks_reject_fixed(ctx, e, fixed,
+                                     "a camera key may give position, "
+                                     "target, up and fov_y")) != SATF_OK ||
+      (s = scene_key_vec(ctx, e, "position", 3, &R_COORD, cam->position,
+                         tmp.position)) != SATF_OK ||
+      (s = scene_key_vec(ctx, e, "target", 3, &R_COORD, cam->target,
+                         tmp.target)) != SATF_OK ||
+      (s = scene_key_vec(ctx, e, "up", 3, &R_COORD, cam->up, tmp.up)) !=
+          SATF_OK ||
+      (s = scene_key_float(ctx, e, "fov_y", &r_fov, cam->fov_y, &tmp.fov_y)) !=
+          SATF_OK ||
+      (s = scene_check_camera_view(ctx, &tmp)) != SATF_OK)
+    return s;
+  /* The static up is normalized already; again could move its last bit. */
+  if (!cJSON_GetObjectItemCaseSensitive(e, "up"))
+    memcpy(tmp.up, cam->up, sizeof tmp.up);
+  memcpy(key->position, tmp.position, sizeof key->position);
+  memcpy(key->target, tmp.target, sizeof key->target);
+  memcpy(key->up, tmp.up, sizeof key->up);
+  key->fov_y = tmp.fov_y;
+  for (int i = 0; i < 4; i++)
+    if (cJSON_GetObjectItemCaseSensitive(e, given[i]))
+      key->given |= 1u << i; /* SCENE_GIVES_POSITION .. SCENE_GIVES_FOV */
   return SATF_OK;
+}
+
+static satf_status parse_camera_keys(scene_ctx *ctx, const cJSON *obj,
+                                     const satf_scene_camera *cam) {
+  scene_track scratch = {0}, *t = &scratch;
+  if (scene_tracks_has_keys(ctx, obj))
+    t = &ctx->scene->animation->camera;
+  satf_status s = scene_tracks_read(ctx, obj, sizeof(scene_camera_key),
+                                    read_camera_key, cam, t);
+  const scene_camera_key *keys = t->keys;
+  for (int i = 0; s == SATF_OK && i < t->n_keys; i++)
+    if (keys[i].given & SCENE_GIVES_POSITION)
+      ctx->scene->animation->camera_sets_position = 1;
+  return s;
 }
 
 static satf_status parse_camera(scene_ctx *ctx, const cJSON *root,
@@ -178,15 +213,19 @@ static satf_status parse_camera(scene_ctx *ctx, const cJSON *root,
                        "%g must be greater than near (%g)", cam->far_clip,
                        cam->near_clip);
   if (s == SATF_OK)
-    s = scene_anim_parse_camera_keys(ctx, obj, cam);
+    s = parse_camera_keys(ctx, obj, cam);
 done:
   scene_pop(ctx, previous);
   return s;
 }
 
-satf_status scene_parse_light_values(scene_ctx *ctx, const cJSON *obj,
-                                     const satf_scene_light *def,
-                                     satf_scene_light *light) {
+/* Reads a light's color, intensity and direction (normalized) or position
+ * from obj, the light's type already in light; missing values come from
+ * def, or the documented defaults when def is NULL (direction/position
+ * then required). */
+static satf_status parse_light_values(scene_ctx *ctx, const cJSON *obj,
+                                      const satf_scene_light *def,
+                                      satf_scene_light *light) {
   static const scene_range r_intensity = {0, 1e6, 0, 0};
   static const float white[3] = {1.0f, 1.0f, 1.0f};
   satf_status s;
@@ -203,13 +242,61 @@ satf_status scene_parse_light_values(scene_ctx *ctx, const cJSON *obj,
                          def ? def->direction : NULL, light->direction)) !=
       SATF_OK)
     return s;
-  double len = scene_vec_length(light->direction);
-  if (!(len > 1e-9))
-    return scene_fail_key(ctx, "direction", SATF_ERR_ARGUMENT,
-                          "has zero length");
-  for (int k = 0; k < 3; k++)
-    light->direction[k] = (float)(light->direction[k] / len);
+  double len;
+  if ((s = scene_check_direction(ctx, light->direction, &len)) != SATF_OK)
+    return s;
+  scene_normalize(light->direction, len);
   return SATF_OK;
+}
+
+/* A light key over the static light `user`: its direction or position,
+ * color and intensity. */
+static satf_status read_light_key(scene_ctx *ctx, const cJSON *e, void *out,
+                                  const void *user) {
+  static const char *const dir_keys[] = {"frame", "direction", "color",
+                                         "intensity", NULL};
+  static const char *const point_keys[] = {"frame", "position", "color",
+                                           "intensity", NULL};
+  static const char *const fixed[] = {"type", NULL};
+  const satf_scene_light *light = user;
+  scene_light_key *key = out;
+  int point = light->type == SATF_SCENE_LIGHT_POINT;
+  satf_scene_light tmp = *light;
+  satf_status s;
+  if ((s = scene_check_keys(ctx, e, point ? point_keys : dir_keys)) !=
+          SATF_OK ||
+      (s = scene_tracks_reject_fixed(ctx, e, fixed,
+                                     "a light key may give its direction or "
+                                     "position, color and intensity")) !=
+          SATF_OK ||
+      (s = parse_light_values(ctx, e, light, &tmp)) != SATF_OK)
+    return s;
+  const char *vector = point ? "position" : "direction";
+  if (!point && !cJSON_GetObjectItemCaseSensitive(e, vector))
+    memcpy(tmp.direction, light->direction, sizeof tmp.direction);
+  memcpy(key->vector, point ? tmp.position : tmp.direction, sizeof key->vector);
+  memcpy(key->color, tmp.color, sizeof key->color);
+  key->intensity = tmp.intensity;
+  if (cJSON_GetObjectItemCaseSensitive(e, vector))
+    key->given |= SCENE_GIVES_VECTOR;
+  if (cJSON_GetObjectItemCaseSensitive(e, "color"))
+    key->given |= SCENE_GIVES_COLOR;
+  if (cJSON_GetObjectItemCaseSensitive(e, "intensity"))
+    key->given |= SCENE_GIVES_INTENSITY;
+  return SATF_OK;
+}
+
+static satf_status parse_light_keys(scene_ctx *ctx, const cJSON *obj, int index,
+                                    const satf_scene_light *light) {
+  scene_track scratch = {0}, *t = &scratch;
+  if (scene_tracks_has_keys(ctx, obj)) {
+    t = scene_anim_light_tracks(ctx->scene->animation, ctx->scene->n_lights);
+    if (!t)
+      return scene_nomem(ctx);
+    t += index;
+  }
+  return scene_tracks_read(ctx, obj, sizeof(scene_light_key), read_light_key,
+                           light, t);
 }
 
 static satf_status parse_light(scene_ctx *ctx, const cJSON *obj, int index,
@@ -231,9 +318,9 @@ static satf_status parse_light(scene_ctx *ctx, const cJSON *obj, int index,
   int point = light->type == SATF_SCENE_LIGHT_POINT;
   if ((s = scene_check_keys(ctx, obj, point ? point_keys : dir_keys)) !=
           SATF_OK ||
-      (s = scene_parse_light_values(ctx, obj, NULL, light)) != SATF_OK)
+      (s = parse_light_values(ctx, obj, NULL, light)) != SATF_OK)
     return s;
-  return scene_anim_parse_light_keys(ctx, obj, index, light);
+  return parse_light_keys(ctx, obj, index, light);
 }
 
 static satf_status parse_lights(scene_ctx *ctx, const cJSON *root) {
@@ -293,36 +380,6 @@ static satf_status parse_image(scene_ctx *ctx, const cJSON *root,
   return s;
 }
 
-satf_status scene_parse_root(scene_ctx *ctx, const cJSON *root,
-                             const char *base_dir) {
-  static const char *const keys[] = {
-      "description", "macro_clusters", "material",   "effects",
-      "camera",      "lights",         "background", "database",
-      "image",       "animation",      "meshes",     NULL};
-  static const float grey[3] = {0.1f, 0.1f, 0.12f};
-  satf_scene *scene = ctx->scene;
-  if (!cJSON_IsObject(root))
-    return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
-                      scene_type_name(root));
-  satf_status s;
-  if ((s = scene_check_keys(ctx, root, keys)) != SATF_OK ||
-      (s = scene_key_copy(ctx, root, "description", 0, &scene->description)) !=
-          SATF_OK ||
-      (s = scene_anim_parse_settings(ctx, root)) != SATF_OK ||
-      (s = scene_parse_macro_clusters(ctx, root, base_dir)) != SATF_OK ||
-      (s = parse_material(ctx, root, &scene->material)) != SATF_OK ||
-      (s = parse_effects(ctx, root, &scene->effects)) != SATF_OK ||
-      (s = parse_camera(ctx, root, &scene->camera)) != SATF_OK ||
-      (s = parse_lights(ctx, root)) != SATF_OK ||
-      (s = scene_key_vec(ctx, root, "background", 3, &R_UNIT, grey,
-                         scene->background)) != SATF_OK ||
-      (s = scene_key_path(ctx, root, "database", 0, base_dir,
-                          &scene->database)) != SATF_OK ||
-      (s = scene_parse_meshes(ctx, root, base_dir)) != SATF_OK)
-    return s;
-  return parse_image(ctx, root, &scene->image);
-}
-
 static satf_status parse_mesh(scene_ctx *ctx, const cJSON *obj,
                               const char *base_dir, satf_scene_mesh *mesh) {
   static const char *const keys[] = {"file", "color", "transform", NULL};
@@ -349,8 +406,8 @@ static satf_status parse_mesh(scene_ctx *ctx, const cJSON *obj,
   return s;
 }
 
-satf_status scene_parse_meshes(scene_ctx *ctx, const cJSON *root,
-                               const char *base_dir) {
+static satf_status parse_meshes(scene_ctx *ctx, const cJSON *root,
+                                const char *base_dir) {
   satf_scene *scene = ctx->scene;
   const cJSON *arr;
   int n;
@@ -371,4 +428,46 @@ satf_status scene_parse_meshes(scene_ctx *ctx, const cJSON *root,
   }
   scene_pop(ctx, previous);
   return s;
+}
+
+satf_status scene_parse_root(scene_ctx *ctx, const cJSON *root,
+                             const char *base_dir) {
+  static const char *const keys[] = {
+      "description", "macro_clusters", "material",   "effects",
+      "camera",      "lights",         "background", "database",
+      "image",       "animation",      "meshes",     NULL};
+  satf_scene *scene = ctx->scene;
+  if (!cJSON_IsObject(root))
+    return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
+                      scene_type_name(root));
+  satf_status s;
+  if ((s = scene_check_keys(ctx, root, keys)) != SATF_OK ||
+      (s = scene_key_copy(ctx, root, "description", 0, &scene->description)) !=
+          SATF_OK ||
+      (s = scene_tracks_parse_settings(ctx, root)) != SATF_OK ||
+      (s = scene_parse_macro_clusters(ctx, root, base_dir)) != SATF_OK ||
+      (s = parse_material(ctx, root, &scene->material)) != SATF_OK ||
+      (s = parse_effects(ctx, root, &scene->effects)) != SATF_OK ||
+      (s = parse_camera(ctx, root, &scene->camera)) != SATF_OK ||
+      (s = parse_lights(ctx, root)) != SATF_OK ||
+      (s = scene_key_vec(ctx, root, "background", 3, &R_UNIT, BACKGROUND,
+                         scene->background)) != SATF_OK ||
+      (s = scene_key_path(ctx, root, "database", 0, base_dir,
+                          &scene->database)) != SATF_OK ||
+      (s = parse_meshes(ctx, root, base_dir)) != SATF_OK)
+    return s;
+  return parse_image(ctx, root, &scene->image);
+}
+
+satf_status scene_parse_defaults(scene_ctx *ctx) {
+  static const cJSON empty = {0};
+  satf_scene *scene = ctx->scene;
+  satf_status s;
+  if ((s = parse_material(ctx, &empty, &scene->material)) != SATF_OK ||
+      (s = parse_effects(ctx, &empty, &scene->effects)) != SATF_OK ||
+      (s = parse_camera(ctx, &empty, &scene->camera)) != SATF_OK ||
+      (s = parse_lights(ctx, &empty)) != SATF_OK)
+    return s;
+  memcpy(scene->background, BACKGROUND, sizeof scene->background);
+  return parse_image(ctx, &empty, &scene->image);
 }

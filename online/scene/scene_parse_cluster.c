@@ -1,13 +1,15 @@
-/* scene_cluster.c - the hair part of the scene schema (samples/README.md):
- * macro-clusters (SATF sec. 3.1; their instance transforms are
- * scene_instance.c), the generalized-disk prototype cluster (eq. 1-3) and
- * its density (sec. 3.3). */
+/* scene_parse_cluster.c - the hair part of the scene schema
+ * (samples/README.md): macro-clusters (SATF sec. 3.1; their instance
+ * transforms are scene_parse_instance.c), the generalized-disk prototype
+ * cluster (eq. 1-3) with its keys, and its density (sec. 3.3). */
+#include "scene_parse_cluster.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "scene_anim.h"
-#include "scene_parse.h"
+#include "scene_check.h"
+#include "scene_parse_instance.h"
 #include "scene_transform.h"
 
 static const scene_range R_COORD = {-SATF_SCENE_MAX_COORD, SATF_SCENE_MAX_COORD,
@@ -74,15 +76,15 @@ static satf_status copy_curve(scene_ctx *ctx, const satf_scene_curve *from,
   return SATF_OK;
 }
 
-satf_status scene_parse_cluster_curve(scene_ctx *ctx, const cJSON *obj,
-                                      const char *key, satf_scene_curve *out) {
+static satf_status parse_cluster_curve(scene_ctx *ctx, const cJSON *obj,
+                                       const char *key, satf_scene_curve *out) {
   int twist = strcmp(key, "twist") == 0;
   return parse_curve(ctx, obj, key, twist ? &R_TWIST : &R_RADIUS, !twist, 0.0,
                      out);
 }
 
-satf_status scene_parse_trajectory(scene_ctx *ctx, const cJSON *obj,
-                                   satf_scene_cluster *c) {
+static satf_status parse_trajectory(scene_ctx *ctx, const cJSON *obj,
+                                    satf_scene_cluster *c) {
   const cJSON *arr;
   int n;
   satf_status s = scene_key_array(ctx, obj, "trajectory", 1, 2,
@@ -95,23 +97,14 @@ satf_status scene_parse_trajectory(scene_ctx *ctx, const cJSON *obj,
   c->n_points = n;
   size_t previous = scene_push_key(ctx, "trajectory");
   int i = 0;
-  double extent = 0.0;
   for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, i++) {
     size_t inner = scene_push_index(ctx, i);
     s = scene_vec(ctx, e, 3, &R_COORD, c->trajectory + 3 * i);
     scene_pop(ctx, inner);
-    if (s == SATF_OK) {
-      float d[3];
-      for (int k = 0; k < 3; k++)
-        d[k] = c->trajectory[3 * i + k] - c->trajectory[k];
-      double len = scene_vec_length(d);
-      if (len > extent)
-        extent = len;
-    }
   }
   /* A curve that never leaves its first point has no tangent, so no normal
    * plane to sweep the ellipse in (SATF sec. 3.2). */
-  if (s == SATF_OK && !(extent > 1e-6))
+  if (s == SATF_OK && !(scene_trajectory_extent(c->trajectory, n) > 1e-6))
     s = scene_fail(ctx, SATF_ERR_ARGUMENT,
                    "all %d control points coincide; the trajectory needs a "
                    "length",
@@ -284,6 +277,76 @@ static satf_status check_curve_counts(scene_ctx *ctx,
   return SATF_OK;
 }
 
+/* ---- prototype keys ---- */
+
+static satf_status count_mismatch(scene_ctx *ctx, const char *key, int got,
+                                  int want, const char *unit) {
+  return scene_fail_key(ctx, key, SATF_ERR_ARGUMENT,
+                        "has %d %s but the static %s has %d; keys keep the "
+                        "counts",
+                        got, unit, key, want);
+}
+
+/* A key of the static cluster `user`: any of trajectory, a, b and twist,
+ * with the static counts. */
+static satf_status read_prototype_key(scene_ctx *ctx, const cJSON *e, void *out,
+                                      const void *user) {
+  static const char *const keys[] = {"frame", "trajectory", "a",
+                                     "b",     "twist",      NULL};
+  static const char *const fixed[] = {"shell", "density", NULL};
+  const satf_scene_cluster *c = user;
+  scene_proto_key *key = out;
+  satf_status s;
+  if ((s = scene_check_keys(ctx, e, keys)) != SATF_OK ||
+      (s = scene_tracks_reject_fixed(ctx, e, fixed,
+                                     "a prototype key may give trajectory, "
+                                     "a, b and twist")) != SATF_OK)
+    return s;
+  if (cJSON_GetObjectItemCaseSensitive(e, "trajectory")) {
+    satf_scene_cluster tmp = {0};
+    s = parse_trajectory(ctx, e, &tmp);
+    key->trajectory = tmp.trajectory; /* owned even on failure */
+    if (s == SATF_OK && tmp.n_points != c->n_points)
+      s = count_mismatch(ctx, "trajectory", tmp.n_points, c->n_points,
+                         "control points");
+    if (s != SATF_OK)
+      return s;
+  }
+  static const char *const names[3] = {"a", "b", "twist"};
+  const satf_scene_curve *statics[3] = {&c->a, &c->b, &c->twist};
+  float **values[3] = {&key->a, &key->b, &key->twist};
+  for (int i = 0; i < 3; i++) {
+    if (!cJSON_GetObjectItemCaseSensitive(e, names[i]))
+      continue;
+    satf_scene_curve tmp = {0};
+    s = parse_cluster_curve(ctx, e, names[i], &tmp);
+    *values[i] = tmp.values;
+    if (s == SATF_OK && tmp.count != statics[i]->count)
+      s = count_mismatch(ctx, names[i], tmp.count, statics[i]->count,
+                         "control values");
+    if (s != SATF_OK)
+      return s;
+  }
+  return SATF_OK;
+}
+
+/* The keys of macro_clusters[index].prototype (obj), the static cluster c
+ * already parsed; the ctx path is the prototype's. */
+static satf_status parse_prototype_keys(scene_ctx *ctx, const cJSON *obj,
+                                        int index,
+                                        const satf_scene_cluster *c) {
+  scene_track scratch = {0}, *t = &scratch;
+  if (scene_tracks_has_keys(ctx, obj)) {
+    t = scene_anim_proto_tracks(ctx->scene->animation,
+                                ctx->scene->n_macro_clusters);
+    if (!t)
+      return scene_nomem(ctx);
+    t += index;
+  }
+  return scene_tracks_read(ctx, obj, sizeof(scene_proto_key),
+                           read_prototype_key, c, t);
+}
+
 static satf_status parse_cluster(scene_ctx *ctx, const cJSON *obj,
                                  const char *base_dir, int index,
                                  satf_scene_cluster *c) {
@@ -291,7 +354,7 @@ static satf_status parse_cluster(scene_ctx *ctx, const cJSON *obj,
                                      "shell",      "density", "keys", NULL};
   satf_status s;
   if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
-      (s = scene_parse_trajectory(ctx, obj, c)) != SATF_OK ||
+      (s = parse_trajectory(ctx, obj, c)) != SATF_OK ||
       (s = parse_curve(ctx, obj, "a", &R_RADIUS, 1, 0, &c->a)) != SATF_OK)
     return s;
   if (cJSON_GetObjectItemCaseSensitive(obj, "b"))
@@ -304,7 +367,7 @@ static satf_status parse_cluster(scene_ctx *ctx, const cJSON *obj,
       (s = check_curve_counts(ctx, c)) == SATF_OK &&
       (s = parse_shell(ctx, obj, &c->shell)) == SATF_OK &&
       (s = parse_density(ctx, obj, base_dir, &c->density)) == SATF_OK)
-    s = scene_anim_parse_prototype_keys(ctx, obj, index, c);
+    s = parse_prototype_keys(ctx, obj, index, c);
   return s;
 }
 

@@ -1,28 +1,20 @@
-/* scene_instance.c - the instance transforms of macro-clusters (SATF sec.
- * 3.1: clusters "derived from each other via simple transformations") and
- * their keyframes: a row-major matrix or translate / rotate / scale, each
- * key given the same way with the static transform as its default. */
+/* scene_parse_instance.c - the instance transforms of macro-clusters (SATF
+ * sec. 3.1: clusters "derived from each other via simple transformations")
+ * and their keyframes, and the transforms of meshes: a row-major matrix or
+ * translate / rotate / scale, each key given the same way with the static
+ * transform as its default. */
+#include "scene_parse_instance.h"
+
 #include <math.h>
 #include <string.h>
 
-#include "scene_anim.h"
+#include "satf/math.h"
+#include "scene_check.h"
 #include "scene_interp.h"
-#include "scene_parse.h"
 #include "scene_transform.h"
-
-#define PI 3.14159265358979323846
 
 static const scene_range R_COORD = {-SATF_SCENE_MAX_COORD, SATF_SCENE_MAX_COORD,
                                     0, 0};
-
-/* A transform as written: a matrix, or the parts of T R S. */
-typedef struct instance_form {
-  int is_matrix;
-  float m[16]; /* composed */
-  float translate[3];
-  double axis[3], angle_rad;
-  double scale[3];
-} instance_form;
 
 static const char *const trs_keys[] = {"translate", "rotate", "scale", NULL};
 
@@ -43,21 +35,25 @@ static satf_status parse_matrix(scene_ctx *ctx, const cJSON *item,
   return s;
 }
 
-/* inst.rotate, or def's rotation (the identity when def is NULL). */
+/* The unit axis and the angle in radians of a TRS transform. */
+static void rotation_of(const scene_xform *f, double axis[3],
+                        double *angle_rad) {
+  double len = scene_vec_length(f->axis);
+  for (int k = 0; k < 3; k++)
+    axis[k] = f->axis[k] / len;
+  *angle_rad = f->degrees * (SATF_PI / 180.0);
+}
+
+/* inst.rotate, or def's rotation (none when def is NULL). */
 static satf_status parse_rotate(scene_ctx *ctx, const cJSON *inst,
-                                const instance_form *def, instance_form *out) {
+                                const scene_xform *def, scene_xform *out) {
   static const char *const keys[] = {"axis", "angle", NULL};
   static const scene_range r_angle = {-1e5, 1e5, 0, 0};
+  static const float z_axis[3] = {0.0f, 0.0f, 1.0f};
   const cJSON *obj;
   satf_status s = scene_key_object(ctx, inst, "rotate", 0, &obj);
-  if (def) {
-    memcpy(out->axis, def->axis, sizeof out->axis);
-    out->angle_rad = def->angle_rad;
-  } else {
-    out->axis[0] = out->axis[1] = 0.0;
-    out->axis[2] = 1.0;
-    out->angle_rad = 0.0;
-  }
+  memcpy(out->axis, def ? def->axis : z_axis, sizeof out->axis);
+  out->degrees = def ? def->degrees : 0.0;
   if (s != SATF_OK || !obj)
     return s;
   size_t previous = scene_push_key(ctx, "rotate");
@@ -67,14 +63,12 @@ static satf_status parse_rotate(scene_ctx *ctx, const cJSON *inst,
       (s = scene_key_vec(ctx, obj, "axis", 3, &R_COORD, NULL, a)) == SATF_OK &&
       (s = scene_key_number(ctx, obj, "angle", &r_angle, 1, 0.0, &degrees)) ==
           SATF_OK) {
-    double len = scene_vec_length(a);
-    if (!(len > 1e-9)) {
+    if (!(scene_vec_length(a) > 1e-9)) {
       s = scene_fail_key(ctx, "axis", SATF_ERR_ARGUMENT,
                          "has zero length; a rotation needs an axis");
     } else {
-      for (int k = 0; k < 3; k++)
-        out->axis[k] = a[k] / len;
-      out->angle_rad = degrees * (PI / 180.0);
+      memcpy(out->axis, a, sizeof out->axis);
+      out->degrees = degrees;
     }
   }
   scene_pop(ctx, previous);
@@ -82,13 +76,12 @@ static satf_status parse_rotate(scene_ctx *ctx, const cJSON *inst,
 }
 
 static satf_status parse_scale(scene_ctx *ctx, const cJSON *inst,
-                               const instance_form *def, double scale[3]) {
+                               const scene_xform *def, float scale[3]) {
   static const scene_range r_scale = {-1e4, 1e4, 0, 0};
   const cJSON *item = cJSON_GetObjectItemCaseSensitive(inst, "scale");
   float v[3] = {1.0f, 1.0f, 1.0f};
   if (def)
-    for (int k = 0; k < 3; k++)
-      v[k] = (float)def->scale[k];
+    memcpy(v, def->scale, sizeof v);
   satf_status s = SATF_OK;
   size_t previous = scene_push_key(ctx, "scale");
   if (item && cJSON_IsNumber(item)) {
@@ -111,7 +104,7 @@ static satf_status parse_scale(scene_ctx *ctx, const cJSON *inst,
 /* The transform of item (an instance or one of its keys); def is the
  * static transform a key defaults to, NULL for the instance itself. */
 static satf_status parse_form(scene_ctx *ctx, const cJSON *item,
-                              const instance_form *def, instance_form *out) {
+                              const scene_xform *def, scene_xform *out) {
   static const float zero[3] = {0.0f, 0.0f, 0.0f};
   const cJSON *matrix = cJSON_GetObjectItemCaseSensitive(item, "matrix");
   if (matrix) {
@@ -141,24 +134,33 @@ static satf_status parse_form(scene_ctx *ctx, const cJSON *item,
       (s = parse_rotate(ctx, item, def, out)) != SATF_OK ||
       (s = parse_scale(ctx, item, def, out->scale)) != SATF_OK)
     return s;
-  double translate[3];
-  for (int k = 0; k < 3; k++)
-    translate[k] = out->translate[k];
-  scene_matrix_trs(translate, out->axis, out->angle_rad, out->scale, out->m);
+  scene_xform_compose(out);
   return SATF_OK;
+}
+
+void scene_xform_compose(scene_xform *f) {
+  double translate[3], axis[3], angle_rad, scale[3];
+  for (int k = 0; k < 3; k++) {
+    translate[k] = f->translate[k];
+    scale[k] = f->scale[k];
+  }
+  rotation_of(f, axis, &angle_rad);
+  scene_matrix_trs(translate, axis, angle_rad, scale, f->m);
 }
 
 /* Splits a key's transform into translation, rotation and stretch for
  * interpolation; T R S parts are taken as written, a matrix is split by its
  * polar decomposition. */
-static void split_form(const instance_form *f, scene_xform_key *key) {
-  memcpy(key->m, f->m, sizeof key->m);
+static void split_form(const scene_xform *f, scene_xform_key *key) {
+  key->form = *f;
   for (int i = 0; i < 3; i++)
     key->translate[i] = f->m[4 * i + 3];
   if (!f->is_matrix) {
-    scene_quat_from_axis_angle(f->axis, f->angle_rad, key->rotation);
+    double axis[3], angle_rad;
+    rotation_of(f, axis, &angle_rad);
+    scene_quat_from_axis_angle(axis, angle_rad, key->rotation);
     for (int k = 0; k < 9; k++)
-      key->stretch[k] = (k % 4 == 0) ? (float)f->scale[k / 4] : 0.0f;
+      key->stretch[k] = (k % 4 == 0) ? f->scale[k / 4] : 0.0f;
     return;
   }
   double m3[9], r[9], s[9];
@@ -171,33 +173,15 @@ static void split_form(const instance_form *f, scene_xform_key *key) {
     key->stretch[k] = (float)s[k];
 }
 
-static satf_status parse_instance_keys(scene_ctx *ctx, const cJSON *item,
-                                       int macro_cluster, int instance,
-                                       const instance_form *form) {
+static satf_status read_instance_key(scene_ctx *ctx, const cJSON *e, void *out,
+                                     const void *user) {
   static const char *const keys[] = {"frame",  "matrix", "translate",
                                      "rotate", "scale",  NULL};
-  const cJSON *arr;
-  int n;
-  scene_instance_track *track;
-  satf_status s = scene_anim_keys_array(ctx, item, &arr, &n);
-  if (s != SATF_OK || n == 0)
-    return s;
-  if ((s = scene_anim_add_instance_track(ctx, macro_cluster, instance, n,
-                                         &track)) != SATF_OK)
-    return s;
-  size_t previous = scene_push_key(ctx, "keys");
-  int i = 0;
-  for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, i++) {
-    size_t inner = scene_push_index(ctx, i);
-    instance_form key = {0};
-    if ((s = scene_anim_key_frame(ctx, e, i, i ? track->frames[i - 1] : 0.0,
-                                  &track->frames[i])) == SATF_OK &&
-        (s = scene_check_keys(ctx, e, keys)) == SATF_OK &&
-        (s = parse_form(ctx, e, form, &key)) == SATF_OK)
-      split_form(&key, &track->keys[i]);
-    scene_pop(ctx, inner);
-  }
-  scene_pop(ctx, previous);
+  scene_xform key = {0};
+  satf_status s;
+  if ((s = scene_check_keys(ctx, e, keys)) == SATF_OK &&
+      (s = parse_form(ctx, e, user, &key)) == SATF_OK)
+    split_form(&key, out);
   return s;
 }
 
@@ -209,13 +193,21 @@ satf_status scene_parse_instance(scene_ctx *ctx, const cJSON *item,
   if (!cJSON_IsObject(item))
     return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
                       scene_type_name(item));
-  instance_form form = {0};
+  scene_xform form = {0};
   satf_status s;
   if ((s = scene_check_keys(ctx, item, keys)) != SATF_OK ||
       (s = parse_form(ctx, item, NULL, &form)) != SATF_OK)
     return s;
   memcpy(out->m, form.m, sizeof out->m);
-  return parse_instance_keys(ctx, item, macro_cluster, instance, &form);
+  scene_instance_track scratch = {0}, *t = &scratch;
+  if (scene_tracks_has_keys(ctx, item)) {
+    t = scene_anim_add_instance(ctx->scene->animation, macro_cluster, instance);
+    if (!t)
+      return scene_nomem(ctx);
+    t->base = form;
+  }
+  return scene_tracks_read(ctx, item, sizeof(scene_xform_key),
+                           read_instance_key, &form, &t->track);
 }
 
 satf_status scene_parse_transform(scene_ctx *ctx, const cJSON *item,
@@ -225,7 +217,7 @@ satf_status scene_parse_transform(scene_ctx *ctx, const cJSON *item,
   if (!cJSON_IsObject(item))
     return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
                       scene_type_name(item));
-  instance_form form = {0};
+  scene_xform form = {0};
   satf_status s;
   if ((s = scene_check_keys(ctx, item, keys)) != SATF_OK ||
       (s = parse_form(ctx, item, NULL, &form)) != SATF_OK)

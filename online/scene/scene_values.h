@@ -1,27 +1,14 @@
-/* scene_json.h - typed, validated reads from a cJSON tree that report
- * errors and warnings with the key path they concern ("NAME: a.b[2].c:
- * what is wrong"). Owns the key-path stack and the warning list while a
- * scene is being parsed; knows nothing about the scene schema itself. */
-#ifndef SATF_ONLINE_SCENE_JSON_H
-#define SATF_ONLINE_SCENE_JSON_H
+/* scene_values.h - typed, validated reads from a cJSON tree ("a number in
+ * [0, 1]", "an array of 3 numbers", "a path resolved against the scene's
+ * directory") that fail or warn through scene_report.h with the key path
+ * they concern. Knows nothing about the scene schema itself. */
+#ifndef SATF_ONLINE_SCENE_VALUES_H
+#define SATF_ONLINE_SCENE_VALUES_H
 
 #include <cjson/cJSON.h>
 #include <stddef.h>
 
-#include "satf/satf.h"
-#include "satf/scene.h"
-
-#define SCENE_PATH_MAX 512
-#define SCENE_WARNINGS_KEPT 256
-
-typedef struct scene_ctx {
-  const char *name;          /* prefixes every message */
-  char path[SCENE_PATH_MAX]; /* key path of the value being read */
-  size_t len;
-  satf_error *err;
-  satf_scene *scene;    /* receives warnings */
-  int warnings_dropped; /* beyond SCENE_WARNINGS_KEPT */
-} scene_ctx;
+#include "scene_report.h"
 
 /* Allowed values of a number: [lo, hi], or (lo, hi] when lo_open. */
 typedef struct scene_range {
@@ -30,38 +17,6 @@ typedef struct scene_range {
   int integer;
 } scene_range;
 
-/* Appends ".key" (or "key" at the root) / "[index]"; returns the previous
- * length for scene_pop. */
-size_t scene_push_key(scene_ctx *ctx, const char *key);
-size_t scene_push_index(scene_ctx *ctx, int index);
-void scene_pop(scene_ctx *ctx, size_t previous);
-
-/* Fails with "NAME: PATH: message" (PATH of the current value). */
-satf_status scene_fail(scene_ctx *ctx, satf_status status, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-/* Same for the child `key` of the current value. */
-satf_status scene_fail_key(scene_ctx *ctx, const char *key, satf_status status,
-                           const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 4, 5)))
-#endif
-    ;
-satf_status scene_nomem(scene_ctx *ctx);
-/* Records "NAME: PATH: message" as a warning; fails only on NOMEM. */
-satf_status scene_warn(scene_ctx *ctx, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
-
-/* Adds "N more warnings not shown" when warnings were dropped. */
-satf_status scene_warn_dropped(scene_ctx *ctx);
-
-/* Escapes and shortens text from the file for a message. */
-const char *scene_quote(const char *text, char *buf, size_t size);
 const char *scene_type_name(const cJSON *item);
 
 /* Warns about each key of obj not in allowed (NULL-terminated), suggesting
@@ -113,6 +68,5 @@ satf_status scene_key_copy(scene_ctx *ctx, const cJSON *obj, const char *key,
  * allocation failure. */
 char *scene_resolve_path(const char *base_dir, const char *path);
 char *scene_copy_string(const char *s);
-double scene_vec_length(const float v[3]);
 
 #endif

@@ -480,7 +480,7 @@ static const bad_case bad_cases[] = {
     {SCENE_WITH(", \"camera\": {\"near\": 10, \"far\": 5}"), SATF_ERR_ARGUMENT,
      "camera.far: 5 must be greater than near (10)"},
     {SCENE_WITH(", \"lights\": []"), SATF_ERR_ARGUMENT,
-     "lights: has 0 entries, expected 1 to 64"},
+     "lights: has 0 entries, expected 1 to 8"},
     {SCENE_WITH(", \"lights\": [{\"type\": \"spot\"}]"), SATF_ERR_ARGUMENT,
      "lights[0].type: \"spot\" is not one of \"directional\", \"point\""},
     {SCENE_WITH(", \"lights\": [{\"type\": \"directional\"}]"), SATF_ERR_FORMAT,

@@ -1,0 +1,240 @@
+/* scene_equal.c - comparisons of scenes: the cheap ones a renderer uses to
+ * see what moved between two snapshots, and satf_scene_equal, which
+ * compares everything a scene file can say, keyframes included. */
+#include <string.h>
+
+#include "scene_anim.h"
+
+static int floats_equal(const float *a, const float *b, int n) {
+  return n == 0 || memcmp(a, b, (size_t)n * sizeof *a) == 0;
+}
+
+static int curves_equal(const satf_scene_curve *a, const satf_scene_curve *b) {
+  return a->count == b->count && floats_equal(a->values, b->values, a->count);
+}
+
+static int strings_equal(const char *a, const char *b) {
+  return (!a && !b) || (a && b && strcmp(a, b) == 0);
+}
+
+static int densities_equal(const satf_scene_density *a,
+                           const satf_scene_density *b) {
+  return a->type == b->type && a->strands == b->strands && a->seed == b->seed &&
+         a->layout == b->layout &&
+         floats_equal(&a->strand_width, &b->strand_width, 1) &&
+         floats_equal(&a->scale, &b->scale, 1) && a->clumps == b->clumps &&
+         floats_equal(&a->clump_spread, &b->clump_spread, 1) &&
+         a->holes == b->holes &&
+         floats_equal(&a->hole_radius, &b->hole_radius, 1) &&
+         floats_equal(&a->gradient, &b->gradient, 1) &&
+         strings_equal(a->vdb_file, b->vdb_file) &&
+         strings_equal(a->vdb_grid, b->vdb_grid);
+}
+
+int satf_scene_prototype_equal(const satf_scene_cluster *a,
+                               const satf_scene_cluster *b) {
+  return a->n_points == b->n_points &&
+         floats_equal(a->trajectory, b->trajectory, 3 * a->n_points) &&
+         curves_equal(&a->a, &b->a) && curves_equal(&a->b, &b->b) &&
+         curves_equal(&a->twist, &b->twist) &&
+         a->shell.layers == b->shell.layers && a->shell.st == b->shell.st &&
+         a->shell.su == b->shell.su &&
+         floats_equal(&a->shell.core, &b->shell.core, 1) &&
+         densities_equal(&a->density, &b->density);
+}
+
+int satf_scene_instances_equal(const satf_scene_macro_cluster *a,
+                               const satf_scene_macro_cluster *b) {
+  if (a->n_instances != b->n_instances)
+    return 0;
+  for (int j = 0; j < a->n_instances; j++)
+    if (!floats_equal(a->instances[j].m, b->instances[j].m, 16))
+      return 0;
+  return 1;
+}
+
+int satf_scene_camera_equal(const satf_scene_camera *a,
+                            const satf_scene_camera *b) {
+  return floats_equal(a->position, b->position, 3) &&
+         floats_equal(a->target, b->target, 3) &&
+         floats_equal(a->up, b->up, 3) &&
+         floats_equal(&a->fov_y, &b->fov_y, 1) &&
+         floats_equal(&a->near_clip, &b->near_clip, 1) &&
+         floats_equal(&a->far_clip, &b->far_clip, 1) &&
+         a->automatic == b->automatic;
+}
+
+int satf_scene_light_equal(const satf_scene_light *a,
+                           const satf_scene_light *b) {
+  return a->type == b->type && floats_equal(a->direction, b->direction, 3) &&
+         floats_equal(a->position, b->position, 3) &&
+         floats_equal(a->color, b->color, 3) &&
+         floats_equal(&a->intensity, &b->intensity, 1);
+}
+
+/* ---- keyframes ---- */
+
+static int doubles_equal(const double *a, const double *b, int n) {
+  return n == 0 || memcmp(a, b, (size_t)n * sizeof *a) == 0;
+}
+
+/* Both NULL (the key keeps the static value) or both n equal floats. */
+static int key_arrays_equal(const float *a, const float *b, int n) {
+  return (!a && !b) || (a && b && floats_equal(a, b, n));
+}
+
+static int xforms_equal(const scene_xform *a, const scene_xform *b) {
+  return a->is_matrix == b->is_matrix && floats_equal(a->m, b->m, 16) &&
+         floats_equal(a->translate, b->translate, 3) &&
+         floats_equal(a->axis, b->axis, 3) &&
+         doubles_equal(&a->degrees, &b->degrees, 1) &&
+         floats_equal(a->scale, b->scale, 3);
+}
+
+static const scene_track no_keys = {0, NULL, NULL};
+
+static const scene_track *track_at(const scene_track *tracks, int n, int i) {
+  return i < n ? &tracks[i] : &no_keys;
+}
+
+/* Equal frames; the keys are compared by the caller. */
+static int frames_equal(const scene_track *a, const scene_track *b) {
+  return a->n_keys == b->n_keys &&
+         doubles_equal(a->frames, b->frames, a->n_keys);
+}
+
+static int proto_tracks_equal(const scene_track *a, const scene_track *b,
+                              const satf_scene_cluster *c) {
+  if (!frames_equal(a, b))
+    return 0;
+  const scene_proto_key *ka = a->keys, *kb = b->keys;
+  for (int k = 0; k < a->n_keys; k++)
+    if (!key_arrays_equal(ka[k].trajectory, kb[k].trajectory,
+                          3 * c->n_points) ||
+        !key_arrays_equal(ka[k].a, kb[k].a, c->a.count) ||
+        !key_arrays_equal(ka[k].b, kb[k].b, c->b.count) ||
+        !key_arrays_equal(ka[k].twist, kb[k].twist, c->twist.count))
+      return 0;
+  return 1;
+}
+
+static int instance_tracks_equal(const scene_instance_track *a,
+                                 const scene_instance_track *b) {
+  if (a->macro_cluster != b->macro_cluster || a->instance != b->instance ||
+      !xforms_equal(&a->base, &b->base) || !frames_equal(&a->track, &b->track))
+    return 0;
+  const scene_xform_key *ka = a->track.keys, *kb = b->track.keys;
+  for (int k = 0; k < a->track.n_keys; k++)
+    if (!xforms_equal(&ka[k].form, &kb[k].form) ||
+        !floats_equal(ka[k].translate, kb[k].translate, 3) ||
+        !floats_equal(ka[k].stretch, kb[k].stretch, 9) ||
+        !doubles_equal(ka[k].rotation, kb[k].rotation, 4))
+      return 0;
+  return 1;
+}
+
+static int camera_tracks_equal(const scene_track *a, const scene_track *b) {
+  if (!frames_equal(a, b))
+    return 0;
+  const scene_camera_key *ka = a->keys, *kb = b->keys;
+  for (int k = 0; k < a->n_keys; k++)
+    if (!floats_equal(ka[k].position, kb[k].position, 3) ||
+        !floats_equal(ka[k].target, kb[k].target, 3) ||
+        !floats_equal(ka[k].up, kb[k].up, 3) ||
+        !floats_equal(&ka[k].fov_y, &kb[k].fov_y, 1) ||
+        ka[k].given != kb[k].given)
+      return 0;
+  return 1;
+}
+
+static int light_tracks_equal(const scene_track *a, const scene_track *b) {
+  if (!frames_equal(a, b))
+    return 0;
+  const scene_light_key *ka = a->keys, *kb = b->keys;
+  for (int k = 0; k < a->n_keys; k++)
+    if (!floats_equal(ka[k].vector, kb[k].vector, 3) ||
+        !floats_equal(ka[k].color, kb[k].color, 3) ||
+        !floats_equal(&ka[k].intensity, &kb[k].intensity, 1) ||
+        ka[k].given != kb[k].given)
+      return 0;
+  return 1;
+}
+
+static int animations_equal(const satf_scene *sa, const satf_scene *sb) {
+  const satf_scene_animation *a = sa->animation, *b = sb->animation;
+  if (!a || !b)
+    return !a && !b;
+  if (!doubles_equal(&a->fps, &b->fps, 1) || a->first != b->first ||
+      a->last != b->last || a->total_keys != b->total_keys ||
+      a->n_instance_tracks != b->n_instance_tracks ||
+      a->camera_sets_position != b->camera_sets_position ||
+      !camera_tracks_equal(&a->camera, &b->camera))
+    return 0;
+  for (int i = 0; i < sa->n_macro_clusters; i++)
+    if (!proto_tracks_equal(track_at(a->protos, a->n_protos, i),
+                            track_at(b->protos, b->n_protos, i),
+                            &sa->macro_clusters[i].prototype))
+      return 0;
+  for (int i = 0; i < a->n_instance_tracks; i++)
+    if (!instance_tracks_equal(&a->instances[i], &b->instances[i]))
+      return 0;
+  for (int i = 0; i < sa->n_lights; i++)
+    if (!light_tracks_equal(track_at(a->lights, a->n_lights, i),
+                            track_at(b->lights, b->n_lights, i)))
+      return 0;
+  return 1;
+}
+
+/* ---- everything ---- */
+
+static int materials_equal(const satf_scene_material *a,
+                           const satf_scene_material *b) {
+  const float va[] = {a->k_dif,      a->k_speI,      a->k_speII,
+                      a->exponent_I, a->exponent_II, a->shift_I,
+                      a->shift_II,   a->k_shadow,    a->noise};
+  const float vb[] = {b->k_dif,      b->k_speI,      b->k_speII,
+                      b->exponent_I, b->exponent_II, b->shift_I,
+                      b->shift_II,   b->k_shadow,    b->noise};
+  return floats_equal(va, vb, 9) && floats_equal(a->f_dif, b->f_dif, 3) &&
+         floats_equal(a->f_speI, b->f_speI, 3) &&
+         floats_equal(a->f_speII, b->f_speII, 3);
+}
+
+static int meshes_equal(const satf_scene *a, const satf_scene *b) {
+  if (a->n_meshes != b->n_meshes)
+    return 0;
+  for (int i = 0; i < a->n_meshes; i++)
+    if (!strings_equal(a->meshes[i].file, b->meshes[i].file) ||
+        !floats_equal(a->meshes[i].color, b->meshes[i].color, 3) ||
+        !floats_equal(a->meshes[i].m, b->meshes[i].m, 16))
+      return 0;
+  return 1;
+}
+
+int satf_scene_equal(const satf_scene *a, const satf_scene *b) {
+  if (!a || !b)
+    return a == b;
+  if (!strings_equal(a->description, b->description) ||
+      !strings_equal(a->database, b->database) ||
+      a->n_macro_clusters != b->n_macro_clusters ||
+      a->n_lights != b->n_lights ||
+      !materials_equal(&a->material, &b->material) ||
+      memcmp(&a->effects, &b->effects, sizeof a->effects) != 0 ||
+      !satf_scene_camera_equal(&a->camera, &b->camera) ||
+      !floats_equal(a->background, b->background, 3) ||
+      a->image.width != b->image.width || a->image.height != b->image.height ||
+      !meshes_equal(a, b))
+    return 0;
+  for (int i = 0; i < a->n_macro_clusters; i++) {
+    const satf_scene_macro_cluster *ma = &a->macro_clusters[i];
+    const satf_scene_macro_cluster *mb = &b->macro_clusters[i];
+    if (!strings_equal(ma->name, mb->name) ||
+        !satf_scene_prototype_equal(&ma->prototype, &mb->prototype) ||
+        !satf_scene_instances_equal(ma, mb))
+      return 0;
+  }
+  for (int i = 0; i < a->n_lights; i++)
+    if (!satf_scene_light_equal(&a->lights[i], &b->lights[i]))
+      return 0;
+  return animations_equal(a, b);
+}
