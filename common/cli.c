@@ -31,7 +31,9 @@ int satf_cli_u64(const char *prog, const char *flag, const char *text,
                  uint64_t *out) {
   char *end = NULL;
   errno = 0;
-  if (!text || !*text || text[0] == '-') {
+  /* strtoull accepts "-4" (even after blanks) and wraps it around */
+  size_t blanks = text ? strspn(text, " \t\n\v\f\r") : 0;
+  if (!text || !*text || text[blanks] == '-') {
     fprintf(stderr, "%s: %s: expected a non-negative integer, got '%s'\n", prog,
             flag, text ? text : "");
     return -1;
