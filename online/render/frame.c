@@ -1,0 +1,273 @@
+/* frame.c - owns the renderer's per-frame CPU work (SATF Table 1: I, C,
+ * M): the lights and eye in each instance's frame, the sector angles, the
+ * database look-ups that fill every layer's maps and their upload, and the
+ * frame's transforms (camera, key light, screen box, depth order). */
+#include "renderer_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "mat4.h"
+#include "satf/common.h"
+#include "satf/math.h"
+
+void frame_light_vector(const satf_scene_light *l, float out[4]) {
+  if (l->type == SATF_SCENE_LIGHT_POINT) {
+    memcpy(out, l->position, 3 * sizeof(float));
+    out[3] = 1.0f;
+  } else {
+    out[0] = -l->direction[0];
+    out[1] = -l->direction[1];
+    out[2] = -l->direction[2];
+    out[3] = 0.0f;
+  }
+}
+
+void frame_light_local(const float inv[16], const satf_scene_light *l,
+                       float out[4]) {
+  float lv[4];
+  frame_light_vector(l, lv);
+  if (lv[3] != 0.0f)
+    satf_mat4_point(inv, lv, out);
+  else
+    satf_mat4_vector(inv, lv, out);
+  out[3] = lv[3];
+}
+
+void frame_light_colors(const satf_renderer *r, float *col) {
+  for (int k = 0; k < r->nlights; k++)
+    for (int a = 0; a < 3; a++)
+      col[3 * k + a] = r->lights[k].color[a] * r->lights[k].intensity;
+}
+
+/* Sector azimuths of instance i towards the eye and the key light. */
+static int angles_job(void *ctx, size_t i, int thread) {
+  (void)thread;
+  satf_renderer *r = ctx;
+  inst *in = &r->insts[i];
+  satf_mat4_point(in->inv, r->camera.position, in->eye);
+  frame_light_local(in->inv, &r->lights[0], in->light);
+  satf_maps_angles(&in->geom, in->eye, in->light, in->angles);
+  return 0;
+}
+
+/* One job per (instance, layer) pair, so layers spread over threads. */
+typedef struct layer_jobs {
+  satf_renderer *r;
+  int *inst_of, *layer_of;
+  long *lookups; /* per thread */
+} layer_jobs;
+
+static int layer_job(void *ctx, size_t i, int thread) {
+  layer_jobs *j = ctx;
+  satf_renderer *r = j->r;
+  inst *in = &r->insts[j->inst_of[i]];
+  int k = j->layer_of[i];
+  size_t n = satf_maps_layer_texels(&in->geom, r->w) * 4;
+  j->lookups[thread] +=
+      satf_maps_build_layer(r->maps, &in->geom, in->angles, &r->map_opt, k,
+                            in->texels + (size_t)k * n);
+  return 0;
+}
+
+static int shadow_job(void *ctx, size_t i, int thread) {
+  (void)thread;
+  satf_renderer *r = ctx;
+  satf_maps_shadow_sums(&r->insts[i].geom, r->w, r->insts[i].texels);
+  return 0;
+}
+
+static void free_layer_jobs(layer_jobs *lj) {
+  free(lj->inst_of);
+  free(lj->layer_of);
+  free(lj->lookups);
+}
+
+/* Every layer map and s-map of every instance; *lookups counts the
+ * database look-ups. */
+static satf_status build_maps(satf_renderer *r, long *lookups,
+                              satf_error *err) {
+  size_t jobs = 0;
+  for (int i = 0; i < r->ninsts; i++)
+    jobs += (size_t)r->protos[r->insts[i].proto].layers;
+  layer_jobs lj = {r, malloc(jobs * sizeof(int)), malloc(jobs * sizeof(int)),
+                   calloc((size_t)r->threads, sizeof(long))};
+  if (!lj.inst_of || !lj.layer_of || !lj.lookups) {
+    free_layer_jobs(&lj);
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  size_t q = 0;
+  for (int i = 0; i < r->ninsts; i++)
+    for (int k = 0; k < r->protos[r->insts[i].proto].layers; k++) {
+      lj.inst_of[q] = i;
+      lj.layer_of[q++] = k;
+    }
+  satf_parallel_for(jobs, r->threads, layer_job, &lj, NULL, NULL);
+  satf_parallel_for((size_t)r->ninsts, r->threads, shadow_job, r, NULL, NULL);
+  *lookups = 0;
+  for (int k = 0; k < r->threads; k++)
+    *lookups += lj.lookups[k];
+  free_layer_jobs(&lj);
+  return SATF_OK;
+}
+
+satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
+                              satf_error *err) {
+  double t0 = satf_now_seconds();
+  satf_parallel_for((size_t)r->ninsts, r->threads, angles_job, r, NULL, NULL);
+  double t1 = satf_now_seconds();
+  satf_status st = build_maps(r, &t->lookups, err);
+  if (st != SATF_OK)
+    return st;
+  double t2 = satf_now_seconds();
+  for (int i = 0; i < r->ninsts; i++) {
+    inst *in = &r->insts[i];
+    const satf_shell_params *sh = &in->geom.shell;
+    glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, sh->su * r->w, 2 * sh->st,
+                    sh->layers, GL_RGBA, GL_FLOAT, in->texels);
+  }
+  glFinish();
+  double t3 = satf_now_seconds();
+  t->index_ms = 1e3 * (t1 - t0);
+  t->maps_ms = 1e3 * (t2 - t1);
+  t->upload_ms = 1e3 * (t3 - t2);
+  return satf_gl_check("map upload", err);
+}
+
+/* Centre and radius (a little more) of the scene bounds. */
+static float scene_radius(const satf_renderer *r, float centre[3]) {
+  float d2 = 0.0f;
+  for (int a = 0; a < 3; a++) {
+    centre[a] = 0.5f * (r->lo[a] + r->hi[a]);
+    float h = 0.5f * (r->hi[a] - r->lo[a]);
+    d2 += h * h;
+  }
+  return sqrtf(d2) + 1e-3f;
+}
+
+/* Distance squared between two points. */
+static float distance2(const float a[3], const float b[3]) {
+  float d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+  return satf_dot3f(d, d);
+}
+
+/* An orthographic view along the key light's direction (a point light is
+ * treated as directional from its position towards the scene centre), and
+ * slabs a third of a typical cluster's radius deep, in depth units. */
+void frame_light_view(satf_renderer *r) {
+  float c[3], rad = scene_radius(r, c), lv[4], dir[3];
+  frame_light_vector(&r->lights[0], lv);
+  for (int a = 0; a < 3; a++)
+    dir[a] = lv[3] != 0.0f ? lv[a] - c[a] : lv[a];
+  if (!(satf_normalize3f(dir) > 0)) {
+    dir[0] = dir[2] = 0.0f;
+    dir[1] = 1.0f;
+  }
+  float eye[3] = {c[0] + 2 * rad * dir[0], c[1] + 2 * rad * dir[1],
+                  c[2] + 2 * rad * dir[2]};
+  float up[3] = {0, 1, 0};
+  if (fabsf(dir[1]) > 0.95f) {
+    up[1] = 0;
+    up[2] = 1;
+  }
+  float view[16], proj[16];
+  satf_mat4_look_at(eye, c, up, view);
+  satf_mat4_ortho(-rad, rad, -rad, rad, rad, 3 * rad, proj);
+  satf_mat4_mul(proj, view, r->light_viewproj);
+  float cluster_r = 0.0f;
+  for (int m = 0; m < r->nprotos; m++)
+    cluster_r += r->scene->macro_clusters[m].prototype.a.values[0];
+  cluster_r /= (float)(r->nprotos > 0 ? r->nprotos : 1);
+  r->dom_slab = 0.66f * cluster_r / (2.0f * rad) * 0.5f;
+}
+
+/* The camera's view-projection; without explicit clip planes they hug the
+ * scene bounds. */
+void frame_camera(const satf_renderer *r, float viewproj[16]) {
+  const satf_scene_camera *cam = &r->camera;
+  float c[3], rad = scene_radius(r, c), view[16], proj[16];
+  float n = cam->near_clip, f = cam->far_clip;
+  if (!(n > 0.0f && f > n)) {
+    float d = sqrtf(distance2(cam->position, c));
+    f = d + 1.5f * rad;
+    n = d - 1.5f * rad;
+    if (n < 0.002f * f)
+      n = 0.002f * f;
+  }
+  satf_mat4_look_at(cam->position, cam->target, cam->up, view);
+  satf_mat4_perspective(cam->fov_y, (float)r->width / (float)r->height, n, f,
+                        proj);
+  satf_mat4_mul(proj, view, viewproj);
+}
+
+/* The whole frame when a corner of the bounds is behind the eye. */
+void frame_screen_box(const satf_renderer *r, const float viewproj[16],
+                      int box[4]) {
+  float mn[2] = {1e30f, 1e30f}, mx[2] = {-1e30f, -1e30f};
+  int behind = 0;
+  for (int c = 0; c < 8; c++) {
+    float p[3] = {c & 1 ? r->hi[0] : r->lo[0], c & 2 ? r->hi[1] : r->lo[1],
+                  c & 4 ? r->hi[2] : r->lo[2]};
+    float w = viewproj[12] * p[0] + viewproj[13] * p[1] + viewproj[14] * p[2] +
+              viewproj[15];
+    if (w <= 1e-6f) {
+      behind = 1;
+      break;
+    }
+    for (int a = 0; a < 2; a++) {
+      float q = (viewproj[4 * a] * p[0] + viewproj[4 * a + 1] * p[1] +
+                 viewproj[4 * a + 2] * p[2] + viewproj[4 * a + 3]) /
+                w;
+      mn[a] = q < mn[a] ? q : mn[a];
+      mx[a] = q > mx[a] ? q : mx[a];
+    }
+  }
+  int size[2] = {r->width, r->height};
+  for (int a = 0; a < 2; a++) {
+    int lo = behind ? 0 : (int)floorf((mn[a] * 0.5f + 0.5f) * size[a]) - 1;
+    int hi = behind ? size[a] : (int)ceilf((mx[a] * 0.5f + 0.5f) * size[a]) + 1;
+    lo = lo < 0 ? 0 : lo > size[a] ? size[a] : lo;
+    hi = hi < lo ? lo : hi > size[a] ? size[a] : hi;
+    box[a] = lo;
+    box[2 + a] = hi - lo;
+  }
+}
+
+typedef struct depth_key {
+  float d2;
+  float centre[3];
+  int index;
+} depth_key;
+
+/* Far first; equal distances by position, never by list order. */
+static int farther_first(const void *a, const void *b) {
+  const depth_key *x = a, *y = b;
+  if (x->d2 != y->d2)
+    return x->d2 < y->d2 ? 1 : -1;
+  for (int k = 0; k < 3; k++)
+    if (x->centre[k] != y->centre[k])
+      return x->centre[k] < y->centre[k] ? -1 : 1;
+  return 0;
+}
+
+int *frame_far_to_near(const satf_renderer *r) {
+  depth_key *keys = malloc((size_t)r->ninsts * sizeof *keys);
+  int *order = malloc((size_t)r->ninsts * sizeof *order);
+  if (!keys || !order) {
+    free(keys);
+    free(order);
+    return NULL;
+  }
+  for (int i = 0; i < r->ninsts; i++) {
+    const float *c = r->insts[i].centre;
+    keys[i].d2 = distance2(c, r->camera.position);
+    memcpy(keys[i].centre, c, sizeof keys[i].centre);
+    keys[i].index = i;
+  }
+  qsort(keys, (size_t)r->ninsts, sizeof *keys, farther_first);
+  for (int i = 0; i < r->ninsts; i++)
+    order[i] = keys[i].index;
+  free(keys);
+  return order;
+}

@@ -1,0 +1,431 @@
+/* hierarchy.c - owns the renderer's prototypes and instances: each
+ * macro-cluster's generalized cylinder, shell geometry, density features
+ * and drawn proxy, and each instance's transform, map texture and (for
+ * world-space density) own features; built at creation, rebuilt where an
+ * animation frame changes them, released at destruction. */
+#include "renderer_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "mat4.h"
+#include "satf/math.h"
+
+/* Columns of the drawn proxy of a cluster's outermost shell. Shading
+ * traces each ray through the shells analytically (glsl/shade.frag.glsl),
+ * so the proxy only has to cover the cluster's silhouette; a CPU
+ * rasteriser pays for every triangle on one thread, so it is kept coarse
+ * around the cluster and as fine as the HSVs along it. */
+#define PROXY_COLUMNS 12
+/* The deep opacity map is coarse: its passes skip rows of the proxy. */
+#define COARSE_ROWS 4
+
+/* The proxy: (st + 1) x (PROXY_COLUMNS + 1) vertices on an elliptic
+ * cylinder circumscribing the outer shell, each with position, hair
+ * tangent, (u, t), and the cross-section at t as the shading pass needs it:
+ * C(t), n1, n2, (A, B, theta, |dT/dt|), the unit tangent of T. */
+enum { PROXY_FLOATS = 24 };
+
+/* The scene gives A, B and twist as separate curves; the cluster takes one
+ * control polygon for the three, so shorter ones are resampled linearly. */
+static void resample_curve(const satf_scene_curve *c, int n, float *out) {
+  for (int i = 0; i < n; i++) {
+    if (c->count == 1 || n == 1) {
+      out[i] = c->values[0];
+      continue;
+    }
+    float x = (float)i / (float)(n - 1) * (float)(c->count - 1);
+    int k = (int)x;
+    if (k > c->count - 2)
+      k = c->count - 2;
+    float f = x - (float)k;
+    out[i] = c->values[k] + f * (c->values[k + 1] - c->values[k]);
+  }
+}
+
+/* The proxy's vertices (PROXY_FLOATS each, layout above). */
+static void proxy_vertices(const satf_cluster *cluster, int st, float *f) {
+  int cols = PROXY_COLUMNS + 1;
+  /* the polygon's edges touch the shell: it covers every pixel the shell
+   * covers */
+  float inflate = 1.0f / cosf(SATF_PI_F / PROXY_COLUMNS);
+  for (int i = 0; i <= st; i++) {
+    satf_cluster_section sec;
+    float t = (float)i / (float)st;
+    satf_cluster_section_at(cluster, t, &sec);
+    float speed = sqrtf(satf_dot3f(sec.dcenter, sec.dcenter));
+    for (int j = 0; j < cols; j++) {
+      float *v = f + PROXY_FLOATS * ((size_t)i * cols + (size_t)j);
+      float u = SATF_TWO_PI_F * (float)j / PROXY_COLUMNS;
+      satf_cluster_section_point(&sec, inflate, u, v);
+      satf_cluster_section_hair_tangent(&sec, 1.0f, u, v + 3);
+      v[6] = (float)j / PROXY_COLUMNS;
+      v[7] = t;
+      memcpy(v + 8, sec.center, 3 * sizeof(float));
+      memcpy(v + 11, sec.n1, 3 * sizeof(float));
+      memcpy(v + 14, sec.n2, 3 * sizeof(float));
+      v[17] = sec.a;
+      v[18] = sec.b;
+      v[19] = sec.theta;
+      v[20] = speed;
+      memcpy(v + 21, sec.tangent, 3 * sizeof(float));
+    }
+  }
+}
+
+/* Two triangles between rows i0 and i1 of the proxy for every column,
+ * counter-clockwise seen from outside (d/du x d/dt points outwards);
+ * returns the end of what was written. */
+static uint32_t *proxy_band(int i0, int i1, uint32_t *q) {
+  int cols = PROXY_COLUMNS + 1;
+  for (int j = 0; j < PROXY_COLUMNS; j++) {
+    uint32_t a = (uint32_t)(i0 * cols + j), b = a + 1;
+    uint32_t c = (uint32_t)(i1 * cols + j), d = c + 1;
+    *q++ = a, *q++ = b, *q++ = c;
+    *q++ = b, *q++ = d, *q++ = c;
+  }
+  return q;
+}
+
+/* Every row of the proxy, then the coarse rows of the light passes. */
+static void proxy_indices(int st, uint32_t *q) {
+  for (int i = 0; i < st; i++)
+    q = proxy_band(i, i + 1, q);
+  for (int i = 0; i < st; i += COARSE_ROWS)
+    q = proxy_band(i, i + COARSE_ROWS < st ? i + COARSE_ROWS : st, q);
+}
+
+/* The proxy's buffers and vertex attributes, at the locations of
+ * glsl/cluster.vert.glsl and glsl/layer.vert.glsl. */
+static void proxy_upload(proto *p, const float *f, size_t nv,
+                         const uint32_t *idx, size_t nidx) {
+  glGenVertexArrays(1, &p->proxy_vao);
+  glGenBuffers(1, &p->proxy_vbo);
+  glGenBuffers(1, &p->proxy_ibo);
+  glBindVertexArray(p->proxy_vao);
+  glBindBuffer(GL_ARRAY_BUFFER, p->proxy_vbo);
+  glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * PROXY_FLOATS * sizeof(float)),
+               f, GL_STATIC_DRAW);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, p->proxy_ibo);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(nidx * sizeof(uint32_t)),
+               idx, GL_STATIC_DRAW);
+  const GLuint loc[8] = {0, 2, 3, 4, 5, 6, 7, 8};
+  const GLint sizes[8] = {3, 3, 2, 3, 3, 3, 4, 3};
+  const size_t offs[8] = {0, 3, 6, 8, 11, 14, 17, 21};
+  for (int a = 0; a < 8; a++) {
+    glEnableVertexAttribArray(loc[a]);
+    glVertexAttribPointer(loc[a], sizes[a], GL_FLOAT, GL_FALSE,
+                          PROXY_FLOATS * sizeof(float),
+                          (void *)(offs[a] * sizeof(float)));
+  }
+  glBindVertexArray(0);
+}
+
+static satf_status build_proxy(proto *p, const satf_shell_params *sh,
+                               satf_error *err) {
+  size_t nv = (size_t)(sh->st + 1) * (size_t)(PROXY_COLUMNS + 1);
+  int coarse_rows = (sh->st + COARSE_ROWS - 1) / COARSE_ROWS;
+  size_t ntri = 2 * (size_t)sh->st * PROXY_COLUMNS;
+  size_t ncoarse = 2 * (size_t)coarse_rows * PROXY_COLUMNS;
+  float *f = malloc(nv * PROXY_FLOATS * sizeof(float));
+  uint32_t *idx = malloc((ntri + ncoarse) * 3 * sizeof(uint32_t));
+  if (!f || !idx) {
+    free(f);
+    free(idx);
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  proxy_vertices(p->cluster, sh->st, f);
+  proxy_indices(sh->st, idx);
+  proxy_upload(p, f, nv, idx, (ntri + ncoarse) * 3);
+  free(f);
+  free(idx);
+  p->proxy_count = (GLsizei)(ntri * 3);
+  p->coarse_count = (GLsizei)(ncoarse * 3);
+  return satf_gl_check("cluster proxy", err);
+}
+
+/* Deletes a prototype's GL geometry (not its density). */
+static void release_geometry(proto *p) {
+  if (p->proxy_vao) {
+    glDeleteVertexArrays(1, &p->proxy_vao);
+    glDeleteBuffers(1, &p->proxy_vbo);
+    glDeleteBuffers(1, &p->proxy_ibo);
+  }
+  p->proxy_vao = p->proxy_vbo = p->proxy_ibo = 0;
+  satf_cluster_destroy(p->cluster);
+  p->cluster = NULL;
+}
+
+/* The generalized cylinder of a scene cluster, its shell geometry (sector
+ * frames; features are kept when `keep` holds them), layer meshes and
+ * frames on the GPU. Used at creation and when an animation moves it. */
+static satf_status build_geometry(satf_renderer *r, int index,
+                                  const satf_scene_cluster *c,
+                                  const float *keep, satf_error *err) {
+  proto *p = &r->protos[index];
+  const char *name = scene_name(r->scene);
+  int n = c->a.count;
+  if (c->b.count > n)
+    n = c->b.count;
+  if (c->twist.count > n)
+    n = c->twist.count;
+  float *radii = malloc(3 * (size_t)n * sizeof(float));
+  if (!radii)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  resample_curve(&c->a, n, radii);
+  resample_curve(&c->b, n, radii + n);
+  resample_curve(&c->twist, n, radii + 2 * n);
+  satf_cluster_desc desc = {c->n_points, c->trajectory, n,
+                            radii,       radii + n,     radii + 2 * n};
+  satf_error cerr;
+  satf_status st = satf_cluster_create(&desc, &p->cluster, &cerr);
+  free(radii);
+  if (st != SATF_OK)
+    return satf_error_set(err, st, "%s: macro_clusters[%d].prototype: %s", name,
+                          index, cerr.message);
+  satf_shell_params shell = {c->shell.layers, c->shell.st, c->shell.su,
+                             c->shell.core};
+  satf_shell_geom geom;
+  st = satf_shell_geom_create(p->cluster, &shell, &geom, &cerr);
+  if (st != SATF_OK)
+    return satf_error_set(err, st, "%s: macro_clusters[%d].prototype.shell: %s",
+                          name, index, cerr.message);
+  if (keep)
+    memcpy(geom.features, keep,
+           satf_shell_sector_count(&shell) * 3 * sizeof(float));
+  satf_shell_geom_destroy(&p->geom);
+  p->geom = geom;
+  p->layers = shell.layers;
+  return build_proxy(p, &shell, err);
+}
+
+static satf_status build_proto(satf_renderer *r, int index,
+                               const satf_scene_macro_cluster *mc,
+                               satf_error *err) {
+  proto *p = &r->protos[index];
+  const satf_scene_cluster *c = &mc->prototype;
+  const char *name = scene_name(r->scene);
+  satf_status st = build_geometry(r, index, c, NULL, err);
+  if (st != SATF_OK)
+    return st;
+  satf_error cerr;
+  if (c->density.type == SATF_SCENE_DENSITY_VDB) {
+    st =
+        satf_vdb_read(c->density.vdb_file, c->density.vdb_grid, &p->vdb, &cerr);
+  } else {
+    st = satf_strands_create(&c->density, &p->strands, &cerr);
+    if (st == SATF_OK) /* once per prototype (SATF sec. 3.1) */
+      st = satf_sector_features(p->cluster, &p->geom.shell, p->strands, NULL,
+                                NULL, r->threads, p->geom.features, &cerr);
+    if (st == SATF_OK)
+      st = satf_maps_prepare(r->maps, &p->geom, &r->map_opt, &cerr);
+    if (st == SATF_OK)
+      r->stats.strands += (long)c->density.strands * mc->n_instances;
+  }
+  if (st != SATF_OK)
+    return satf_error_set(err, st,
+                          "%s: macro_clusters[%d].prototype.density: %s", name,
+                          index, cerr.message);
+  return SATF_OK;
+}
+
+/* Everything of an instance that follows its prototype's geometry and its
+ * transform: the shell view, the sorting centre and, for world-space (VDB)
+ * density, the features. */
+static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
+  proto *p = &r->protos[in->proto];
+  if (!satf_mat4_invert(in->m, in->inv))
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "%s: an instance transform of macro cluster %d is "
+                          "singular",
+                          scene_name(r->scene), in->proto);
+  satf_mat4_normal_matrix(in->m, in->nmat);
+  float *own = in->own_features ? in->geom.features : NULL;
+  in->geom = p->geom;
+  if (own)
+    in->geom.features = own;
+  size_t sectors = satf_shell_sector_count(&p->geom.shell);
+  float local[3] = {0, 0, 0};
+  for (size_t q = 0; q < sectors; q++)
+    for (int a = 0; a < 3; a++)
+      local[a] += p->geom.frames[9 * q + a] / (float)sectors;
+  satf_mat4_point(in->m, local, in->centre);
+  if (p->vdb) {
+    satf_status st =
+        satf_sector_features(p->cluster, &p->geom.shell, NULL, p->vdb, in->m,
+                             r->threads, in->geom.features, err);
+    satf_neighbor_cache_free(in->own_neighbors);
+    in->own_neighbors = NULL;
+    in->geom.neighbors = NULL;
+    if (st == SATF_OK)
+      st = satf_maps_prepare(r->maps, &in->geom, &r->map_opt, err);
+    in->own_neighbors = in->geom.neighbors;
+    return st;
+  }
+  return SATF_OK;
+}
+
+/* The instance's map texture: one layer per shell, su * w texels around
+ * and two rows per HSV (maps.h). */
+static void create_map_texture(const satf_renderer *r, const proto *p,
+                               inst *in) {
+  glGenTextures(1, &in->tex);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32F, p->geom.shell.su * r->w,
+                 2 * p->geom.shell.st, p->layers);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+static satf_status build_inst(satf_renderer *r, inst *in, int pi,
+                              const satf_scene_instance *si, satf_error *err) {
+  proto *p = &r->protos[pi];
+  in->proto = pi;
+  memcpy(in->m, si->m, sizeof in->m);
+  size_t sectors = satf_shell_sector_count(&p->geom.shell);
+  if (p->vdb) { /* world-space density: features differ per instance */
+    in->own_features = 1;
+    in->geom.features = malloc(sectors * 3 * sizeof(float));
+    if (!in->geom.features)
+      return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  satf_status st = place_inst(r, in, err);
+  if (st != SATF_OK)
+    return st;
+  size_t texels = satf_maps_layer_texels(&p->geom, r->w) * (size_t)p->layers;
+  in->angles = malloc(sectors * 2 * sizeof(float));
+  in->texels = calloc(texels * 4, sizeof(float));
+  if (!in->angles || !in->texels)
+    return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate %zu map texels",
+                          texels);
+  create_map_texture(r, p, in);
+  r->stats.clusters++;
+  r->stats.layers += p->layers;
+  r->stats.hsvs += (long)satf_shell_hsv_count(&p->geom.shell);
+  return satf_gl_check("map texture", err);
+}
+
+satf_status hierarchy_build(satf_renderer *r, satf_error *err) {
+  const satf_scene *scene = r->scene;
+  r->nprotos = scene->n_macro_clusters;
+  r->protos = calloc((size_t)r->nprotos, sizeof(proto));
+  r->ninsts = (int)satf_scene_cluster_count(scene);
+  r->insts = calloc((size_t)r->ninsts, sizeof(inst));
+  if (!r->protos || !r->insts)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  r->stats.macro_clusters = r->nprotos;
+  int ii = 0;
+  satf_status st = SATF_OK;
+  for (int m = 0; m < r->nprotos && st == SATF_OK; m++) {
+    const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
+    st = build_proto(r, m, mc, err);
+    for (int i = 0; i < mc->n_instances && st == SATF_OK; i++)
+      st = build_inst(r, &r->insts[ii++], m, &mc->instances[i], err);
+    r->stats.prototypes_shared += mc->n_instances - 1;
+  }
+  return st;
+}
+
+static int curve_equal(const satf_scene_curve *a, const satf_scene_curve *b) {
+  return a->count == b->count &&
+         !memcmp(a->values, b->values, (size_t)a->count * sizeof(float));
+}
+
+/* Same generalized cylinder (trajectory, A, B, twist, shells). */
+static int cluster_geometry_equal(const satf_scene_cluster *a,
+                                  const satf_scene_cluster *b) {
+  return a->n_points == b->n_points &&
+         !memcmp(a->trajectory, b->trajectory,
+                 3 * (size_t)a->n_points * sizeof(float)) &&
+         curve_equal(&a->a, &b->a) && curve_equal(&a->b, &b->b) &&
+         curve_equal(&a->twist, &b->twist) &&
+         !memcmp(&a->shell, &b->shell, sizeof a->shell);
+}
+
+satf_status hierarchy_check(const satf_renderer *r, const satf_scene *scene,
+                            satf_error *err) {
+  if (scene->n_macro_clusters != r->nprotos)
+    return satf_error_set(
+        err, SATF_ERR_ARGUMENT, "%s: %d macro-clusters, the renderer has %d",
+        scene_name(scene), scene->n_macro_clusters, r->nprotos);
+  for (int m = 0; m < r->nprotos; m++) {
+    const satf_scene_macro_cluster *a = &r->scene->macro_clusters[m];
+    const satf_scene_macro_cluster *b = &scene->macro_clusters[m];
+    if (a->n_instances != b->n_instances ||
+        memcmp(&a->prototype.shell, &b->prototype.shell,
+               sizeof a->prototype.shell))
+      return satf_error_set(err, SATF_ERR_ARGUMENT,
+                            "%s: macro_clusters[%d] changed its instances or "
+                            "shells; only geometry and transforms can animate",
+                            scene_name(scene), m);
+  }
+  return SATF_OK;
+}
+
+/* Rebuilds prototype m's geometry for a changed cluster; the density, in
+ * the cluster's own frame, stays. */
+static satf_status rebuild_proto(satf_renderer *r, int m,
+                                 const satf_scene_cluster *c, satf_error *err) {
+  proto *p = &r->protos[m];
+  float *features = p->geom.features;
+  satf_neighbor_cache *nb = p->geom.neighbors;
+  p->geom.features = NULL;
+  p->geom.neighbors = NULL;
+  release_geometry(p);
+  satf_status st = build_geometry(r, m, c, features, err);
+  free(features);
+  if (st == SATF_OK)
+    p->geom.neighbors = nb;
+  else
+    satf_neighbor_cache_free(nb);
+  return st;
+}
+
+satf_status hierarchy_update(satf_renderer *r, const satf_scene *scene,
+                             int *moved, satf_error *err) {
+  satf_status st = SATF_OK;
+  const satf_scene *old = r->scene;
+  r->scene = scene;
+  int ii = 0;
+  for (int m = 0; m < r->nprotos && st == SATF_OK; m++) {
+    const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
+    int changed = !cluster_geometry_equal(&old->macro_clusters[m].prototype,
+                                          &mc->prototype);
+    if (changed) {
+      st = rebuild_proto(r, m, &mc->prototype, err);
+      (*moved)++;
+    }
+    for (int i = 0; i < mc->n_instances && st == SATF_OK; i++, ii++) {
+      inst *in = &r->insts[ii];
+      if (changed || memcmp(in->m, mc->instances[i].m, sizeof in->m)) {
+        memcpy(in->m, mc->instances[i].m, sizeof in->m);
+        st = place_inst(r, in, err);
+      }
+    }
+  }
+  return st;
+}
+
+void hierarchy_release(satf_renderer *r) {
+  for (int i = 0; r->insts && i < r->ninsts; i++) {
+    inst *in = &r->insts[i];
+    if (in->own_features)
+      free(in->geom.features);
+    satf_neighbor_cache_free(in->own_neighbors);
+    free(in->angles);
+    free(in->texels);
+    if (in->tex)
+      glDeleteTextures(1, &in->tex);
+  }
+  for (int m = 0; r->protos && m < r->nprotos; m++) {
+    proto *p = &r->protos[m];
+    release_geometry(p);
+    satf_shell_geom_destroy(&p->geom);
+    satf_strands_destroy(p->strands);
+    satf_vdb_grid_destroy(p->vdb);
+  }
+  free(r->protos);
+  free(r->insts);
+}

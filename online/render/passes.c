@@ -1,0 +1,318 @@
+/* passes.c - owns the renderer's GPU passes (SATF Table 1: L, S): the deep
+ * opacity map from the key light, the opaque meshes, the clusters' shading
+ * into per-pixel fragment arrays and their sorted resolve, or the clusters
+ * drawn far to near with "over" blending; and the uniforms they set. */
+#include "renderer_internal.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+
+static void set_mat4(GLuint prog, const char *name, const float m[16]) {
+  glUniformMatrix4fv(glGetUniformLocation(prog, name), 1, GL_TRUE, m);
+}
+
+/* Light count and colours (the directions are per program). */
+static void set_light_uniforms(const satf_renderer *r, GLuint p) {
+  float col[3 * RENDER_MAX_LIGHTS];
+  frame_light_colors(r, col);
+  glUniform1i(glGetUniformLocation(p, "u_nlights"), r->nlights);
+  glUniform3fv(glGetUniformLocation(p, "u_light_color"), r->nlights, col);
+}
+
+/* The AOV and the deep opacity map on texture units 2 and 3. */
+static void set_dom_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
+  glUniform1i(glGetUniformLocation(p, "u_cluster_shadow"),
+              r->effects.cluster_shadows);
+  glUniform1i(glGetUniformLocation(p, "u_aov"), (int)aov);
+  glUniform1f(glGetUniformLocation(p, "u_kcluster"), 1.0f);
+  glUniform1f(glGetUniformLocation(p, "u_dom_slab"), r->dom_slab);
+  set_mat4(p, "u_light_viewproj", r->light_viewproj);
+  glActiveTexture(GL_TEXTURE2);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
+  glUniform1i(glGetUniformLocation(p, "u_dom_depth"), 2);
+  glActiveTexture(GL_TEXTURE3);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_color_texture(r->dom_opacity, 0));
+  glUniform1i(glGetUniformLocation(p, "u_dom_opacity"), 3);
+}
+
+/* Sets the per-pass uniforms of a layer program; returns its per-draw
+ * uniform locations (model, st, layers, core). */
+static void use_layer_program(const satf_renderer *r, GLuint prog,
+                              const float viewproj[16], GLint loc[4]) {
+  glUseProgram(prog);
+  set_mat4(prog, "u_viewproj", viewproj);
+  glUniform1i(glGetUniformLocation(prog, "u_maps"), 0);
+  glUniform1i(glGetUniformLocation(prog, "u_satf"), r->effects.satf);
+  glUniform1f(glGetUniformLocation(prog, "u_plain_opacity"), 3.0f);
+  glUniform1i(glGetUniformLocation(prog, "u_map_width"), 0);
+  loc[0] = glGetUniformLocation(prog, "u_model");
+  loc[1] = glGetUniformLocation(prog, "u_st");
+  loc[2] = glGetUniformLocation(prog, "u_layers");
+  loc[3] = glGetUniformLocation(prog, "u_core");
+  glActiveTexture(GL_TEXTURE0);
+}
+
+/* Per-cluster uniforms: transform, shells, and the eye and lights in the
+ * prototype's frame (where the shading pass traces its rays). */
+static void bind_instance(const satf_renderer *r, GLuint prog, const inst *in,
+                          const GLint loc[4]) {
+  glUniformMatrix4fv(loc[0], 1, GL_TRUE, in->m);
+  glUniform1i(loc[1], in->geom.shell.st);
+  glUniform1i(glGetUniformLocation(prog, "u_map_width"),
+              in->geom.shell.su * r->w);
+  glUniform1i(loc[2], in->geom.shell.layers);
+  glUniform1f(loc[3], in->geom.shell.core);
+  GLint eye = glGetUniformLocation(prog, "u_eye_local");
+  if (eye >= 0) {
+    float lights[4 * RENDER_MAX_LIGHTS];
+    for (int k = 0; k < r->nlights; k++)
+      frame_light_local(in->inv, &r->lights[k], lights + 4 * k);
+    glUniform3fv(eye, 1, in->eye);
+    glUniform4fv(glGetUniformLocation(prog, "u_light_local"), r->nlights,
+                 lights);
+  }
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
+}
+
+static void draw_proxy(const proto *p, int coarse) {
+  glBindVertexArray(p->proxy_vao);
+  if (coarse)
+    glDrawElements(GL_TRIANGLES, p->coarse_count, GL_UNSIGNED_INT,
+                   (void *)((size_t)p->proxy_count * sizeof(uint32_t)));
+  else
+    glDrawElements(GL_TRIANGLES, p->proxy_count, GL_UNSIGNED_INT, NULL);
+}
+
+/* The outermost shell of every cluster, in list order: each fragment
+ * accounts for all the shells behind it (glsl/shade.frag.glsl). */
+static void draw_clusters(const satf_renderer *r, GLuint prog,
+                          const float viewproj[16], int coarse) {
+  GLint loc[4];
+  use_layer_program(r, prog, viewproj, loc);
+  for (int i = 0; i < r->ninsts; i++) {
+    const inst *in = &r->insts[i];
+    bind_instance(r, prog, in, loc);
+    draw_proxy(&r->protos[in->proto], coarse);
+  }
+  glBindVertexArray(0);
+}
+
+/* The opaque meshes with `prog` (per-mesh model and normal matrices). */
+static void draw_meshes(const satf_renderer *r, GLuint prog,
+                        const float viewproj[16]) {
+  glUseProgram(prog);
+  set_mat4(prog, "u_viewproj", viewproj);
+  GLint model = glGetUniformLocation(prog, "u_model");
+  GLint nmat = glGetUniformLocation(prog, "u_normal_matrix");
+  GLint albedo = glGetUniformLocation(prog, "u_albedo");
+  for (int i = 0; i < r->nmeshes; i++) {
+    const mesh_gpu *g = &r->meshes[i];
+    glUniformMatrix4fv(model, 1, GL_TRUE, g->m);
+    glUniformMatrix3fv(nmat, 1, GL_TRUE, g->nmat);
+    glUniform3fv(albedo, 1, g->color);
+    glBindVertexArray(g->vao);
+    glDrawElements(GL_TRIANGLES, g->count, GL_UNSIGNED_INT, NULL);
+  }
+  glBindVertexArray(0);
+}
+
+void passes_fullscreen(const satf_renderer *r) {
+  glBindVertexArray(r->empty_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
+/* Deep opacity map (Yuksel & Keyser 2008) from the key light (frame.c
+ * places it): the first hair's depth, then optical depth summed into four
+ * slabs behind it. */
+void passes_dom(satf_renderer *r) {
+  frame_light_view(r);
+  satf_gl_target_bind(r->dom_depth);
+  glClearColor(0, 0, 0, 0);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  draw_clusters(r, r->prog_depth, r->light_viewproj, 1);
+  draw_meshes(r, r->prog_mesh_depth, r->light_viewproj);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDisable(GL_DEPTH_TEST);
+
+  satf_gl_target_bind(r->dom_opacity);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE);
+  glUseProgram(r->prog_dom);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
+  glUniform1i(glGetUniformLocation(r->prog_dom, "u_dom_depth"), 1);
+  glUniform1f(glGetUniformLocation(r->prog_dom, "u_dom_slab"), r->dom_slab);
+  draw_clusters(r, r->prog_dom, r->light_viewproj, 1);
+  if (r->nmeshes > 0) {
+    glUseProgram(r->prog_mesh_dom);
+    glUniform1i(glGetUniformLocation(r->prog_mesh_dom, "u_dom_depth"), 1);
+    glUniform1f(glGetUniformLocation(r->prog_mesh_dom, "u_dom_slab"),
+                r->dom_slab);
+    draw_meshes(r, r->prog_mesh_dom, r->light_viewproj);
+  }
+  glDisable(GL_BLEND);
+}
+
+/* Material, effects and lights of a shading program. */
+static void set_shading_uniforms(const satf_renderer *r, GLuint p,
+                                 satf_aov aov) {
+  const satf_scene_material *m = &r->scene->material;
+  glUseProgram(p);
+  set_light_uniforms(r, p);
+  glUniform1f(glGetUniformLocation(p, "u_kdif"), m->k_dif);
+  glUniform1f(glGetUniformLocation(p, "u_kspe1"), m->k_speI);
+  glUniform1f(glGetUniformLocation(p, "u_kspe2"), m->k_speII);
+  glUniform1f(glGetUniformLocation(p, "u_exp1"), m->exponent_I);
+  glUniform1f(glGetUniformLocation(p, "u_exp2"), m->exponent_II);
+  glUniform1f(glGetUniformLocation(p, "u_shift1"), m->shift_I);
+  glUniform1f(glGetUniformLocation(p, "u_shift2"), m->shift_II);
+  glUniform3fv(glGetUniformLocation(p, "u_fdif"), 1, m->f_dif);
+  glUniform3fv(glGetUniformLocation(p, "u_fspe1"), 1, m->f_speI);
+  glUniform3fv(glGetUniformLocation(p, "u_fspe2"), 1, m->f_speII);
+  glUniform1f(glGetUniformLocation(p, "u_kshadow"), m->k_shadow);
+  glUniform1f(glGetUniformLocation(p, "u_noise"), m->noise);
+  glUniform1i(glGetUniformLocation(p, "u_secondary"),
+              r->effects.secondary_highlight);
+  glUniform1i(glGetUniformLocation(p, "u_self_shadow"), r->effects.self_shadow);
+  glUniform1i(glGetUniformLocation(p, "u_slots"), r->slots);
+  set_dom_uniforms(r, p, aov);
+}
+
+/* Clears the frame to the background (or black for AOVs) and draws the
+ * opaque meshes, leaving their depth for the hair to test against. */
+static void begin_frame(const satf_renderer *r, satf_aov aov,
+                        const float viewproj[16]) {
+  satf_gl_target_bind(r->out);
+  if (aov == SATF_AOV_BEAUTY)
+    glClearColor(r->scene->background[0], r->scene->background[1],
+                 r->scene->background[2], 0.0f);
+  else
+    glClearColor(0, 0, 0, 0);
+  glClearDepth(1.0);
+  glDepthMask(GL_TRUE);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  if (r->nmeshes == 0)
+    return;
+  GLuint p = r->prog_mesh;
+  glUseProgram(p);
+  float vec[4 * RENDER_MAX_LIGHTS];
+  for (int k = 0; k < r->nlights; k++)
+    frame_light_vector(&r->lights[k], vec + 4 * k);
+  glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
+  glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
+  set_light_uniforms(r, p);
+  set_dom_uniforms(r, p, aov);
+  glActiveTexture(GL_TEXTURE0);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  draw_meshes(r, p, viewproj);
+  glDisable(GL_DEPTH_TEST);
+}
+
+/* Hair tests against the meshes' depth without writing it. */
+static void hair_depth_test(int on) {
+  if (on) {
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_FALSE);
+  } else {
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+  }
+}
+
+/* Every cluster's fragments into the per-pixel arrays. */
+static void fill_lists(const satf_renderer *r, satf_aov aov,
+                       const float viewproj[16]) {
+  GLuint zero = 0;
+  glClearTexImage(r->counts_tex, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindImageTexture(0, r->counts_tex, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(1, r->frags_tex, 0, GL_TRUE, 0, GL_READ_WRITE,
+                     GL_RGBA32UI);
+  glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
+  glViewport(0, 0, r->width, r->height);
+  hair_depth_test(r->nmeshes > 0);
+  glDisable(GL_CULL_FACE);
+  set_shading_uniforms(r, r->prog_shade, aov);
+  glEnable(GL_CULL_FACE); /* front faces: each traces the whole cluster */
+  glCullFace(GL_BACK);
+  draw_clusters(r, r->prog_shade, viewproj, 0);
+  glDisable(GL_CULL_FACE);
+  hair_depth_test(0);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                  GL_TEXTURE_FETCH_BARRIER_BIT);
+}
+
+/* The arrays sorted and composited (SATF eq. 14) over the frame. */
+static void resolve_lists(const satf_renderer *r, const float viewproj[16]) {
+  satf_gl_target_bind(r->out);
+  glEnable(GL_BLEND); /* the hair's composite over background and meshes */
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  /* only pixels the hair can cover need resolving */
+  int box[4];
+  frame_screen_box(r, viewproj, box);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(box[0], box[1], box[2], box[3]);
+  glUseProgram(r->prog_resolve);
+  glUniform1i(glGetUniformLocation(r->prog_resolve, "u_slots"), r->slots);
+  passes_fullscreen(r);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_BLEND);
+}
+
+GLuint passes_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
+                    long *fragments) {
+  begin_frame(r, aov, viewproj);
+  fill_lists(r, aov, viewproj);
+  resolve_lists(r, viewproj);
+  /* the deepest pixel decides whether the arrays were large enough */
+  size_t n = (size_t)r->width * (size_t)r->height;
+  GLuint *counts = malloc(n * sizeof(GLuint)), most = 0;
+  *fragments = 0;
+  if (counts) {
+    glBindTexture(GL_TEXTURE_2D, r->counts_tex);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, counts);
+    for (size_t i = 0; i < n; i++) {
+      most = counts[i] > most ? counts[i] : most;
+      *fragments += counts[i];
+    }
+    free(counts);
+  }
+  return most;
+}
+
+/* SATF eq. 14 by drawing order (see satf_composite in satf/render.h). */
+satf_status passes_ordered(satf_renderer *r, satf_aov aov,
+                           const float viewproj[16], satf_error *err) {
+  int *order = frame_far_to_near(r);
+  if (!order)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  begin_frame(r, aov, viewproj);
+  hair_depth_test(r->nmeshes > 0);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
+  glEnable(GL_CULL_FACE);
+  GLuint prog = r->prog_shade_ordered;
+  set_shading_uniforms(r, prog, aov);
+  GLint loc[4];
+  use_layer_program(r, prog, viewproj, loc);
+  glCullFace(GL_BACK);
+  for (int q = 0; q < r->ninsts; q++) {
+    const inst *in = &r->insts[order[q]];
+    bind_instance(r, prog, in, loc);
+    draw_proxy(&r->protos[in->proto], 0);
+  }
+  glBindVertexArray(0);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  hair_depth_test(0);
+  free(order);
+  return SATF_OK;
+}

@@ -1,0 +1,150 @@
+/* renderer_internal.h - the renderer's state and what its files offer each
+ * other (private to online/render). The renderer is five files, one job
+ * each: renderer.c the public API (create, destroy, scene switches,
+ * frames, images), hierarchy.c the prototypes and instances, resources.c
+ * the GL programs, targets and meshes, frame.c the per-frame CPU work
+ * (look-ups, maps, transforms) and passes.c the GPU passes. Names here
+ * carry the owning file's name instead of the public satf_ prefix. */
+#ifndef SATF_RENDERER_INTERNAL_H
+#define SATF_RENDERER_INTERNAL_H
+
+#include "maps.h"
+#include "satf/density.h"
+#include "satf/geometry.h"
+#include "satf/gl.h"
+#include "satf/render.h"
+
+/* Side of the deep opacity map, in texels. */
+#define DOM_SIZE 256
+/* Fragments each pixel can keep at first; the arrays grow (up to
+ * SATF_MAX_FRAGMENTS) when a frame needs more. */
+#define START_SLOTS 16
+#define RENDER_MAX_LIGHTS 4
+
+/* A macro-cluster's prototype: its generalized cylinder, shell geometry,
+ * density and drawn proxy. */
+typedef struct proto {
+  satf_cluster *cluster;
+  satf_shell_geom geom; /* features: procedural density, shared */
+  satf_strands *strands;
+  satf_vdb_grid *vdb;
+  int layers;
+  GLuint proxy_vao; /* the drawn outer shell (hierarchy.c) */
+  GLuint proxy_vbo, proxy_ibo;
+  GLsizei proxy_count;
+  GLsizei coarse_count; /* light passes: coarse rows, after the full ones */
+} proto;
+
+/* One placed copy of a prototype with its own maps. */
+typedef struct inst {
+  int proto;
+  float m[16], inv[16], nmat[9];
+  float centre[3]; /* world position of the cluster's middle, for sorting */
+  satf_shell_geom geom; /* shallow copy; own features only with a VDB */
+  int own_features;
+  satf_neighbor_cache *own_neighbors; /* with own (VDB) features */
+  float *angles, *texels;
+  float eye[3], light[4];
+  GLuint tex;
+} inst;
+
+/* An opaque scene mesh on the GPU. */
+typedef struct mesh_gpu {
+  GLuint vao, vbo, ibo;
+  GLsizei count;
+  float m[16], nmat[9], color[3];
+} mesh_gpu;
+
+struct satf_renderer {
+  const satf_scene *scene;
+  const satf_db *db;
+  satf_maps *maps;
+  satf_map_options map_opt;
+  satf_scene_camera camera;
+  satf_scene_effects effects;
+  satf_scene_light lights[RENDER_MAX_LIGHTS];
+  int nlights;
+  int width, height, threads, w;
+  float lo[3], hi[3];
+  int nprotos, ninsts, nmeshes;
+  mesh_gpu *meshes;
+  GLuint prog_mesh, prog_mesh_depth, prog_mesh_dom;
+  proto *protos;
+  inst *insts;
+  satf_render_stats stats;
+  /* GL */
+  satf_composite composite;
+  GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve,
+      prog_display;
+  GLuint empty_vao, counts_tex, frags_tex, list_fbo;
+  int slots; /* fragments kept per pixel */
+  satf_gl_target *out, *dom_depth, *dom_opacity;
+  float light_viewproj[16], dom_slab;
+};
+
+/* The scene's name for messages. */
+static inline const char *scene_name(const satf_scene *scene) {
+  return scene->name ? scene->name : "scene";
+}
+
+/* ---- hierarchy.c: prototypes and instances ---------------------------- */
+
+/* Builds every prototype and instance of r->scene. */
+satf_status hierarchy_build(satf_renderer *r, satf_error *err);
+/* Whether `scene` has r's hierarchy (macro-clusters, instance counts,
+ * shells): only geometry and transforms may change between frames. */
+satf_status hierarchy_check(const satf_renderer *r, const satf_scene *scene,
+                            satf_error *err);
+/* Switches to `scene` (see satf_renderer_set_scene; hierarchy_check has
+ * passed): rebuilds changed prototypes, re-places moved instances and adds
+ * the rebuilt prototypes to *moved. */
+satf_status hierarchy_update(satf_renderer *r, const satf_scene *scene,
+                             int *moved, satf_error *err);
+void hierarchy_release(satf_renderer *r);
+
+/* ---- resources.c: GL programs, targets and meshes --------------------- */
+
+/* Meshes, programs and every target; r's hierarchy is already built. */
+satf_status resources_build(satf_renderer *r, satf_error *err);
+/* The output target and fragment arrays for r->width x r->height. */
+satf_status resources_alloc_screen(satf_renderer *r, satf_error *err);
+/* Fragment arrays of `slots` fragments per pixel. */
+satf_status resources_alloc_lists(satf_renderer *r, int slots, satf_error *err);
+void resources_release(satf_renderer *r);
+
+/* ---- frame.c: per-frame CPU work (Table 1: I, C, M) ------------------- */
+
+/* A light as seen from a point: xyz + w (0: direction to it, 1: position). */
+void frame_light_vector(const satf_scene_light *l, float out[4]);
+/* The same in a frame whose inverse transform is inv. */
+void frame_light_local(const float inv[16], const satf_scene_light *l,
+                       float out[4]);
+/* colour x intensity of every light, 3 floats each. */
+void frame_light_colors(const satf_renderer *r, float *col);
+/* Sector angles, layer maps and s-map sums of every instance, uploaded. */
+satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
+                              satf_error *err);
+void frame_camera(const satf_renderer *r, float viewproj[16]);
+/* r->light_viewproj and r->dom_slab for the key light's deep opacity map. */
+void frame_light_view(satf_renderer *r);
+/* Pixel rectangle (x, y, w, h) the scene bounds can cover. */
+void frame_screen_box(const satf_renderer *r, const float viewproj[16],
+                      int box[4]);
+/* Instance indices far to near from the eye (malloc'd; NULL: no memory). */
+int *frame_far_to_near(const satf_renderer *r);
+
+/* ---- passes.c: GPU passes (Table 1: L, S) ----------------------------- */
+
+/* The deep opacity map from the key light. */
+void passes_dom(satf_renderer *r);
+/* Per-pixel fragment arrays, then their sorted composite; returns the
+ * largest number of fragments a pixel received. */
+GLuint passes_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
+                    long *fragments);
+/* Clusters drawn far to near with "over" blending. */
+satf_status passes_ordered(satf_renderer *r, satf_aov aov,
+                           const float viewproj[16], satf_error *err);
+/* A triangle covering the viewport, drawn with the bound program. */
+void passes_fullscreen(const satf_renderer *r);
+
+#endif

@@ -1,0 +1,248 @@
+/* resources.c - owns the renderer's GL resources that are not per cluster:
+ * the shader programs, the output target and per-pixel fragment arrays
+ * (resized with the image), the deep opacity map's targets and the scene's
+ * opaque meshes. */
+#include "renderer_internal.h"
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mat4.h"
+#include "shaders.h"
+
+/* src with `lines` inserted after its #version line. */
+static char *with_defines(const char *src, const char *lines) {
+  const char *nl = strchr(src, '\n');
+  size_t head = nl ? (size_t)(nl - src) + 1 : 0;
+  char *out = malloc(strlen(src) + strlen(lines) + 1);
+  if (out) {
+    memcpy(out, src, head);
+    strcpy(out + head, lines);
+    strcat(out, src + head);
+  }
+  return out;
+}
+
+static satf_status build_programs(satf_renderer *r, satf_error *err) {
+  /* the light loop runs a compile-time count so it unrolls */
+  char lights[64];
+  snprintf(lights, sizeof lights, "#define NLIGHTS %d\n", r->nlights);
+  char *exact = with_defines(satf_glsl_shade_fs, lights);
+  char *ordered = exact ? with_defines(exact, "#define EXACT 0\n") : NULL;
+  if (!exact || !ordered) {
+    free(exact);
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  const struct {
+    const char *label, *vs, *fs;
+    GLuint *out;
+  } progs[] = {
+      {"shade", satf_glsl_cluster_vs, exact, &r->prog_shade},
+      {"shade (ordered)", satf_glsl_cluster_vs, ordered,
+       &r->prog_shade_ordered},
+      {"depth", satf_glsl_layer_vs, satf_glsl_depth_fs, &r->prog_depth},
+      {"dom", satf_glsl_layer_vs, satf_glsl_dom_fs, &r->prog_dom},
+      {"resolve", satf_glsl_fullscreen_vs, satf_glsl_resolve_fs,
+       &r->prog_resolve},
+      {"display", satf_glsl_fullscreen_vs, satf_glsl_display_fs,
+       &r->prog_display},
+      {"mesh", satf_glsl_mesh_vs, satf_glsl_mesh_fs, &r->prog_mesh},
+      {"mesh depth", satf_glsl_mesh_vs, satf_glsl_empty_fs,
+       &r->prog_mesh_depth},
+      {"mesh opacity", satf_glsl_mesh_vs, satf_glsl_dom_mesh_fs,
+       &r->prog_mesh_dom}};
+  satf_status st = SATF_OK;
+  for (size_t i = 0; i < sizeof progs / sizeof *progs && st == SATF_OK; i++)
+    st = satf_gl_program_build(progs[i].label, progs[i].vs, progs[i].fs,
+                               progs[i].out, err);
+  free(exact);
+  free(ordered);
+  return st;
+}
+
+/* Per-pixel fragment arrays: an r32ui counter per pixel and a layered
+ * rgba32ui image of `slots` fragments (colour as halves, depth). A texture
+ * rather than a storage buffer: llvmpipe caps buffers at 128 MB, and a
+ * per-pixel counter avoids the contention of one global atomic counter,
+ * which made linked lists three times slower there. */
+satf_status resources_alloc_lists(satf_renderer *r, int slots,
+                                  satf_error *err) {
+  if (r->counts_tex)
+    glDeleteTextures(1, &r->counts_tex);
+  if (r->frags_tex)
+    glDeleteTextures(1, &r->frags_tex);
+  glGenTextures(1, &r->counts_tex);
+  glBindTexture(GL_TEXTURE_2D, r->counts_tex);
+  glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32UI, r->width, r->height);
+  glGenTextures(1, &r->frags_tex);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, r->frags_tex);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32UI, r->width, r->height,
+                 slots);
+  r->slots = slots;
+  return satf_gl_check("fragment arrays", err);
+}
+
+satf_status resources_alloc_screen(satf_renderer *r, satf_error *err) {
+  /* half floats: what the EXR keeps, and faster to blend on llvmpipe */
+  const satf_gl_format out_format = SATF_GL_RGBA16F;
+  if (!r->list_fbo)
+    glGenFramebuffers(1, &r->list_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
+  glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_WIDTH,
+                          r->width);
+  glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_HEIGHT,
+                          r->height);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (r->out)
+    satf_gl_target_destroy(r->out);
+  r->out = NULL;
+  satf_status st =
+      satf_gl_target_create(r->width, r->height, 1, &out_format, &r->out, err);
+  if (st == SATF_OK) {
+    /* the hair's fragment pass tests against the meshes' depth */
+    glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D,
+                           satf_gl_target_depth_texture(r->out), 0);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    st = resources_alloc_lists(r, r->slots > 0 ? r->slots : START_SLOTS, err);
+  }
+  return st;
+}
+
+/* The deep opacity map's depth and opacity targets, filtered: the map is
+ * coarse, and its texels must not show. */
+static satf_status alloc_dom(satf_renderer *r, satf_error *err) {
+  satf_status st =
+      satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &r->dom_depth, err);
+  if (st == SATF_OK)
+    st = satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &r->dom_opacity,
+                               err);
+  if (st != SATF_OK)
+    return st;
+  GLuint dom[2] = {satf_gl_target_depth_texture(r->dom_depth),
+                   satf_gl_target_color_texture(r->dom_opacity, 0)};
+  for (int k = 0; k < 2; k++) {
+    glBindTexture(GL_TEXTURE_2D, dom[k]);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+  return satf_gl_check("renderer set-up", err);
+}
+
+/* Grows the scene bounds by a mesh's transformed bounding box, so the
+ * camera and the light's map cover it. */
+static void grow_bounds(satf_renderer *r, const satf_mesh *mesh,
+                        const float m[16]) {
+  float lo[3], hi[3];
+  satf_mesh_bounds(mesh, lo, hi);
+  for (int c = 0; c < 8; c++) {
+    float p[3] = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1],
+                  c & 4 ? hi[2] : lo[2]},
+          w[3];
+    satf_mat4_point(m, p, w);
+    for (int a = 0; a < 3; a++) {
+      r->lo[a] = w[a] < r->lo[a] ? w[a] : r->lo[a];
+      r->hi[a] = w[a] > r->hi[a] ? w[a] : r->hi[a];
+    }
+  }
+}
+
+/* A mesh's vertices (position, normal) and triangles on the GPU. */
+static void upload_mesh(mesh_gpu *g, const satf_mesh *mesh) {
+  glGenVertexArrays(1, &g->vao);
+  glGenBuffers(1, &g->vbo);
+  glGenBuffers(1, &g->ibo);
+  glBindVertexArray(g->vao);
+  glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
+  glBufferData(
+      GL_ARRAY_BUFFER,
+      (GLsizeiptr)(satf_mesh_vertex_count(mesh) * sizeof(satf_mesh_vertex)),
+      satf_mesh_vertices(mesh), GL_STATIC_DRAW);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ibo);
+  glBufferData(
+      GL_ELEMENT_ARRAY_BUFFER,
+      (GLsizeiptr)(satf_mesh_triangle_count(mesh) * 3 * sizeof(uint32_t)),
+      satf_mesh_indices(mesh), GL_STATIC_DRAW);
+  GLsizei stride = (GLsizei)sizeof(satf_mesh_vertex);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride,
+                        (void *)offsetof(satf_mesh_vertex, pos));
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                        (void *)offsetof(satf_mesh_vertex, normal));
+  glBindVertexArray(0);
+  g->count = (GLsizei)(satf_mesh_triangle_count(mesh) * 3);
+}
+
+/* The scene's opaque meshes (OpenMesh reads OBJ and PLY), grown into the
+ * scene bounds. */
+static satf_status build_meshes(satf_renderer *r, satf_error *err) {
+  const satf_scene *scene = r->scene;
+  if (scene->n_meshes == 0)
+    return SATF_OK;
+  r->meshes = calloc((size_t)scene->n_meshes, sizeof *r->meshes);
+  if (!r->meshes)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  r->nmeshes = scene->n_meshes;
+  for (int i = 0; i < scene->n_meshes; i++) {
+    const satf_scene_mesh *sm = &scene->meshes[i];
+    mesh_gpu *g = &r->meshes[i];
+    satf_mesh *mesh = NULL;
+    satf_error merr;
+    satf_status st = satf_mesh_read(sm->file, &mesh, &merr);
+    if (st != SATF_OK)
+      return satf_error_set(err, st, "%s: meshes[%d]: %s", scene_name(scene), i,
+                            merr.message);
+    memcpy(g->m, sm->m, sizeof g->m);
+    memcpy(g->color, sm->color, sizeof g->color);
+    satf_mat4_normal_matrix(g->m, g->nmat);
+    grow_bounds(r, mesh, g->m);
+    upload_mesh(g, mesh);
+    satf_mesh_destroy(mesh);
+  }
+  return satf_gl_check("meshes", err);
+}
+
+satf_status resources_build(satf_renderer *r, satf_error *err) {
+  satf_status st = build_meshes(r, err);
+  if (st == SATF_OK)
+    st = build_programs(r, err);
+  if (st == SATF_OK) {
+    glGenVertexArrays(1, &r->empty_vao);
+    st = resources_alloc_screen(r, err);
+  }
+  if (st == SATF_OK)
+    st = alloc_dom(r, err);
+  return st;
+}
+
+void resources_release(satf_renderer *r) {
+  for (int i = 0; r->meshes && i < r->nmeshes; i++) {
+    glDeleteVertexArrays(1, &r->meshes[i].vao);
+    glDeleteBuffers(1, &r->meshes[i].vbo);
+    glDeleteBuffers(1, &r->meshes[i].ibo);
+  }
+  free(r->meshes);
+  GLuint progs[9] = {r->prog_shade, r->prog_shade_ordered, r->prog_depth,
+                     r->prog_dom,   r->prog_resolve,       r->prog_display,
+                     r->prog_mesh,  r->prog_mesh_depth,    r->prog_mesh_dom};
+  for (int i = 0; i < 9; i++)
+    if (progs[i])
+      glDeleteProgram(progs[i]);
+  if (r->empty_vao)
+    glDeleteVertexArrays(1, &r->empty_vao);
+  GLuint texs[2] = {r->counts_tex, r->frags_tex};
+  glDeleteTextures(2, texs);
+  if (r->list_fbo)
+    glDeleteFramebuffers(1, &r->list_fbo);
+  satf_gl_target_destroy(r->out);
+  satf_gl_target_destroy(r->dom_depth);
+  satf_gl_target_destroy(r->dom_opacity);
+}
