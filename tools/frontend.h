@@ -1,8 +1,8 @@
 /* frontend.h - what satf-render and satf-view share: loading a scene with
- * its database, the effect switches of the paper's Fig. 4, and the Table 1
- * row. */
-#ifndef SATF_ONLINE_FRONTEND_H
-#define SATF_ONLINE_FRONTEND_H
+ * its database, the effect switches of the paper's Fig. 4, frame ranges,
+ * the PNG preview, and the Table 1 benchmark and row. */
+#ifndef SATF_TOOLS_FRONTEND_H
+#define SATF_TOOLS_FRONTEND_H
 
 #include <stdio.h>
 
