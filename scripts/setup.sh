@@ -8,7 +8,7 @@ PACKAGES=(
   libopenvdb-dev libboost-dev libboost-iostreams-dev libtbb-dev
   libopenmesh-dev libopenexr-dev libimath-dev libpng-dev zlib1g-dev
   libglfw3-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
-  xvfb xauth libcjson-dev libcmocka-dev
+  xvfb xauth libcjson-dev libcmocka-dev clang clang-format libclang-rt-dev python3
 )
 
 missing=()

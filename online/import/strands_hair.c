@@ -189,36 +189,6 @@ static float lef32(const unsigned char *p) {
   return f;
 }
 
-/* Reads a whole file after checking its size. */
-static satf_status slurp(const char *path, unsigned char **data, size_t *size,
-                         satf_error *err) {
-  *data = NULL;
-  FILE *f = fopen(path, "rb");
-  if (!f)
-    return satf_error_set(err, SATF_ERR_IO, "%s: cannot open", path);
-  long long n = satf_file_size(path);
-  if (n < 0 || (unsigned long long)n > SATF_STRANDS_MAX_FILE_BYTES) {
-    fclose(f);
-    return satf_error_set(err, SATF_ERR_IO,
-                          "%s: not a regular file of at most 4 GiB", path);
-  }
-  unsigned char *buf = malloc(n ? (size_t)n : 1);
-  if (!buf) {
-    fclose(f);
-    return satf_error_set(err, SATF_ERR_NOMEM, "%s: cannot hold %lld bytes",
-                          path, n);
-  }
-  size_t got = fread(buf, 1, (size_t)n, f);
-  fclose(f);
-  if (got != (size_t)n) {
-    free(buf);
-    return satf_error_set(err, SATF_ERR_IO, "%s: read failed", path);
-  }
-  *data = buf;
-  *size = (size_t)n;
-  return SATF_OK;
-}
-
 /* The byte size the header promises, in 64 bits so absurd counts cannot
  * wrap. */
 static uint64_t hair_expected_size(uint32_t flags, uint64_t hairs,
@@ -353,12 +323,12 @@ satf_status satf_hair_parse(const void *data, size_t size, const char *name,
 satf_status satf_hair_read(const char *path, satf_strand_set **out,
                            satf_error *err) {
   *out = NULL;
-  unsigned char *data;
-  size_t size = 0;
-  satf_status st = slurp(path, &data, &size, err);
-  if (st != SATF_OK)
-    return st;
-  st = satf_hair_parse(data, size, path, out, err);
+  void *data;
+  size_t size;
+  satf_status st =
+      satf_read_file(path, SATF_STRANDS_MAX_FILE_BYTES, &data, &size, err);
+  if (st == SATF_OK)
+    st = satf_hair_parse(data, size, path, out, err);
   free(data);
   return st;
 }

@@ -233,27 +233,12 @@ satf_status satf_tfx_parse(const void *data, size_t size, const char *name,
 satf_status satf_tfx_read(const char *path, satf_tfx_info *info,
                           satf_strand_set **out, satf_error *err) {
   *out = NULL;
-  FILE *f = fopen(path, "rb");
-  if (!f)
-    return satf_error_set(err, SATF_ERR_IO, "%s: cannot open", path);
-  long long n = satf_file_size(path);
-  if (n < 0 || (unsigned long long)n > SATF_STRANDS_MAX_FILE_BYTES) {
-    fclose(f);
-    return satf_error_set(err, SATF_ERR_IO,
-                          "%s: not a regular file of at most 4 GiB", path);
-  }
-  unsigned char *buf = malloc(n ? (size_t)n : 1);
-  if (!buf) {
-    fclose(f);
-    return satf_error_set(err, SATF_ERR_NOMEM, "%s: cannot hold %lld bytes",
-                          path, n);
-  }
-  size_t got = fread(buf, 1, (size_t)n, f);
-  fclose(f);
+  void *buf;
+  size_t n;
   satf_status st =
-      got == (size_t)n
-          ? satf_tfx_parse(buf, (size_t)n, path, info, out, err)
-          : satf_error_set(err, SATF_ERR_IO, "%s: read failed", path);
+      satf_read_file(path, SATF_STRANDS_MAX_FILE_BYTES, &buf, &n, err);
+  if (st == SATF_OK)
+    st = satf_tfx_parse(buf, n, path, info, out, err);
   free(buf);
   return st;
 }

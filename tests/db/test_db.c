@@ -11,9 +11,8 @@
 #include <cmocka.h>
 
 #include "db_compare.h"
+#include "satf/math.h"
 #include "satf/offline.h"
-
-#define TWO_PI 6.28318530717959f
 
 static satf_build_params small(int samples) {
   satf_build_params p = satf_build_params_default();
@@ -68,9 +67,10 @@ static void stored_key_returns_the_record(void **state) {
         satf_db_nearest(db, satf_db_features(db, i), 1, &idx, &d2);
         satf_db_record(db, idx, iv, il, &r, &a);
         for (int k = 1; k <= 4; k += 3) {
-          satf_db_lookup(db, satf_db_features(db, i), TWO_PI * iv / p.n_view,
-                         TWO_PI * il / p.n_light + (float)(k - 1) * TWO_PI, k,
-                         re, al);
+          satf_db_lookup(
+              db, satf_db_features(db, i), SATF_TWO_PI_F * iv / p.n_view,
+              SATF_TWO_PI_F * il / p.n_light + (float)(k - 1) * SATF_TWO_PI_F,
+              k, re, al);
           assert_memory_equal(re, r, (size_t)w * sizeof(float));
           assert_memory_equal(al, a, (size_t)w * sizeof(float));
         }
@@ -89,7 +89,7 @@ static void angles_interpolate_bilinearly_and_periodically(void **state) {
   satf_db_nearest(db, f, 1, &idx, &d2);
   float re[64], al[64];
   /* a quarter of the way from view 7 to view 0 (wrapping), light 2 */
-  float tv = TWO_PI * (7.25f / 8.0f), tl = TWO_PI * 2.0f / 6.0f;
+  float tv = SATF_TWO_PI_F * (7.25f / 8.0f), tl = SATF_TWO_PI_F * 2.0f / 6.0f;
   satf_db_lookup(db, f, tv, tl, 1, re, al);
   const float *r7, *a7, *r0, *a0;
   satf_db_record(db, idx, 7, 2, &r7, &a7);
@@ -99,7 +99,8 @@ static void angles_interpolate_bilinearly_and_periodically(void **state) {
     assert_float_equal(al[j], 0.75f * a7[j] + 0.25f * a0[j], 1e-5);
   }
   float re2[64], al2[64];
-  satf_db_lookup(db, f, tv - 3 * TWO_PI, tl + TWO_PI, 1, re2, al2);
+  satf_db_lookup(db, f, tv - 3 * SATF_TWO_PI_F, tl + SATF_TWO_PI_F, 1, re2,
+                 al2);
   for (int j = 0; j < w; j++)
     assert_float_equal(re[j], re2[j], 1e-5);
   satf_db_destroy(db);
@@ -122,8 +123,8 @@ static double held_out_error(int samples, int k) {
     float f[3];
     satf_density_features(s->density, s->ns, s->nt, f);
     for (int a = 0; a < 4; a++) {
-      float tv = TWO_PI * (float)(a % p.n_view) / p.n_view;
-      float tl = TWO_PI * (float)((a * 3) % p.n_light) / p.n_light;
+      float tv = SATF_TWO_PI_F * (float)(a % p.n_view) / p.n_view;
+      float tl = SATF_TWO_PI_F * (float)((a * 3) % p.n_light) / p.n_light;
       float r0[64], a0[64], r1[64], a1[64];
       assert_int_equal(satf_trace_hrir(s, &p.trace, tv, tl, r0, a0, NULL),
                        SATF_OK);

@@ -10,8 +10,8 @@
 
 #include <cmocka.h>
 
-#include "satf/common.h"
 #include "db_compare.h"
+#include "satf/common.h"
 #include "satf/offline.h"
 #include "test_util.h"
 
@@ -21,26 +21,6 @@ static satf_db *g_db;
 static unsigned char *g_bytes;
 static size_t g_size;
 static char g_path[512];
-
-static unsigned char *slurp(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  unsigned char *buf = malloc((size_t)n);
-  assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
-  fclose(f);
-  *size = (size_t)n;
-  return buf;
-}
-
-static void spill(const char *path, const unsigned char *data, size_t size) {
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  assert_int_equal(fwrite(data, 1, size, f), size);
-  fclose(f);
-}
 
 static int setup(void **state) {
   (void)state;
@@ -56,7 +36,7 @@ static int setup(void **state) {
   test_path(g_path, sizeof g_path, "test_db_file.exr");
   if (satf_db_write(g_db, g_path, &err) != SATF_OK)
     return -1;
-  g_bytes = slurp(g_path, &g_size);
+  g_bytes = test_read_file(g_path, &g_size);
   return 0;
 }
 
@@ -79,7 +59,7 @@ static void round_trip_is_exact(void **state) {
   test_path(again, sizeof again, "test_db_file_again.exr");
   assert_int_equal(satf_db_write(back, again, &err), SATF_OK);
   size_t n;
-  unsigned char *bytes = slurp(again, &n);
+  unsigned char *bytes = test_read_file(again, &n);
   assert_int_equal(n, g_size);
   assert_memory_equal(bytes, g_bytes, n);
   free(bytes);
@@ -116,7 +96,7 @@ static void truncation_is_detected(void **state) {
   char cut[512];
   test_path(cut, sizeof cut, "test_db_file_cut.exr");
   for (size_t n = 0; n < g_size; n += n < 600 ? 7 : 97) {
-    spill(cut, g_bytes, n);
+    test_write_file(cut, g_bytes, n);
     satf_db *db = NULL;
     satf_error err;
     satf_error_clear(&err);
@@ -139,7 +119,7 @@ static void byte_flips_are_detected_or_harmless(void **state) {
     memcpy(copy, g_bytes, g_size);
     size_t at = satf_rng_below(&rng, (uint32_t)g_size);
     copy[at] ^= (unsigned char)(1u << satf_rng_below(&rng, 8));
-    spill(bad, copy, g_size);
+    test_write_file(bad, copy, g_size);
     satf_db *db = NULL;
     satf_error err;
     satf_error_clear(&err);
@@ -179,19 +159,19 @@ static void version_and_parameter_mismatch(void **state) {
   unsigned char *copy = malloc(g_size);
   memcpy(copy, g_bytes, g_size);
   assert_int_equal(patch_int_attr(copy, g_size, "satf:version", 99), 0);
-  spill(bad, copy, g_size);
+  test_write_file(bad, copy, g_size);
   satf_db *db = NULL;
   satf_error err;
   assert_int_equal(satf_db_read(bad, &db, &err), SATF_ERR_VERSION);
   assert_non_null(strstr(err.message, "version 99"));
   memcpy(copy, g_bytes, g_size);
   assert_int_equal(patch_int_attr(copy, g_size, "satf:width", 13), 0);
-  spill(bad, copy, g_size);
+  test_write_file(bad, copy, g_size);
   assert_int_equal(satf_db_read(bad, &db, &err), SATF_ERR_CORRUPT);
   assert_non_null(strstr(err.message, "parameters say"));
   memcpy(copy, g_bytes, g_size);
   assert_int_equal(patch_int_attr(copy, g_size, "satf:samples", -5), 0);
-  spill(bad, copy, g_size);
+  test_write_file(bad, copy, g_size);
   assert_int_equal(satf_db_read(bad, &db, &err), SATF_ERR_CORRUPT);
   assert_non_null(strstr(err.message, "samples"));
   free(copy);
@@ -206,7 +186,7 @@ static void foreign_and_missing_files(void **state) {
   assert_int_equal(satf_db_read(path, &db, &err), SATF_ERR_IO);
   assert_non_null(strstr(err.message, "no-such-file.exr"));
   test_path(path, sizeof path, "test_db_file_text.exr");
-  spill(path, (const unsigned char *)"hello, not an image\n", 20);
+  test_write_file(path, (const unsigned char *)"hello, not an image\n", 20);
   assert_int_equal(satf_db_read(path, &db, &err), SATF_ERR_FORMAT);
   /* a real EXR image that is not a database */
   float px[4] = {0.1f, 0.2f, 0.3f, 0.4f};

@@ -16,12 +16,11 @@
 
 #include "satf/common.h"
 #include "satf/density.h"
-
-static const double kPi = 3.14159265358979323846;
+#include "satf/math.h"
 
 /* Peak density of an untruncated isotropic 3-D Gaussian of mass m. */
 static double gaussian_peak(double mass, double sigma) {
-  return mass / (pow(2.0 * kPi, 1.5) * sigma * sigma * sigma);
+  return mass / (pow(2.0 * SATF_PI, 1.5) * sigma * sigma * sigma);
 }
 
 /* Fraction of a 1-D Gaussian within +-3 sigma: the builder renormalises each
@@ -31,7 +30,7 @@ static double axis_kept_fraction(void) { return erf(3.0 / sqrt(2.0)); }
 /* Density at distance r from an infinite line of mass lambda per length whose
  * cross-section is a circular Gaussian (SATF sec. 3.3). */
 static double tube_density(double lambda, double sigma, double r) {
-  return lambda / (2.0 * kPi * sigma * sigma) *
+  return lambda / (2.0 * SATF_PI * sigma * sigma) *
          exp(-r * r / (2.0 * sigma * sigma));
 }
 

@@ -10,16 +10,7 @@
 
 #include "satf/geometry.h"
 
-/* |a - b| <= tol in double precision (cmocka's float check rounds to float). */
-#define assert_near(a, b, tol) near_at((a), (b), (tol), #a, __LINE__)
-static void near_at(double a, double b, double tol, const char *expr,
-                    int line) {
-  if (!(fabs(a - b) <= tol)) {
-    print_error("line %d: %s = %.12g, expected %.12g +- %.3g\n", line, expr, a,
-                b, tol);
-    fail();
-  }
-}
+#include "test_util.h"
 
 /* Knot j of the clamped uniform vector, written out independently. */
 static double ref_knot(int j, int n, int p) {

@@ -11,38 +11,18 @@
 #include <string.h>
 
 #include "satf/geometry.h"
+#include "satf/math.h"
 
-#define PI 3.14159265358979323846
-
-#define assert_near(a, b, tol) near_at((a), (b), (tol), #a, __LINE__)
-static void near_at(double a, double b, double tol, const char *expr,
-                    int line) {
-  if (!(fabs(a - b) <= tol)) {
-    print_error("line %d: %s = %.9g, expected %.9g +- %.3g\n", line, expr, a, b,
-                tol);
-    fail();
-  }
-}
-
-static double dot3(const float a[3], const float b[3]) {
-  return (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2];
-}
-
-static double len3(const float a[3]) { return sqrt(dot3(a, a)); }
-
-static void sub3(const float a[3], const float b[3], float out[3]) {
-  for (int c = 0; c < 3; c++)
-    out[c] = a[c] - b[c];
-}
+#include "test_util.h"
 
 /* Control points of a helix of radius r, `turns` turns, rising `rise` per
  * turn, around the z axis. */
 static void helix_ctrl(int n, double r, double turns, double rise, float *out) {
   for (int i = 0; i < n; i++) {
-    double s = (double)i / (n - 1) * turns * 2.0 * PI;
+    double s = (double)i / (n - 1) * turns * 2.0 * SATF_PI;
     out[3 * i] = (float)(r * cos(s));
     out[3 * i + 1] = (float)(r * sin(s));
-    out[3 * i + 2] = (float)(rise * s / (2.0 * PI));
+    out[3 * i + 2] = (float)(rise * s / (2.0 * SATF_PI));
   }
 }
 
@@ -79,11 +59,11 @@ static void test_ellipse_in_normal_plane(void **state) {
     satf_cluster_trajectory(cl, t, T, dT);
     for (int k = 0; k < 24; k++)
       for (int vv = 1; vv <= 2; vv++) {
-        float p[3], d[3], v = 0.5f * vv, u = (float)(2 * PI * k / 24);
+        float p[3], d[3], v = 0.5f * vv, u = (float)(2 * SATF_PI * k / 24);
         satf_cluster_point(cl, t, v, u, p);
-        sub3(p, T, d);
-        assert_true(fabs(dot3(d, dT)) < 1e-5);
-        assert_true(len3(d) > 0.0);
+        test_sub3(p, T, d);
+        assert_true(fabs(test_dot3(d, dT)) < 1e-5);
+        assert_true(test_len3(d) > 0.0);
       }
   }
   satf_cluster_destroy(cl);
@@ -100,23 +80,23 @@ static void test_helix_frames_do_not_flip(void **state) {
     satf_cluster_frame(cl, t, tan, n1, n2);
     satf_cluster_trajectory(cl, t, pos, dT);
     /* orthonormal and right-handed */
-    assert_near(len3(tan), 1.0, 1e-5);
-    assert_near(len3(n1), 1.0, 1e-5);
-    assert_near(len3(n2), 1.0, 1e-5);
-    assert_near(dot3(tan, n1), 0.0, 1e-5);
-    assert_near(dot3(tan, n2), 0.0, 1e-5);
-    assert_near(dot3(n1, n2), 0.0, 1e-5);
-    assert_near(dot3(tan, dT), len3(dT), 1e-5 * len3(dT));
+    assert_near(test_len3(tan), 1.0, 1e-5);
+    assert_near(test_len3(n1), 1.0, 1e-5);
+    assert_near(test_len3(n2), 1.0, 1e-5);
+    assert_near(test_dot3(tan, n1), 0.0, 1e-5);
+    assert_near(test_dot3(tan, n2), 0.0, 1e-5);
+    assert_near(test_dot3(n1, n2), 0.0, 1e-5);
+    assert_near(test_dot3(tan, dT), test_len3(dT), 1e-5 * test_len3(dT));
     float c[3] = {tan[1] * n1[2] - tan[2] * n1[1],
                   tan[2] * n1[0] - tan[0] * n1[2],
                   tan[0] * n1[1] - tan[1] * n1[0]};
-    assert_near(dot3(c, n2), 1.0, 1e-5);
-    double d = dot3(n1, p1);
+    assert_near(test_dot3(c, n2), 1.0, 1e-5);
+    double d = test_dot3(n1, p1);
     worst_dot = fmin(worst_dot, d);
     /* Rotation-minimising: the new n1 gains (to first order) no component
      * along the old n2, unlike the Frenet frame, which turns by the torsion
      * (about 0.005 rad per step here). */
-    worst_twist = fmax(worst_twist, fabs(dot3(n1, p2)));
+    worst_twist = fmax(worst_twist, fabs(test_dot3(n1, p2)));
     memcpy(p1, n1, sizeof p1);
     memcpy(p2, n2, sizeof p2);
   }
@@ -167,19 +147,19 @@ static void test_ellipse_axes_with_twist(void **state) {
     satf_cluster_trajectory(cl, t, T, NULL);
     satf_cluster_frame(cl, t, tan, n1, n2);
     satf_cluster_point(cl, t, 1.0f, -0.7f, p);
-    sub3(p, T, d);
-    assert_near(len3(d), 0.4, 1e-6);
-    assert_near(dot3(d, n1), 0.4, 1e-6);
-    satf_cluster_point(cl, t, 1.0f, (float)(PI / 2) - 0.7f, p);
-    sub3(p, T, d);
-    assert_near(len3(d), 0.1, 1e-6);
-    assert_near(dot3(d, n2), 0.1, 1e-6);
+    test_sub3(p, T, d);
+    assert_near(test_len3(d), 0.4, 1e-6);
+    assert_near(test_dot3(d, n1), 0.4, 1e-6);
+    satf_cluster_point(cl, t, 1.0f, (float)(SATF_PI / 2) - 0.7f, p);
+    test_sub3(p, T, d);
+    assert_near(test_len3(d), 0.1, 1e-6);
+    assert_near(test_dot3(d, n2), 0.1, 1e-6);
     for (int k = 0; k < 8; k++) {
       float u = (float)k, v = 0.3f + 0.1f * k;
       satf_cluster_point(cl, t, v, u, p);
-      sub3(p, T, d);
-      assert_near(dot3(d, n1), 0.4 * v * cos(0.7 + u), 1e-6);
-      assert_near(dot3(d, n2), 0.1 * v * sin(0.7 + u), 1e-6);
+      test_sub3(p, T, d);
+      assert_near(test_dot3(d, n1), 0.4 * v * cos(0.7 + u), 1e-6);
+      assert_near(test_dot3(d, n2), 0.1 * v * sin(0.7 + u), 1e-6);
     }
   }
   satf_cluster_destroy(cl);
@@ -209,7 +189,7 @@ static void test_hair_tangent_and_normal(void **state) {
   const float h = 1e-3f;
   for (int i = 1; i < 40; i++)
     for (int k = 0; k < 12; k++) {
-      float t = i / 40.0f, u = (float)(2 * PI * k / 12), v = 0.9f;
+      float t = i / 40.0f, u = (float)(2 * SATF_PI * k / 12), v = 0.9f;
       float dir[3], n[3], pa[3], pb[3], pc[3], pd[3], p[3], T[3];
       satf_cluster_hair_tangent(cl, t, v, u, dir);
       satf_cluster_surface_normal(cl, t, v, u, n);
@@ -218,27 +198,27 @@ static void test_hair_tangent_and_normal(void **state) {
       satf_cluster_point(cl, t, v, u - h, pc);
       satf_cluster_point(cl, t, v, u + h, pd);
       float dt[3], du[3], r[3];
-      sub3(pb, pa, dt);
-      sub3(pd, pc, du);
-      double ldt = len3(dt), ldu = len3(du);
-      assert_near(len3(dir), 1.0, 1e-5);
-      assert_near(dot3(dir, dt) / ldt, 1.0, 2e-3);
-      assert_near(len3(n), 1.0, 1e-5);
-      assert_near(dot3(n, dt) / ldt, 0.0, 2e-3);
-      assert_near(dot3(n, du) / ldu, 0.0, 2e-3);
+      test_sub3(pb, pa, dt);
+      test_sub3(pd, pc, du);
+      double ldt = test_len3(dt), ldu = test_len3(du);
+      assert_near(test_len3(dir), 1.0, 1e-5);
+      assert_near(test_dot3(dir, dt) / ldt, 1.0, 2e-3);
+      assert_near(test_len3(n), 1.0, 1e-5);
+      assert_near(test_dot3(n, dt) / ldt, 0.0, 2e-3);
+      assert_near(test_dot3(n, du) / ldu, 0.0, 2e-3);
       satf_cluster_point(cl, t, v, u, p);
       satf_cluster_trajectory(cl, t, T, NULL);
-      sub3(p, T, r);
-      assert_true(dot3(n, r) > 0.0);
+      test_sub3(p, T, r);
+      assert_true(test_dot3(n, r) > 0.0);
     }
   /* v = 0: the limit normal is the in-plane ellipse normal, still outward */
   float n[3], p[3], T[3], r[3];
   satf_cluster_surface_normal(cl, 0.5f, 0.0f, 1.0f, n);
   satf_cluster_point(cl, 0.5f, 1.0f, 1.0f, p);
   satf_cluster_trajectory(cl, 0.5f, T, NULL);
-  sub3(p, T, r);
-  assert_near(len3(n), 1.0, 1e-5);
-  assert_true(dot3(n, r) > 0.0);
+  test_sub3(p, T, r);
+  assert_near(test_len3(n), 1.0, 1e-5);
+  assert_true(test_dot3(n, r) > 0.0);
   satf_cluster_destroy(cl);
 }
 
@@ -253,14 +233,15 @@ static void test_helix_length(void **state) {
   for (int i = 1; i <= 100000; i++) {
     float p[3], d[3];
     satf_cluster_trajectory(cl, (float)(i / 100000.0), p, NULL);
-    sub3(p, prev, d);
-    chord += len3(d);
+    test_sub3(p, prev, d);
+    chord += test_len3(d);
     memcpy(prev, p, sizeof prev);
   }
   /* near 3 turns of the helix (the cubic B-spline cuts inside the control
    * polygon by ~4% at 40 points over 3 turns) */
   assert_near(satf_cluster_length(cl), chord, 1e-4 * chord);
-  assert_near(chord, 3 * 2 * PI * sqrt(1 + 0.64 / (4 * PI * PI)), 0.05 * chord);
+  assert_near(chord, 3 * 2 * SATF_PI * sqrt(1 + 0.64 / (4 * SATF_PI * SATF_PI)),
+              0.05 * chord);
   satf_cluster_destroy(cl);
 }
 
@@ -275,12 +256,12 @@ static void test_stationary_ends(void **state) {
   for (int i = 0; i <= 100; i++) {
     float tan[3], n1[3], n2[3], p[3];
     satf_cluster_frame(cl, i / 100.0f, tan, n1, n2);
-    assert_near(len3(tan), 1.0, 1e-5);
-    assert_near(len3(n1), 1.0, 1e-5);
-    assert_near(dot3(tan, n1), 0.0, 1e-5);
-    assert_near(dot3(n1, n2), 0.0, 1e-5);
+    assert_near(test_len3(tan), 1.0, 1e-5);
+    assert_near(test_len3(n1), 1.0, 1e-5);
+    assert_near(test_dot3(tan, n1), 0.0, 1e-5);
+    assert_near(test_dot3(n1, n2), 0.0, 1e-5);
     satf_cluster_hair_tangent(cl, i / 100.0f, 1.0f, 0.3f, p);
-    assert_near(len3(p), 1.0, 1e-5);
+    assert_near(test_len3(p), 1.0, 1e-5);
   }
   /* the curve leaves the start along +x */
   float tan[3], n1[3], n2[3];

@@ -15,36 +15,11 @@
 #include <time.h>
 
 #include "satf/geometry.h"
+#include "satf/math.h"
 
-#define PI 3.14159265358979323846
+#include "test_util.h"
+
 #define HEAD_PLY "/work/shared/data/heads/woman_head.ply"
-
-#define assert_near(a, b, tol) near_at((a), (b), (tol), #a, __LINE__)
-static void near_at(double a, double b, double tol, const char *expr,
-                    int line) {
-  if (!(fabs(a - b) <= tol)) {
-    print_error("line %d: %s = %.9g, expected %.9g +- %.3g\n", line, expr, a, b,
-                tol);
-    fail();
-  }
-}
-
-static double dot3(const float a[3], const float b[3]) {
-  return (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2];
-}
-
-static double len3(const float a[3]) { return sqrt(dot3(a, a)); }
-
-static void sub3(const float a[3], const float b[3], float out[3]) {
-  for (int c = 0; c < 3; c++)
-    out[c] = a[c] - b[c];
-}
-
-static void cross3(const float a[3], const float b[3], float out[3]) {
-  out[0] = a[1] * b[2] - a[2] * b[1];
-  out[1] = a[2] * b[0] - a[0] * b[2];
-  out[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 static void expect_message(const satf_error *err, const char *needle) {
   if (!strstr(err->message, needle)) {
@@ -136,22 +111,23 @@ static void test_sector_on_cylinder(void **state) {
     assert_near(s[e].normal[2], 1.0, 1e-6);
     assert_near(s[e].v_inner, 0.2 + 0.8 * 2 / 4, 1e-6);
     assert_near(s[e].v_outer, 0.2 + 0.8 * 3 / 4, 1e-6);
-    assert_near(s[e].u_begin, 2 * PI * 5 / 16, 1e-6);
-    assert_near(s[e].u_end, 2 * PI * 6 / 16, 1e-6);
+    assert_near(s[e].u_begin, 2 * SATF_PI * 5 / 16, 1e-6);
+    assert_near(s[e].u_end, 2 * SATF_PI * 6 / 16, 1e-6);
     assert_near(s[e].a, 0.5, 1e-7);
     const float vs[4] = {s[e].v_inner, s[e].v_outer, s[e].v_outer,
                          s[e].v_inner};
     const float us[4] = {s[e].u_begin, s[e].u_begin, s[e].u_end, s[e].u_end};
     for (int c = 0; c < 4; c++) {
       float dlt[3];
-      sub3(s[e].corners[c], s[e].origin, dlt);
-      assert_near(dot3(dlt, s[e].normal), 0.0, 1e-6); /* in the plane */
-      assert_near(len3(dlt), 0.5 * vs[c], 1e-6);
+      test_sub3(s[e].corners[c], s[e].origin, dlt);
+      assert_near(test_dot3(dlt, s[e].normal), 0.0, 1e-6); /* in the plane */
+      assert_near(test_len3(dlt), 0.5 * vs[c], 1e-6);
       /* measured from the twisted axis: phase u */
-      assert_near(dot3(dlt, s[e].axis_x), 0.5 * vs[c] * cos(us[c]), 1e-6);
-      assert_near(dot3(dlt, s[e].axis_y), 0.5 * vs[c] * sin(us[c]), 1e-6);
+      assert_near(test_dot3(dlt, s[e].axis_x), 0.5 * vs[c] * cos(us[c]), 1e-6);
+      assert_near(test_dot3(dlt, s[e].axis_y), 0.5 * vs[c] * sin(us[c]), 1e-6);
       /* and from n1: phase theta + u */
-      assert_near(dot3(dlt, s[e].n1), 0.5 * vs[c] * cos(0.3 + us[c]), 1e-6);
+      assert_near(test_dot3(dlt, s[e].n1), 0.5 * vs[c] * cos(0.3 + us[c]),
+                  1e-6);
       float q[3];
       satf_cluster_point(cl, s[e].t, vs[c], us[c], q);
       for (int k = 0; k < 3; k++)
@@ -196,22 +172,22 @@ static void test_layer_mesh_structure(void **state) {
     for (int i = 0; i <= 33; i++)
       for (int j = 0; j <= 32; j++) {
         const satf_mesh_vertex *q = &vx[i * 33 + j];
-        float t = i / 33.0f, u = (float)(2 * PI * (j % 32) / 32);
+        float t = i / 33.0f, u = (float)(2 * SATF_PI * (j % 32) / 32);
         float want[3], T[3], r[3], dir[3], an[3];
         satf_cluster_point(cl, t, v, u, want);
         for (int c = 0; c < 3; c++)
           assert_near(q->pos[c], want[c], 1e-6);
         assert_near(q->uv[0], j / 32.0, 1e-7);
         assert_near(q->uv[1], t, 1e-7);
-        assert_near(len3(q->normal), 1.0, 1e-5);
+        assert_near(test_len3(q->normal), 1.0, 1e-5);
         satf_cluster_trajectory(cl, t, T, NULL);
-        sub3(q->pos, T, r);
-        assert_true(dot3(q->normal, r) > 0.0); /* outward */
+        test_sub3(q->pos, T, r);
+        assert_true(test_dot3(q->normal, r) > 0.0); /* outward */
         /* the discrete normal follows the analytic surface normal */
         satf_cluster_surface_normal(cl, t, v, u, an);
-        assert_true(dot3(q->normal, an) > 0.97);
+        assert_true(test_dot3(q->normal, an) > 0.97);
         satf_cluster_hair_tangent(cl, t, v, u, dir);
-        assert_near(dot3(q->tangent, dir), 1.0, 1e-5);
+        assert_near(test_dot3(q->tangent, dir), 1.0, 1e-5);
       }
     /* the seam shares one normal on both copies */
     for (int i = 0; i <= 33; i++)
@@ -224,18 +200,18 @@ static void test_layer_mesh_structure(void **state) {
       for (int e = 0; e < 3; e++)
         assert_true(idx[3 * f + e] < nv);
       float e1[3], e2[3], fn[3], cen[3], T[3], r[3];
-      sub3(b, a, e1);
-      sub3(c, a, e2);
-      cross3(e1, e2, fn);
-      assert_true(0.5 * len3(fn) > 1e-8);
+      test_sub3(b, a, e1);
+      test_sub3(c, a, e2);
+      satf_cross3f(e1, e2, fn);
+      assert_true(0.5 * test_len3(fn) > 1e-8);
       for (int q = 0; q < 3; q++)
         cen[q] = (a[q] + b[q] + c[q]) / 3.0f;
       float tc = (vx[idx[3 * f]].uv[1] + vx[idx[3 * f + 1]].uv[1] +
                   vx[idx[3 * f + 2]].uv[1]) /
                  3.0f;
       satf_cluster_trajectory(cl, tc, T, NULL);
-      sub3(cen, T, r);
-      assert_true(dot3(fn, r) > 0.0);
+      test_sub3(cen, T, r);
+      assert_true(test_dot3(fn, r) > 0.0);
     }
     if (grid)
       satf_mesh_destroy(m);
@@ -472,7 +448,7 @@ static void test_read_head_ply(void **state) {
   assert_true(nf <= 78520 && nf >= 78000);
   const satf_mesh_vertex *v = satf_mesh_vertices(m);
   for (size_t i = 0; i < satf_mesh_vertex_count(m); i++) {
-    double n = len3(v[i].normal);
+    double n = test_len3(v[i].normal);
     assert_true(fabs(n - 1.0) < 1e-4 || n == 0.0); /* 0: isolated vertex */
   }
   satf_mesh_destroy(m);

@@ -18,19 +18,6 @@
 int fuzz_hair_one(const uint8_t *data, size_t size);
 int fuzz_tfx_one(const uint8_t *data, size_t size);
 
-static unsigned char *slurp(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  unsigned char *buf = malloc((size_t)n);
-  assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
-  fclose(f);
-  *size = (size_t)n;
-  return buf;
-}
-
 static void put32(unsigned char *p, uint32_t v) { memcpy(p, &v, 4); }
 static void putf(unsigned char *p, float v) { memcpy(p, &v, 4); }
 
@@ -78,7 +65,7 @@ static void hair_round_trip(void **state) {
   assert_int_equal(satf_hair_write(path, s, &err), SATF_OK);
   /* 128 header + 3 x u16 + 10 x 12 + 10 x 4 */
   size_t size;
-  unsigned char *bytes = slurp(path, &size);
+  unsigned char *bytes = test_read_file(path, &size);
   assert_int_equal(size, 128 + 6 + 120 + 40);
   free(bytes);
   assert_int_equal(satf_hair_read(path, &back, &err), SATF_OK);
@@ -114,7 +101,7 @@ static void tfx_round_trips(void **state) {
     assert_int_equal(
         satf_tfx_write(path, s, version, version == 3 ? 5 : 0, &err), SATF_OK);
     size_t size;
-    unsigned char *bytes = slurp(path, &size);
+    unsigned char *bytes = test_read_file(path, &size);
     assert_int_equal(size, version == 3 ? 296 + 12 * N * V : 160 + 16 * N * V);
     free(bytes);
     satf_tfx_info info;
@@ -425,7 +412,7 @@ static void fuzz_replays(void **state) {
   test_path(path, sizeof path, "replay.hair");
   assert_int_equal(satf_hair_write(path, s, &err), SATF_OK);
   satf_strand_set_destroy(s);
-  b = slurp(path, &size);
+  b = test_read_file(path, &size);
   replay(fuzz_hair_one, b, size);
   free(b);
 }

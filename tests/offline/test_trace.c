@@ -9,10 +9,10 @@
 
 #include <cmocka.h>
 
+#include "satf/math.h"
 #include "satf/offline.h"
 
 #define W 32
-#define PI 3.14159265358979f
 
 static satf_sector *make(void) {
   satf_sector_shape sh = satf_sector_shape_default();
@@ -83,7 +83,7 @@ static void extent_of_default_sector(void **state) {
   float y = sinf(sh.phase_span / 2);
   assert_float_equal(lo, -y, 1e-6);
   assert_float_equal(hi, y, 1e-6);
-  satf_trace_extent(&sh, PI / 2, &lo, &hi); /* e = -x */
+  satf_trace_extent(&sh, SATF_PI_F / 2, &lo, &hi); /* e = -x */
   assert_float_equal(lo, -1.0f, 1e-6);
   assert_float_equal(hi, -0.8f * cosf(sh.phase_span / 2), 1e-6);
 }
@@ -110,7 +110,7 @@ static void dense_sector_is_opaque(void **state) {
   fill(s, 3.0f);
   satf_trace_params p = satf_trace_params_default();
   float re[W], a[W];
-  float views[4] = {0.0f, PI, 0.4f, PI - 0.4f};
+  float views[4] = {0.0f, SATF_PI_F, 0.4f, SATF_PI_F - 0.4f};
   for (int k = 0; k < 4; k++) {
     assert_int_equal(satf_trace_hrir(s, &p, views[k], 0.3f, re, a, NULL),
                      SATF_OK);
@@ -159,10 +159,10 @@ static void shadowing_only_darkens(void **state) {
   float sum0 = 0, sum1 = 0;
   /* light from behind the sector (towards the core): strands in front
    * are shaded by those nearer the light */
-  assert_int_equal(satf_trace_hrir(s, &lit, 0.0f, PI - 0.3f, r0, a0, NULL),
-                   SATF_OK);
-  assert_int_equal(satf_trace_hrir(s, &dark, 0.0f, PI - 0.3f, r1, a1, NULL),
-                   SATF_OK);
+  assert_int_equal(
+      satf_trace_hrir(s, &lit, 0.0f, SATF_PI_F - 0.3f, r0, a0, NULL), SATF_OK);
+  assert_int_equal(
+      satf_trace_hrir(s, &dark, 0.0f, SATF_PI_F - 0.3f, r1, a1, NULL), SATF_OK);
   for (int j = 0; j < W; j++) {
     assert_true(r1[j] <= r0[j] + 1e-6f);
     assert_float_equal(a0[j], a1[j], 0); /* opacity does not depend on light */

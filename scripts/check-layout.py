@@ -1,0 +1,120 @@
+#!/usr/bin/env python3
+"""Checks that the source tree reads as the architecture (README, Layout).
+
+1. Every quoted #include names a public header (satf/NAME.h) or a header in
+   the including file's own folder: no file reaches into another library's
+   private headers (a tool's folder may use the shared tools/ headers).
+2. Public headers are used only along the dependency direction: a library
+   includes its own header and those of the libraries below it.
+3. Within a folder, the modules (NAME.c with its NAME.h) do not depend on
+   each other in a cycle: X depends on Y when X.c or X.h includes Y.h.
+
+usage: check-layout.py [ROOT]; exits 1 listing every violation."""
+import os
+import re
+import sys
+
+ROOT = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else
+                       os.path.join(os.path.dirname(__file__), '..'))
+
+# folder -> (public headers it owns, public headers it may include)
+LIBS = {
+    'common': ({'satf', 'common', 'math'}, set()),
+    'db': ({'db'}, {'common'}),
+    'offline': ({'offline'}, {'db'}),
+    'online/geometry': ({'geometry'}, {'common'}),
+    'online/scene': ({'scene'}, {'common'}),
+    'online/density': ({'density'}, {'geometry', 'scene', 'db'}),
+    'online/import': ({'import'}, {'density'}),
+    'online/gl': ({'gl'}, {'common'}),
+    'online/render': ({'render'}, {'db', 'density', 'gl'}),
+    'tools': (set(), {'offline', 'import', 'render', 'gl'}),
+}
+PUBLIC_OWNER = {h: lib for lib, (own, _) in LIBS.items() for h in own}
+INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
+
+
+def allowed(lib):
+    """Public headers lib may include: its own and everything below."""
+    seen, todo = set(), [lib]
+    while todo:
+        cur = todo.pop()
+        own, uses = LIBS[cur]
+        for h in own | uses:
+            if h not in seen:
+                seen.add(h)
+                owner = PUBLIC_OWNER.get(h)
+                if owner and owner != cur:
+                    todo.append(owner)
+    return seen
+
+
+def library_of(rel):
+    best = None
+    for lib in LIBS:
+        if rel.startswith(lib + '/') and (best is None or len(lib) > len(best)):
+            best = lib
+    return best
+
+
+def sources():
+    for top in list(LIBS) + ['include/satf']:
+        base = os.path.join(ROOT, top)
+        for dirpath, _, names in os.walk(base):
+            for n in names:
+                if n.endswith(('.c', '.h', '.cpp')):
+                    yield os.path.relpath(os.path.join(dirpath, n), ROOT)
+
+
+def main():
+    errors = []
+    modules = {}  # folder -> {module: set(modules it includes)}
+    for rel in sorted(set(sources())):
+        with open(os.path.join(ROOT, rel), encoding='utf-8') as f:
+            text = f.read()
+        folder = os.path.dirname(rel)
+        lib = library_of(rel) if not rel.startswith('include/') else None
+        ok = allowed(lib) if lib else None
+        stem = os.path.splitext(os.path.basename(rel))[0]
+        for inc in INCLUDE.findall(text):
+            if inc.startswith('satf/'):
+                name = os.path.splitext(inc[5:])[0]
+                if name not in PUBLIC_OWNER:
+                    errors.append(f'{rel}: includes unknown public header {inc}')
+                elif ok is not None and name not in ok:
+                    errors.append(f'{rel}: {lib} may not depend on {inc} '
+                                  f'(owned by {PUBLIC_OWNER[name]})')
+            elif '/' in inc:
+                errors.append(f'{rel}: includes {inc} across folders')
+            elif not (os.path.exists(os.path.join(ROOT, folder, inc)) or
+                      (lib and os.path.exists(os.path.join(ROOT, lib, inc)))):
+                errors.append(f'{rel}: includes {inc}, not in its library')
+            else:
+                dep = os.path.splitext(inc)[0]
+                if dep != stem:
+                    modules.setdefault(folder, {}).setdefault(stem, set()).add(dep)
+    for folder, graph in modules.items():
+        state = {}
+
+        def visit(node, path):
+            state[node] = 1
+            for dep in sorted(graph.get(node, ())):
+                if state.get(dep) == 1:
+                    cycle = path[path.index(dep):] + [dep]
+                    errors.append(f'{folder}: include cycle ' +
+                                  ' -> '.join(cycle))
+                elif dep not in state:
+                    visit(dep, path + [dep])
+            state[node] = 2
+
+        for node in sorted(graph):
+            if node not in state:
+                visit(node, [node])
+    for e in errors:
+        print(e)
+    print(f'layout: {len(errors)} violation(s)')
+    return 1 if errors else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

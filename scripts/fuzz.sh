@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets with clang (ASan + fuzzer coverage) into
+# build-fuzz/ and runs each for SECONDS (default 10) on a fresh corpus.
+# usage: fuzz.sh [SECONDS]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-10}
+targets=(fuzz_db fuzz_scene fuzz_hair fuzz_tfx)
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSATF_FUZZ=ON >/dev/null
+cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
+for t in "${targets[@]}"; do
+  bin=$(find build-fuzz/tests -type f -name "$t" -perm -u+x | head -1)
+  corpus=build-fuzz/corpus/$t
+  mkdir -p "$corpus"
+  echo "fuzz: $t for ${seconds}s"
+  "$bin" -max_total_time="$seconds" -print_final_stats=0 "$corpus" \
+    2>build-fuzz/$t.log || { tail -30 build-fuzz/$t.log; exit 1; }
+done
+echo "fuzz: ${#targets[@]} targets built and run"
