@@ -13,7 +13,7 @@ static void set_mat4(GLuint prog, const char *name, const float m[16]) {
 
 /* Light count and colours (the directions are per program). */
 static void set_light_uniforms(const satf_renderer *r, GLuint p) {
-  float col[3 * RENDER_MAX_LIGHTS];
+  float col[3 * SATF_SCENE_MAX_LIGHTS];
   frame_light_colors(r, col);
   glUniform1i(glGetUniformLocation(p, "u_nlights"), r->nlights);
   glUniform3fv(glGetUniformLocation(p, "u_light_color"), r->nlights, col);
@@ -64,7 +64,7 @@ static void bind_instance(const satf_renderer *r, GLuint prog, const inst *in,
   glUniform1f(loc[3], in->geom.shell.core);
   GLint eye = glGetUniformLocation(prog, "u_eye_local");
   if (eye >= 0) {
-    float lights[4 * RENDER_MAX_LIGHTS];
+    float lights[4 * SATF_SCENE_MAX_LIGHTS];
     for (int k = 0; k < r->nlights; k++)
       frame_light_local(in->inv, &r->lights[k], lights + 4 * k);
     glUniform3fv(eye, 1, in->eye);
@@ -202,7 +202,7 @@ static void begin_frame(const satf_renderer *r, satf_aov aov,
     return;
   GLuint p = r->prog_mesh;
   glUseProgram(p);
-  float vec[4 * RENDER_MAX_LIGHTS];
+  float vec[4 * SATF_SCENE_MAX_LIGHTS];
   for (int k = 0; k < r->nlights; k++)
     frame_light_vector(&r->lights[k], vec + 4 * k);
   glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);

@@ -27,8 +27,8 @@ static satf_status check_size(int width, int height, satf_error *err) {
 /* The scene's camera, lights and bounds (the state an animation moves). */
 static void take_view(satf_renderer *r, const satf_scene *scene) {
   r->camera = scene->camera;
-  r->nlights =
-      scene->n_lights < RENDER_MAX_LIGHTS ? scene->n_lights : RENDER_MAX_LIGHTS;
+  r->nlights = scene->n_lights < SATF_SCENE_MAX_LIGHTS ? scene->n_lights
+                                                       : SATF_SCENE_MAX_LIGHTS;
   memcpy(r->lights, scene->lights,
          (size_t)r->nlights * sizeof(satf_scene_light));
   satf_scene_bounds(scene, r->lo, r->hi);

@@ -19,7 +19,6 @@
 /* Fragments each pixel can keep at first; the arrays grow (up to
  * SATF_MAX_FRAGMENTS) when a frame needs more. */
 #define START_SLOTS 16
-#define RENDER_MAX_LIGHTS 4
 
 /* A macro-cluster's prototype: its generalized cylinder, shell geometry,
  * density and drawn proxy. */
@@ -62,7 +61,7 @@ struct satf_renderer {
   satf_map_options map_opt;
   satf_scene_camera camera;
   satf_scene_effects effects;
-  satf_scene_light lights[RENDER_MAX_LIGHTS];
+  satf_scene_light lights[SATF_SCENE_MAX_LIGHTS];
   int nlights;
   int width, height, threads, w;
   float lo[3], hi[3];

@@ -26,40 +26,51 @@ static char *with_defines(const char *src, const char *lines) {
   return out;
 }
 
+/* Compiles one program. Its fragment shader's arrays are sized by the C
+ * limits, defined after its #version line with `extra` (glsl/). */
+static satf_status build_program(const char *label, const char *vs,
+                                 const char *fs, const char *extra, GLuint *out,
+                                 satf_error *err) {
+  char defines[256];
+  snprintf(defines, sizeof defines,
+           "#define SATF_MAX_LIGHTS %d\n#define SATF_MAX_FRAGMENTS %d\n%s",
+           SATF_SCENE_MAX_LIGHTS, SATF_MAX_FRAGMENTS, extra);
+  char *text = with_defines(fs, defines);
+  if (!text)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  satf_status st = satf_gl_program_build(label, vs, text, out, err);
+  free(text);
+  return st;
+}
+
 static satf_status build_programs(satf_renderer *r, satf_error *err) {
   /* the light loop runs a compile-time count so it unrolls */
-  char lights[64];
+  char lights[64], ordered[96];
   snprintf(lights, sizeof lights, "#define NLIGHTS %d\n", r->nlights);
-  char *exact = with_defines(satf_glsl_shade_fs, lights);
-  char *ordered = exact ? with_defines(exact, "#define EXACT 0\n") : NULL;
-  if (!exact || !ordered) {
-    free(exact);
-    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  }
+  snprintf(ordered, sizeof ordered, "%s#define EXACT 0\n", lights);
   const struct {
-    const char *label, *vs, *fs;
+    const char *label, *vs, *fs, *extra;
     GLuint *out;
   } progs[] = {
-      {"shade", satf_glsl_cluster_vs, exact, &r->prog_shade},
-      {"shade (ordered)", satf_glsl_cluster_vs, ordered,
+      {"shade", satf_glsl_cluster_vs, satf_glsl_shade_fs, lights,
+       &r->prog_shade},
+      {"shade (ordered)", satf_glsl_cluster_vs, satf_glsl_shade_fs, ordered,
        &r->prog_shade_ordered},
-      {"depth", satf_glsl_layer_vs, satf_glsl_depth_fs, &r->prog_depth},
-      {"dom", satf_glsl_layer_vs, satf_glsl_dom_fs, &r->prog_dom},
-      {"resolve", satf_glsl_fullscreen_vs, satf_glsl_resolve_fs,
+      {"depth", satf_glsl_layer_vs, satf_glsl_depth_fs, "", &r->prog_depth},
+      {"dom", satf_glsl_layer_vs, satf_glsl_dom_fs, "", &r->prog_dom},
+      {"resolve", satf_glsl_fullscreen_vs, satf_glsl_resolve_fs, "",
        &r->prog_resolve},
-      {"display", satf_glsl_fullscreen_vs, satf_glsl_display_fs,
+      {"display", satf_glsl_fullscreen_vs, satf_glsl_display_fs, "",
        &r->prog_display},
-      {"mesh", satf_glsl_mesh_vs, satf_glsl_mesh_fs, &r->prog_mesh},
-      {"mesh depth", satf_glsl_mesh_vs, satf_glsl_empty_fs,
+      {"mesh", satf_glsl_mesh_vs, satf_glsl_mesh_fs, "", &r->prog_mesh},
+      {"mesh depth", satf_glsl_mesh_vs, satf_glsl_empty_fs, "",
        &r->prog_mesh_depth},
-      {"mesh opacity", satf_glsl_mesh_vs, satf_glsl_dom_mesh_fs,
+      {"mesh opacity", satf_glsl_mesh_vs, satf_glsl_dom_mesh_fs, "",
        &r->prog_mesh_dom}};
   satf_status st = SATF_OK;
   for (size_t i = 0; i < sizeof progs / sizeof *progs && st == SATF_OK; i++)
-    st = satf_gl_program_build(progs[i].label, progs[i].vs, progs[i].fs,
-                               progs[i].out, err);
-  free(exact);
-  free(ordered);
+    st = build_program(progs[i].label, progs[i].vs, progs[i].fs, progs[i].extra,
+                       progs[i].out, err);
   return st;
 }
 

@@ -1,4 +1,8 @@
-/* shaders.h - GLSL sources of the online renderer (OpenGL 4.3 core). */
+/* shaders.h - GLSL sources of the online renderer (OpenGL 4.3 core),
+ * written in glsl/ (shaders.c). The fragment shaders size their light and
+ * fragment arrays by SATF_MAX_LIGHTS and SATF_MAX_FRAGMENTS, which a
+ * program must #define after the #version line (the renderer does, from
+ * SATF_SCENE_MAX_LIGHTS and SATF_MAX_FRAGMENTS below: resources.c). */
 #ifndef SATF_ONLINE_SHADERS_H
 #define SATF_ONLINE_SHADERS_H
 

@@ -15,10 +15,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "render_fixture.h"
 #include "satf/common.h"
 #include "satf/gl.h"
 #include "satf/render.h"
-#include "render_fixture.h"
 #include "test_util.h"
 
 #define W 160
@@ -472,6 +472,48 @@ static void test_resize(void **state) {
 
 /* Bad input is refused with a message, never drawn: records wider than
  * the renderer's maps support, and an empty frame. */
+/* Every light the scene format accepts is drawn: with the scene's largest
+ * number of lights, the last one still changes the picture. */
+static void test_every_light_drawn(void **state) {
+  fixture *f = *state;
+  char lights[4096] = "", json[8192];
+  size_t len = 0;
+  for (int k = 0; k < SATF_SCENE_MAX_LIGHTS; k++) {
+    int last = k == SATF_SCENE_MAX_LIGHTS - 1;
+    len += (size_t)snprintf(
+        lights + len, sizeof lights - len,
+        "%s{\"direction\": %s, \"intensity\": %d}", k ? ", " : "",
+        last ? "[0.6, 0.2, -0.77]" : "[-0.3, -0.4, -0.85]", k == 0 || last);
+    assert_true(len < sizeof lights);
+  }
+  const char *from = strstr(scene_one, "\"lights\"");
+  const char *to = strstr(scene_one, "\"background\"");
+  assert_non_null(from);
+  assert_non_null(to);
+  snprintf(json, sizeof json, "%.*s\"lights\": [%s], %s",
+           (int)(from - scene_one), scene_one, lights, to);
+  satf_scene *scene = fixture_scene(json);
+  assert_non_null(scene);
+  satf_renderer *r = NULL;
+  satf_error err;
+  assert_int_equal(satf_renderer_create(scene, f->db, W, H, 0, &r, &err),
+                   SATF_OK);
+  assert_int_equal(satf_renderer_light_count(r), SATF_SCENE_MAX_LIGHTS);
+  satf_image *with = render(r, 0);
+  satf_renderer_light(r, SATF_SCENE_MAX_LIGHTS - 1)->intensity = 0.0f;
+  satf_image *without = render(r, 0);
+  assert_non_null(with);
+  assert_non_null(without);
+  double d = fixture_max_diff(with, without, "R");
+  printf("the last of %d lights changes R by up to %.4f\n",
+         SATF_SCENE_MAX_LIGHTS, d);
+  assert_true(d > 0.01);
+  satf_image_destroy(with);
+  satf_image_destroy(without);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(scene);
+}
+
 static void test_rejects_bad_input(void **state) {
   fixture *f = *state;
   satf_build_params p = fixture_db_params();
@@ -510,6 +552,7 @@ int main(void) {
       cmocka_unit_test(test_satf_off),
       cmocka_unit_test(test_order_independence),
       cmocka_unit_test(test_resize),
+      cmocka_unit_test(test_every_light_drawn),
       cmocka_unit_test(test_rejects_bad_input),
   };
   return cmocka_run_group_tests(tests, setup, teardown);

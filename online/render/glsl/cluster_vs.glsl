@@ -1,0 +1,37 @@
+#version 430 core
+/* cluster_vs.glsl - the outermost shell with the cluster's local frame at
+ * each vertex: the trajectory point C(t), the normal-plane frame n1, n2,
+ * the trajectory's unit tangent and |dT/dt|, and A, B, theta, all in the
+ * prototype's frame (vertex layout: hierarchy.c). */
+layout(location = 0) in vec3 a_pos;
+layout(location = 2) in vec3 a_tangent;
+layout(location = 3) in vec2 a_uv;
+layout(location = 4) in vec3 a_centre;
+layout(location = 5) in vec3 a_n1;
+layout(location = 6) in vec3 a_n2;
+layout(location = 7) in vec4 a_shape;  /* A, B, theta, |dT/dt| */
+layout(location = 8) in vec3 a_axis;   /* unit tangent of T */
+uniform mat4 u_model;
+uniform mat4 u_viewproj;
+out vec3 v_local;
+out vec3 v_world;
+out vec3 v_hair;
+out float v_t;
+out vec3 v_centre;
+out vec3 v_n1;
+out vec3 v_n2;
+out vec4 v_shape;
+out vec3 v_axis;
+void main() {
+  vec4 w = u_model * vec4(a_pos, 1.0);
+  v_local = a_pos;
+  v_world = w.xyz;
+  v_hair = a_tangent;
+  v_t = a_uv.y;
+  v_centre = a_centre;
+  v_n1 = a_n1;
+  v_n2 = a_n2;
+  v_shape = a_shape;
+  v_axis = a_axis;
+  gl_Position = u_viewproj * w;
+}

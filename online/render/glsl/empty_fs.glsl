@@ -1,0 +1,3 @@
+#version 430 core
+/* empty_fs.glsl - depth only. */
+void main() {}

@@ -1,0 +1,8 @@
+#version 430 core
+/* fullscreen_vs.glsl - one triangle covering the viewport. */
+out vec2 v_uv;
+void main() {
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  v_uv = p;
+  gl_Position = vec4(2.0 * p - 1.0, 0.0, 1.0);
+}

@@ -1,0 +1,22 @@
+/* map_fetch.glsl - the maps of a cluster: rows 2i and 2i+1 hold HSV i's
+ * two boundary records (maps.h); mixing them by the position along the
+ * HSV is SATF eq. 7. Included by the layer programs' fragment shaders. */
+uniform sampler2DArray u_maps;
+uniform int u_st;
+uniform int u_satf;
+uniform float u_plain_opacity;
+uniform int u_map_width;  /* texels around the cluster */
+vec4 fetch_map(float u_turns, float t, int layer) {
+  float ts = clamp(t, 0.0, 1.0) * float(u_st);
+  int i = min(int(ts), u_st - 1);
+  int x = min(int(fract(u_turns) * float(u_map_width)), u_map_width - 1);
+  vec4 a = texelFetch(u_maps, ivec3(x, 2 * i, layer), 0);
+  vec4 b = texelFetch(u_maps, ivec3(x, 2 * i + 1, layer), 0);
+  return mix(a, b, ts - float(i));
+}
+/* SATF maps give reflectance and alpha; the plain mode (paper 002) has
+ * unit reflectance and an opacity from the mean density alone */
+vec2 reflectance_alpha(vec4 m) {
+  if (u_satf != 0) return m.rg;
+  return vec2(1.0, 1.0 - exp(-u_plain_opacity * m.a));
+}

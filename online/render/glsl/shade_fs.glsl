@@ -1,0 +1,189 @@
+#version 430 core
+/* shade_fs.glsl - SATF eq. 8-14 along each ray. Formulas cite SATF
+ * (paper 001) and Scheuermann (paper 002).
+ *
+ * How a cluster is drawn. Only the front faces of its outermost shell are
+ * rasterised; each fragment follows its eye ray through the nested shells
+ * analytically and composites, front to back, the layer points P(u,v),k it
+ * meets: the front half of every shell from the outside in, then the back
+ * half (seen through the transparent core) from the inside out. This is
+ * SATF eq. 13-14 evaluated at exactly the points the paper's per-layer
+ * blending would blend, but one fragment per pixel and cluster does the
+ * work of 2L, which on a CPU rasteriser is several times faster than
+ * drawing every layer mesh. The local geometry is the generalized
+ * cylinder's: at the fragment's t the shells are the ellipses
+ * v (A cos, B sin) (eq. 1), which in coordinates scaled by 1/A, 1/B are
+ * circles of radius v.
+ *
+ * Compiled twice: with EXACT defined, each fragment (one cluster's
+ * composite along the pixel's ray) goes to per-pixel arrays resolved by
+ * resolve_fs.glsl; without, it is written for fixed-function "over"
+ * blending of clusters drawn far to near. The renderer defines
+ * SATF_MAX_LIGHTS (the scene format's light limit) and NLIGHTS. */
+#ifndef EXACT
+#define EXACT 1
+#endif
+#ifndef NLIGHTS /* the renderer defines the scene's light count */
+#define NLIGHTS 1
+#endif
+#include "map_fetch.glsl"
+#include "lighting.glsl"
+in vec3 v_local;
+in vec3 v_world;
+in vec3 v_hair;
+in float v_t;
+in vec3 v_centre;
+in vec3 v_n1;
+in vec3 v_n2;
+in vec4 v_shape;
+in vec3 v_axis;
+uniform vec3 u_eye_local;       /* the eye in the prototype's frame */
+uniform int u_nlights;
+uniform vec4 u_light_local[SATF_MAX_LIGHTS];  /* xyz, w: 0 direction to light, 1 position */
+uniform vec3 u_light_color[SATF_MAX_LIGHTS];
+uniform int u_layers;
+uniform float u_core;
+uniform float u_kdif, u_kspe1, u_kspe2, u_exp1, u_exp2, u_shift1, u_shift2;
+uniform vec3 u_fdif, u_fspe1, u_fspe2;
+uniform float u_kshadow, u_noise;
+uniform int u_secondary, u_self_shadow, u_cluster_shadow;
+uniform sampler2D u_dom_depth;
+uniform sampler2D u_dom_opacity;
+uniform mat4 u_light_viewproj;
+uniform float u_dom_slab;
+uniform float u_kcluster;
+uniform int u_aov;  /* 0 beauty, 1 diffuse, 2 specI, 3 specII, 4 shadow, 5 alpha */
+#if EXACT
+uniform int u_slots;
+layout(binding = 0, r32ui) uniform coherent uimage2D u_counts;
+layout(binding = 1, rgba32ui) uniform writeonly uimage2DArray u_frags;
+#else
+out vec4 o_color;
+#endif
+/* paper 002's noise texture, as an integer hash: one value per
+ * strand-wide column, varying slowly along t */
+float hash(uint x) {
+  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return float(x >> 8) * (1.0 / 16777216.0);
+}
+float strand_noise(float u_turns, float t) {
+  uint col = uint(fract(u_turns) * 1024.0);
+  float y = clamp(t, 0.0, 1.0) * 6.0, row = floor(y);
+  uint r = uint(row);
+  return mix(hash(col * 8u + r), hash(col * 8u + r + 1u), y - row);
+}
+/* atan2 in turns ([-1/2, 1/2]), a 5th-order minimax fit good to 1e-5
+ * turns: a map texel is 1e-3 turns wide, and the exact atan costs
+ * several times more on a CPU rasteriser */
+float atan2_turns(float y, float x) {
+  float ax = abs(x), ay = abs(y);
+  float a = min(ax, ay) / max(max(ax, ay), 1e-30);
+  float s = a * a;
+  float r = ((-0.0464964749 * s + 0.15931422) * s - 0.327622764) * s * a + a;
+  if (ay > ax) r = 1.57079637 - r;
+  if (x < 0.0) r = 3.14159274 - r;
+  if (y < 0.0) r = -r;
+  return r * 0.159154943;
+}
+/* Deep opacity map (Yuksel & Keyser 2008): optical depth of hair between
+ * the key light and this point, from four slabs behind the first hair. */
+#include "dom_lookup.glsl"
+/* SATF eq. 8-11 for one side of the cluster: diffuse, primary and
+ * secondary highlight (the latter without its noise factor) */
+void lighting(vec3 t, vec3 n, vec3 v, float dom, out vec3 dif,
+              out vec3 s1, out vec3 s2) {
+  dif = s1 = s2 = vec3(0.0);
+  vec3 t1 = shifted(t, n, u_shift1), t2 = shifted(t, n, -u_shift2);
+  for (int k = 0; k < NLIGHTS; k++) {
+    vec3 dl = u_light_local[k].xyz - u_light_local[k].w * v_local;
+    vec3 l = normalize(dl);
+    /* point lights fall off as 1 / d^2 (samples/README.md) */
+    float fall = u_light_local[k].w > 0.0 ? 1.0 / max(dot(dl, dl), 1e-6) : 1.0;
+    vec3 c = u_light_color[k] * fall * (k == 0 ? dom : 1.0);
+    dif += c * u_kdif * kk_diffuse(t, l) * u_fdif;
+    s1 += c * u_kspe1 * kk_specular(t1, l, v, u_exp1) * u_fspe1;
+    if (u_secondary != 0)
+      s2 += c * u_kspe2 * kk_specular(t2, l, v, u_exp2) * u_fspe2;
+  }
+}
+vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
+  if (u_aov == 1) return dif;
+  if (u_aov == 2) return s1;
+  if (u_aov == 3) return s2;
+  return dif + s1 + s2;
+}
+void main() {
+  float A = v_shape.x, B = v_shape.y, theta = v_shape.z;
+  vec3 n1 = normalize(v_n1), n2 = normalize(v_n2), axis = normalize(v_axis);
+  vec3 d = normalize(v_local - u_eye_local);
+  vec3 q = v_local - v_centre;
+  /* the ray in the normal plane, scaled so the shells are circles */
+  vec2 P = vec2(dot(q, n1) / A, dot(q, n2) / B);
+  vec2 D = vec2(dot(d, n1) / A, dot(d, n2) / B);
+  float dt_ds = dot(d, axis) / max(v_shape.w, 1e-6);
+  float a = max(dot(D, D), 1e-12), b = dot(P, D), c0 = dot(P, P);
+  /* outer normals where the ray enters and leaves the cluster */
+  float s_out = (-b + sqrt(max(b * b - a * (c0 - 1.0), 0.0))) / a;
+  vec2 Pout = P + s_out * D;
+  vec3 n_front = normalize(P.x / A * n1 + P.y / B * n2);
+  vec3 n_back = normalize(Pout.x / A * n1 + Pout.y / B * n2);
+  vec3 hair = normalize(v_hair), v = -d;
+  float dom = u_cluster_shadow != 0 ? cluster_transmittance(v_world) : 1.0;
+  vec3 df, s1f, s2f, db, s1b, s2b;
+  lighting(hair, n_front, v, dom, df, s1f, s2f);
+  vec3 col = vec3(0.0);
+  float transmit = 1.0, noise = -1.0;
+  int inner = 0;  /* innermost shell the ray meets */
+  /* SATF eq. 14 front to back: the front halves, outer to inner, then
+   * the back halves, inner to outer */
+  for (int pass = 0; pass < 2; pass++) {
+    /* the back side is lit only if the ray gets that far */
+    if (pass == 1) lighting(hair, n_back, v, dom, db, s1b, s2b);
+    for (int j = 0; j < u_layers; j++) {
+      int k = pass == 0 ? u_layers - 1 - j : inner + j;
+      if (k >= u_layers) break;
+      float r = u_core + (1.0 - u_core) * float(k + 1) / float(u_layers);
+      float disc = b * b - a * (c0 - r * r);
+      if (disc <= 0.0) { inner = k + 1; break; }
+      float s = (-b + (pass == 0 ? -1.0 : 1.0) * sqrt(disc)) / a;
+      vec2 X = P + s * D;
+      float u_turns = atan2_turns(X.y, X.x) - theta * 0.159154943;
+      float t = v_t + s * dt_ds;
+      vec4 m = fetch_map(u_turns, t, k);
+      vec2 ra = reflectance_alpha(m);
+      if (ra.y < 1.0 / 1024.0) continue;
+      /* SATF eq. 12: exponential s-map from the outer layers' alpha */
+      float tau = u_self_shadow != 0 ? exp(-u_kshadow * m.b) : 1.0;
+      vec3 y;
+      if (u_aov == 4) y = vec3(tau * dom);
+      else if (u_aov == 5) y = vec3(1.0);
+      else {
+        if (noise < 0.0) /* once per ray: the strands it meets first */
+          noise = mix(1.0, 2.0 * strand_noise(u_turns, t), u_noise);
+        vec3 L = pass == 0 ? select_aov(df, s1f, s2f * noise)
+                           : select_aov(db, s1b, s2b * noise);
+        y = L * ra.x * tau;  /* SATF eq. 13 */
+      }
+      col += transmit * ra.y * y;
+      transmit *= 1.0 - ra.y;
+      /* what lies behind can change the pixel by less than 1/512 */
+      if (transmit < 1.0 / 512.0) break;
+    }
+    if (transmit < 1.0 / 512.0) break;
+  }
+  float alpha = 1.0 - transmit;
+#if EXACT
+  if (alpha < 1.0 / 1024.0) return;
+  /* per-pixel fragment arrays: a slot from the pixel's own counter */
+  ivec2 px = ivec2(gl_FragCoord.xy);
+  int slot = int(imageAtomicAdd(u_counts, px, 1u));
+  if (slot >= u_slots) return;
+  imageStore(u_frags, ivec3(px, slot),
+             uvec4(packHalf2x16(col.rg), packHalf2x16(vec2(col.b, alpha)),
+                   floatBitsToUint(gl_FragCoord.z), 0u));
+#else
+  if (alpha < 1.0 / 1024.0) discard;
+  o_color = vec4(col, alpha);
+#endif
+}
