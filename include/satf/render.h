@@ -12,10 +12,11 @@
 extern "C" {
 #endif
 
-/* image.h - owns the renderer's frame in memory and on disk: a float image
+/* Images: the renderer's frame in memory and on disk: a float image
  * of named planar channels ("R", "G", "B", "A" for the beauty pass, plus
  * AOVs named like "diffuse.R" or single-channel "shadow"), written as
- * OpenEXR (through db/exr_io.h) or as an 8-bit sRGB PNG for viewing.
+ * OpenEXR (through the EXR writer of satf/common.h) or as an 8-bit sRGB PNG for
+ * viewing.
  *
  * Row order: every plane is stored TOP row first (image convention, as
  * EXR and PNG store them). GL reads back bottom row first; convert with
@@ -23,8 +24,7 @@ extern "C" {
  *
  * Colour is linear and, where an alpha channel exists, premultiplied by
  * alpha (what "over" blending in the renderer produces and what EXR
- * expects). Library satf_image. */
-
+ * expects). */
 
 #define SATF_IMAGE_MAX_CHANNELS 64
 #define SATF_IMAGE_MAX_SIDE 32768
@@ -84,14 +84,13 @@ satf_status satf_image_write_png(const satf_image *img, const char *path,
 satf_status satf_image_write_png_layer(const satf_image *img, const char *layer,
                                        const char *path, satf_error *err);
 
-/* renderer.h - the online phase of SATF (paper sec. 6) on OpenGL 4.3+:
+/* The renderer: the online phase of SATF (paper sec. 6) on OpenGL 4.3+:
  * per frame, database look-ups build each shell layer's re/alpha/s-maps
  * (maps.h), layers are lit with Kajiya-Kay diffuse and two shifted
  * highlights, shadowed by the s-maps (eq. 12) and a deep opacity map from
  * the key light, and composited order-independently (eq. 14) through
  * per-pixel fragment lists. The caller owns the GL context (headless EGL or
  * a GLFW window) and keeps it current. */
-
 
 typedef struct satf_renderer satf_renderer;
 
@@ -190,12 +189,11 @@ satf_status satf_renderer_export_meshes(const satf_renderer *r,
  * converting linear to sRGB. */
 void satf_renderer_present(satf_renderer *r);
 
-/* sequence.h - batch rendering of a range of animation frames to OpenEXR
- * (SATF Fig. 8): one snapshot per frame (satf/anim.h) switched into the
+/* Sequences: batch rendering of a range of animation frames to OpenEXR
+ * (SATF Fig. 8): one snapshot per frame (satf/scene.h) switched into the
  * renderer so only what moves is rebuilt, each frame written through a
  * temporary file so a killed batch never leaves a partial frame, resuming
  * by skipping frames already on disk, and a contact sheet of thumbnails. */
-
 
 typedef struct satf_sequence_opts {
   int first, last;           /* inclusive frame range */

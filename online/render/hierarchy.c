@@ -12,7 +12,7 @@
 #include "satf/math.h"
 
 /* Columns of the drawn proxy of a cluster's outermost shell. Shading
- * traces each ray through the shells analytically (glsl/shade.frag.glsl),
+ * traces each ray through the shells analytically (glsl/shade_fs.glsl),
  * so the proxy only has to cover the cluster's silhouette; a CPU
  * rasteriser pays for every triangle on one thread, so it is kept coarse
  * around the cluster and as fine as the HSVs along it. */
@@ -96,7 +96,7 @@ static void proxy_indices(int st, uint32_t *q) {
 }
 
 /* The proxy's buffers and vertex attributes, at the locations of
- * glsl/cluster.vert.glsl and glsl/layer.vert.glsl. */
+ * glsl/cluster_vs.glsl and glsl/layer_vs.glsl. */
 static void proxy_upload(proto *p, const float *f, size_t nv,
                          const uint32_t *idx, size_t nidx) {
   glGenVertexArrays(1, &p->proxy_vao);

@@ -1,4 +1,4 @@
-/* image.c - see image.h. */
+/* image.c - the renderer's frame in memory and on disk (satf/render.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "satf/render.h"
 

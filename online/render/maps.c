@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI_F 3.14159265358979f
-#define TWO_PI_F 6.28318530717959f
+#include "satf/math.h"
+
 /* Resampling tables are kept for this many view azimuths. */
 #define AZIMUTH_BINS 1024
 
@@ -14,18 +14,11 @@ size_t satf_shell_sector_count(const satf_shell_params *s) {
   return (size_t)(s->st + 1) * (size_t)s->layers * (size_t)s->su;
 }
 
+/* Index of sector (i, k, j), and of HSV (i, k, j) (between sectors i and
+ * i + 1): the same layout over st + 1 or st rows. */
 static size_t sector_index(const satf_shell_params *s, int i, int k, int j) {
   return ((size_t)i * (size_t)s->layers + (size_t)k) * (size_t)s->su +
          (size_t)j;
-}
-
-static void normalize3(float v[3]) {
-  float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  if (l > 0.0f) {
-    v[0] /= l;
-    v[1] /= l;
-    v[2] /= l;
-  }
 }
 
 satf_status satf_shell_geom_create(const satf_cluster *cluster,
@@ -51,7 +44,7 @@ satf_status satf_shell_geom_create(const satf_cluster *cluster,
       float v = 0.5f * (satf_shell_layer_v(shell, k) +
                         satf_shell_layer_v(shell, k + 1));
       for (int j = 0; j < shell->su; j++) {
-        float u = TWO_PI_F * ((float)j + 0.5f) / (float)shell->su;
+        float u = SATF_TWO_PI_F * ((float)j + 0.5f) / (float)shell->su;
         float *f = g->frames + 9 * sector_index(shell, i, k, j);
         satf_cluster_section_point(&sec, v, u, f);
         /* In the normal plane, the ellipse point moves along
@@ -62,8 +55,8 @@ satf_status satf_shell_geom_create(const satf_cluster *cluster,
           f[3 + a] = sec.b * c * sec.n1[a] + sec.a * s * sec.n2[a];
           f[6 + a] = -sec.a * s * sec.n1[a] + sec.b * c * sec.n2[a];
         }
-        normalize3(f + 3);
-        normalize3(f + 6);
+        satf_normalize3f(f + 3);
+        satf_normalize3f(f + 6);
       }
     }
   }
@@ -101,11 +94,6 @@ struct satf_maps {
   float *frac;     /* AZIMUTH_BINS x width: weight of the sample after it */
 };
 
-static size_t hsv_index(const satf_shell_params *s, int i, int k, int j) {
-  return ((size_t)i * (size_t)s->layers + (size_t)k) * (size_t)s->su +
-         (size_t)j;
-}
-
 satf_status satf_maps_prepare(const satf_maps *m, satf_shell_geom *g,
                               const satf_map_options *opt, satf_error *err) {
   const satf_shell_params *sh = &g->shell;
@@ -132,7 +120,7 @@ satf_status satf_maps_prepare(const satf_maps *m, satf_shell_geom *g,
         float ave[3] = {0.5f * (a[0] + b[0]), 0.5f * (a[1] + b[1]),
                         0.5f * (a[2] + b[2])};
         satf_db_neighbors_find(m->db, ave, c->k,
-                               &c->hsv[hsv_index(sh, i, k, j)]);
+                               &c->hsv[sector_index(sh, i, k, j)]);
       }
   g->neighbors = c;
   return SATF_OK;
@@ -172,12 +160,12 @@ satf_status satf_maps_create(const satf_db *db, satf_maps **out,
   if (!m)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   int w = satf_db_width(db);
-  if (w < 2 || w > 512) {
+  if (w < 2 || w > MAPS_MAX_WIDTH) {
     free(m);
     return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
                           "database records of %d samples: the renderer "
-                          "supports 2 to 512",
-                          w);
+                          "supports 2 to %d",
+                          w, MAPS_MAX_WIDTH);
   }
   m->db = db;
   m->width = w;
@@ -194,7 +182,7 @@ satf_status satf_maps_create(const satf_db *db, satf_maps **out,
   m->re_scale = 1.0f / mean_reflectance(db);
   const satf_sector_shape *shape = &satf_db_params(db)->shape;
   for (int b = 0; b < AZIMUTH_BINS; b++) {
-    float theta = TWO_PI_F * (float)b / AZIMUTH_BINS;
+    float theta = SATF_TWO_PI_F * (float)b / AZIMUTH_BINS;
     float e[2] = {-sinf(theta), cosf(theta)}, pmin, pmax;
     satf_trace_extent(shape, theta, &pmin, &pmax);
     for (int x = 0; x < w; x++) {
@@ -234,10 +222,10 @@ size_t satf_maps_layer_texels(const satf_shell_geom *g, int width) {
 }
 
 static float azimuth(const float *frame, const float d[3]) {
-  float x = d[0] * frame[3] + d[1] * frame[4] + d[2] * frame[5];
-  float y = d[0] * frame[6] + d[1] * frame[7] + d[2] * frame[8];
+  float x = satf_dot3f(d, frame + 3);
+  float y = satf_dot3f(d, frame + 6);
   float a = atan2f(y, x);
-  return a < 0.0f ? a + TWO_PI_F : a;
+  return a < 0.0f ? a + SATF_TWO_PI_F : a;
 }
 
 void satf_maps_angles(const satf_shell_geom *g, const float eye[3],
@@ -255,11 +243,11 @@ void satf_maps_angles(const satf_shell_geom *g, const float eye[3],
 
 /* Signed smallest difference b - a of two angles, in (-pi, pi]. */
 static float angle_diff(float a, float b) {
-  float d = fmodf(b - a, TWO_PI_F);
-  if (d > PI_F)
-    d -= TWO_PI_F;
-  if (d <= -PI_F)
-    d += TWO_PI_F;
+  float d = fmodf(b - a, SATF_TWO_PI_F);
+  if (d > SATF_PI_F)
+    d -= SATF_TWO_PI_F;
+  if (d <= -SATF_PI_F)
+    d += SATF_TWO_PI_F;
   return d;
 }
 
@@ -277,8 +265,8 @@ static float params_distance(const satf_maps *m, const params *a,
     float d = (a->f[k] - b->f[k]) * m->scale[k];
     d2 += d * d;
   }
-  float dv = angle_diff(a->view, b->view) / PI_F;
-  float dl = angle_diff(a->light, b->light) / PI_F;
+  float dv = angle_diff(a->view, b->view) / SATF_PI_F;
+  float dl = angle_diff(a->light, b->light) / SATF_PI_F;
   return sqrtf(d2 + dv * dv + dl * dl);
 }
 
@@ -298,7 +286,7 @@ static params params_average(const params *a, const params *b) {
 static void lay_row(const satf_maps *m, const float *re, const float *al,
                     float view, float density, float *row) {
   int w = m->width;
-  float turns = view / TWO_PI_F;
+  float turns = view / SATF_TWO_PI_F;
   turns -= floorf(turns); /* any angle, into [0, 1) */
   int b = (int)(turns * AZIMUTH_BINS + 0.5f) % AZIMUTH_BINS;
   const uint16_t *idx = m->index + (size_t)b * w;
@@ -316,41 +304,51 @@ static void lay_row(const satf_maps *m, const float *re, const float *al,
   }
 }
 
+/* The look-up parameters of sector q: its features and azimuths. */
+static params sector_params(const satf_shell_geom *g, const float *angles,
+                            size_t q) {
+  params p;
+  memcpy(p.f, g->features + 3 * q, sizeof p.f);
+  p.view = angles[2 * q];
+  p.light = angles[2 * q + 1];
+  return p;
+}
+
+/* A record at p: from the cached neighbours nb when there are some, else
+ * searched among the k nearest samples. */
+static void lookup(const satf_maps *m, const satf_db_neighbors *nb,
+                   const params *p, int k, float *re, float *al) {
+  if (nb)
+    satf_db_lookup_neighbors(m->db, nb, p->view, p->light, re, al);
+  else
+    satf_db_lookup(m->db, p->f, p->view, p->light, k, re, al);
+}
+
 int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
                           const float *angles, const satf_map_options *opt,
                           int k, float *texels) {
   const satf_shell_params *sh = &g->shell;
-  int w = m->width, lookups = 0;
+  int w = m->width, lookups = 0, kn = opt->k_nearest;
   size_t row_floats = (size_t)sh->su * (size_t)w * 4;
-  float re_top[512], al_top[512], re_bot[512], al_bot[512];
+  float re_top[MAPS_MAX_WIDTH], al_top[MAPS_MAX_WIDTH];
+  float re_bot[MAPS_MAX_WIDTH], al_bot[MAPS_MAX_WIDTH];
+  const satf_neighbor_cache *nc =
+      g->neighbors && g->neighbors->k == kn ? g->neighbors : NULL;
   for (int j = 0; j < sh->su; j++) {
     int have_top = 0; /* the previous HSV's bottom record is this top's */
     for (int i = 0; i < sh->st; i++) {
       size_t st0 = sector_index(sh, i, k, j),
              st1 = sector_index(sh, i + 1, k, j);
-      params top, bot;
-      memcpy(top.f, g->features + 3 * st0, sizeof top.f);
-      memcpy(bot.f, g->features + 3 * st1, sizeof bot.f);
-      top.view = angles[2 * st0];
-      top.light = angles[2 * st0 + 1];
-      bot.view = angles[2 * st1];
-      bot.light = angles[2 * st1 + 1];
+      params top = sector_params(g, angles, st0);
+      params bot = sector_params(g, angles, st1);
       float *row0 = texels + (size_t)(2 * i) * row_floats + (size_t)j * w * 4;
       float *row1 = row0 + row_floats;
       float dens = 0.5f * (top.f[0] + bot.f[0]);
-      const satf_neighbor_cache *nc =
-          g->neighbors && g->neighbors->k == opt->k_nearest ? g->neighbors
-                                                            : NULL;
       if (params_distance(m, &top, &bot) < opt->k_threshold) {
         /* uniform HSV: one look-up at the averaged parameters, swept along
-         * the HSV (SATF sec. 6.2.2) */
+         * the HSV (SATF sec. 6.2.2); the HSV's index is its top sector's */
         params ave = params_average(&top, &bot);
-        if (nc)
-          satf_db_lookup_neighbors(m->db, &nc->hsv[hsv_index(sh, i, k, j)],
-                                   ave.view, ave.light, re_top, al_top);
-        else
-          satf_db_lookup(m->db, ave.f, ave.view, ave.light, opt->k_nearest,
-                         re_top, al_top);
+        lookup(m, nc ? &nc->hsv[st0] : NULL, &ave, kn, re_top, al_top);
         lookups++;
         lay_row(m, re_top, al_top, ave.view, dens, row0);
         lay_row(m, re_top, al_top, ave.view, dens, row1);
@@ -359,20 +357,10 @@ int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
         /* two look-ups, interpolated along the HSV by the texture fetch
          * (SATF eq. 7) */
         if (!have_top) {
-          if (nc)
-            satf_db_lookup_neighbors(m->db, &nc->sector[st0], top.view,
-                                     top.light, re_top, al_top);
-          else
-            satf_db_lookup(m->db, top.f, top.view, top.light, opt->k_nearest,
-                           re_top, al_top);
+          lookup(m, nc ? &nc->sector[st0] : NULL, &top, kn, re_top, al_top);
           lookups++;
         }
-        if (nc)
-          satf_db_lookup_neighbors(m->db, &nc->sector[st1], bot.view, bot.light,
-                                   re_bot, al_bot);
-        else
-          satf_db_lookup(m->db, bot.f, bot.view, bot.light, opt->k_nearest,
-                         re_bot, al_bot);
+        lookup(m, nc ? &nc->sector[st1] : NULL, &bot, kn, re_bot, al_bot);
         lookups++;
         lay_row(m, re_top, al_top, top.view, dens, row0);
         lay_row(m, re_bot, al_bot, bot.view, dens, row1);

@@ -16,8 +16,8 @@
 #ifndef SATF_ONLINE_MAPS_H
 #define SATF_ONLINE_MAPS_H
 
-#include "satf/geometry.h"
 #include "satf/db.h"
+#include "satf/geometry.h"
 
 /* Per prototype: the geometry of its boundary sectors and their density
  * features, computed once (they change only with the density). */
@@ -41,6 +41,11 @@ void satf_shell_geom_destroy(satf_shell_geom *g);
 size_t satf_shell_sector_count(const satf_shell_params *shell);
 
 typedef struct satf_maps satf_maps;
+
+/* The widest database records (samples across a sector) the maps take:
+ * each look-up keeps records on the stack. The database itself allows
+ * wider ones (db/params.c), which the renderer refuses. */
+#define MAPS_MAX_WIDTH 512
 
 typedef struct satf_map_options {
   float k_threshold; /* eq. 6 uniformity threshold (normalised units) */

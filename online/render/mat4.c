@@ -4,6 +4,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "satf/math.h"
+
 void satf_mat4_identity(float m[16]) {
   memset(m, 0, 16 * sizeof(float));
   m[0] = m[5] = m[10] = m[15] = 1.0f;
@@ -72,43 +74,28 @@ void satf_mat4_vector(const float m[16], const float v[3], float out[3]) {
   memcpy(out, r, sizeof r);
 }
 
-static void normalize(float v[3]) {
-  float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  if (l > 0) {
-    v[0] /= l;
-    v[1] /= l;
-    v[2] /= l;
-  }
-}
-
-static void cross(const float a[3], const float b[3], float o[3]) {
-  o[0] = a[1] * b[2] - a[2] * b[1];
-  o[1] = a[2] * b[0] - a[0] * b[2];
-  o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 void satf_mat4_look_at(const float eye[3], const float target[3],
                        const float up[3], float out[16]) {
   float f[3] = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]};
-  normalize(f);
+  satf_normalize3f(f);
   float s[3], u[3];
-  cross(f, up, s);
-  normalize(s);
-  cross(s, f, u);
+  satf_cross3f(f, up, s);
+  satf_normalize3f(s);
+  satf_cross3f(s, f, u);
   satf_mat4_identity(out);
   for (int j = 0; j < 3; j++) {
     out[j] = s[j];
     out[4 + j] = u[j];
     out[8 + j] = -f[j];
   }
-  out[3] = -(s[0] * eye[0] + s[1] * eye[1] + s[2] * eye[2]);
-  out[7] = -(u[0] * eye[0] + u[1] * eye[1] + u[2] * eye[2]);
-  out[11] = f[0] * eye[0] + f[1] * eye[1] + f[2] * eye[2];
+  out[3] = -satf_dot3f(s, eye);
+  out[7] = -satf_dot3f(u, eye);
+  out[11] = satf_dot3f(f, eye);
 }
 
 void satf_mat4_perspective(float fov_y_deg, float aspect, float n, float f,
                            float out[16]) {
-  float c = 1.0f / tanf(0.5f * fov_y_deg * 3.14159265f / 180.0f);
+  float c = 1.0f / tanf(0.5f * fov_y_deg * SATF_PI_F / 180.0f);
   memset(out, 0, 16 * sizeof(float));
   out[0] = c / aspect;
   out[5] = c;

@@ -85,7 +85,7 @@ static void draw_proxy(const proto *p, int coarse) {
 }
 
 /* The outermost shell of every cluster, in list order: each fragment
- * accounts for all the shells behind it (glsl/shade.frag.glsl). */
+ * accounts for all the shells behind it (glsl/shade_fs.glsl). */
 static void draw_clusters(const satf_renderer *r, GLuint prog,
                           const float viewproj[16], int coarse) {
   GLint loc[4];

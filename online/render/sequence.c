@@ -1,4 +1,4 @@
-/* sequence.c - see sequence.h. */
+/* sequence.c - batch rendering of animation frames (satf/render.h). */
 #include "satf/render.h"
 
 #include <stdio.h>
@@ -113,10 +113,8 @@ static satf_status write_png_rgb(const satf_image *img, const char *path,
   return st;
 }
 
-satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
-                                 const satf_sequence_opts *o,
-                                 satf_sequence_stats *stats, satf_error *err) {
-  memset(stats, 0, sizeof *stats);
+/* The output patterns and the frame range. */
+static satf_status check_opts(const satf_sequence_opts *o, satf_error *err) {
   satf_status st = SATF_OK;
   if (o->exr_pattern)
     st = satf_sequence_check_pattern(o->exr_pattern, err);
@@ -127,21 +125,84 @@ satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
   if (o->last < o->first || o->last - o->first > 1000000)
     return satf_error_set(err, SATF_ERR_ARGUMENT, "frame range %d-%d", o->first,
                           o->last);
+  return SATF_OK;
+}
+
+/* The contact sheet of `count` thumbnails, SHEET_COLUMNS across at most. */
+static satf_status sheet_create(const satf_renderer *r, int count, sheet *sh,
+                                satf_error *err) {
+  const char *names[3] = {"R", "G", "B"};
+  int w, h;
+  satf_renderer_size(r, &w, &h);
+  sh->tw = w / SHEET_SCALE;
+  sh->th = h / SHEET_SCALE;
+  sh->columns = count < SHEET_COLUMNS ? count : SHEET_COLUMNS;
+  int rows = (count + sh->columns - 1) / sh->columns;
+  return satf_image_create(sh->tw * sh->columns, sh->th * rows, names, 3,
+                           &sh->img, err);
+}
+
+/* Frame f of `scene` switched into the renderer (*snap keeps the snapshot
+ * the renderer reads), rendered, written to exr and png when they are
+ * set, and put on the contact sheet. */
+static satf_status render_one(satf_renderer *r, const satf_scene *scene,
+                              const satf_sequence_opts *o, int f,
+                              const char *exr, const char *png,
+                              satf_scene **snap, sheet *sh,
+                              satf_frame_timing *t, satf_error *err) {
+  satf_scene *next = NULL;
+  satf_status st = satf_scene_at_frame(scene, (double)f, &next, err);
+  if (st == SATF_OK)
+    st = satf_renderer_set_scene(r, next, NULL, err);
+  satf_scene_destroy(*snap); /* the renderer now reads `next` */
+  *snap = next;
+  satf_image *img = NULL;
+  if (st == SATF_OK)
+    st = satf_renderer_render_image(r, o->aovs, &img, t, err);
+  if (st == SATF_OK && exr[0])
+    st = satf_image_write_exr(img, exr, err);
+  if (st == SATF_OK && png[0])
+    st = write_png_rgb(img, png, err);
+  if (st == SATF_OK && sh->img) {
+    const float *rgb[3] = {satf_image_const_plane(img, 0),
+                           satf_image_const_plane(img, 1),
+                           satf_image_const_plane(img, 2)};
+    sheet_put(sh, rgb, satf_image_width(img), satf_image_height(img),
+              f - o->first);
+  }
+  satf_image_destroy(img);
+  return st;
+}
+
+static void timing_add(satf_frame_timing *sum, const satf_frame_timing *t) {
+  sum->index_ms += t->index_ms;
+  sum->maps_ms += t->maps_ms;
+  sum->upload_ms += t->upload_ms;
+  sum->lighting_ms += t->lighting_ms;
+  sum->shadow_ms += t->shadow_ms;
+  sum->total_ms += t->total_ms;
+}
+
+static void timing_divide(satf_frame_timing *m, double n) {
+  m->index_ms /= n;
+  m->maps_ms /= n;
+  m->upload_ms /= n;
+  m->lighting_ms /= n;
+  m->shadow_ms /= n;
+  m->total_ms /= n;
+}
+
+satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
+                                 const satf_sequence_opts *o,
+                                 satf_sequence_stats *stats, satf_error *err) {
+  memset(stats, 0, sizeof *stats);
+  satf_status st = check_opts(o, err);
+  if (st != SATF_OK)
+    return st;
   int count = o->last - o->first + 1;
   sheet sh = {NULL, 0, 0, SHEET_COLUMNS};
-  if (o->contact_sheet) {
-    const char *names[3] = {"R", "G", "B"};
-    int w, h;
-    satf_renderer_size(r, &w, &h);
-    sh.tw = w / SHEET_SCALE;
-    sh.th = h / SHEET_SCALE;
-    sh.columns = count < SHEET_COLUMNS ? count : SHEET_COLUMNS;
-    int rows = (count + sh.columns - 1) / sh.columns;
-    st = satf_image_create(sh.tw * sh.columns, sh.th * rows, names, 3, &sh.img,
-                           err);
-    if (st != SATF_OK)
-      return st;
-  }
+  if (o->contact_sheet && (st = sheet_create(r, count, &sh, err)) != SATF_OK)
+    return st;
   satf_progress prog;
   satf_progress_begin(&prog, stderr, "rendering", "frames", 1, o->quiet);
   double t0 = satf_now_seconds();
@@ -156,39 +217,13 @@ satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
       if (sh.img)
         st = sheet_from_file(&sh, exr, f - o->first, err);
       stats->skipped++;
-      satf_progress_update(&prog, (size_t)(f - o->first + 1), (size_t)count);
-      continue;
-    }
-    satf_scene *next = NULL;
-    st = satf_scene_at_frame(scene, (double)f, &next, err);
-    if (st == SATF_OK)
-      st = satf_renderer_set_scene(r, next, NULL, err);
-    satf_scene_destroy(snap); /* the renderer now reads `next` */
-    snap = next;
-    satf_image *img = NULL;
-    satf_frame_timing t;
-    if (st == SATF_OK)
-      st = satf_renderer_render_image(r, o->aovs, &img, &t, err);
-    if (st == SATF_OK && exr[0])
-      st = satf_image_write_exr(img, exr, err);
-    if (st == SATF_OK && png[0])
-      st = write_png_rgb(img, png, err);
-    if (st == SATF_OK && sh.img) {
-      const float *rgb[3] = {satf_image_const_plane(img, 0),
-                             satf_image_const_plane(img, 1),
-                             satf_image_const_plane(img, 2)};
-      sheet_put(&sh, rgb, satf_image_width(img), satf_image_height(img),
-                f - o->first);
-    }
-    satf_image_destroy(img);
-    if (st == SATF_OK) {
-      stats->rendered++;
-      stats->mean.index_ms += t.index_ms;
-      stats->mean.maps_ms += t.maps_ms;
-      stats->mean.upload_ms += t.upload_ms;
-      stats->mean.lighting_ms += t.lighting_ms;
-      stats->mean.shadow_ms += t.shadow_ms;
-      stats->mean.total_ms += t.total_ms;
+    } else {
+      satf_frame_timing t;
+      st = render_one(r, scene, o, f, exr, png, &snap, &sh, &t, err);
+      if (st == SATF_OK) {
+        stats->rendered++;
+        timing_add(&stats->mean, &t);
+      }
     }
     satf_progress_update(&prog, (size_t)(f - o->first + 1), (size_t)count);
   }
@@ -199,15 +234,8 @@ satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
     satf_renderer_set_scene(r, scene, NULL, &ignore);
   satf_scene_destroy(snap);
   stats->seconds = satf_now_seconds() - t0;
-  if (stats->rendered > 0) {
-    double n = stats->rendered;
-    stats->mean.index_ms /= n;
-    stats->mean.maps_ms /= n;
-    stats->mean.upload_ms /= n;
-    stats->mean.lighting_ms /= n;
-    stats->mean.shadow_ms /= n;
-    stats->mean.total_ms /= n;
-  }
+  if (stats->rendered > 0)
+    timing_divide(&stats->mean, stats->rendered);
   if (st == SATF_OK && sh.img)
     st = satf_image_write_png(sh.img, o->contact_sheet, err);
   satf_image_destroy(sh.img);

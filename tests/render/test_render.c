@@ -1,8 +1,8 @@
-/* test_render.c - whole frames of the online renderer (renderer.h) on Mesa's
- * llvmpipe through a headless EGL context, with a small database built in
- * the test: determinism, the AOV layers and their EXR file, the effect
+/* test_render.c - whole frames of the online renderer (satf/render.h) on
+ * Mesa's llvmpipe through a headless EGL context, with a small database built
+ * in the test: determinism, the AOV layers and their EXR file, the effect
  * switches of the paper's Fig. 4, order-independent compositing (eq. 14),
- * the background, and rejected input. */
+ * the background, every light the scene accepts, and rejected input. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
