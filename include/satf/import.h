@@ -18,6 +18,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "satf/density.h"
 #include "satf/geometry.h"
@@ -26,10 +27,6 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-
-
-
 
 /* Limits beyond which a count is called absurd rather than allocated. */
 #define SATF_STRANDS_MAX_STRANDS (1u << 26) /* 67 M strands */
@@ -137,9 +134,6 @@ float satf_strand_set_root_spacing(const satf_strand_set *s);
  * in a cluster's coordinates), satf_import_macro (prototypes and
  * transforms), satf_import_density (a cluster's density grid) and the scene
  * writer's options. Every struct with pointers is freed by its *_free. */
-
-
-
 
 #define SATF_IMPORT_MAX_CLUSTERS 4096
 
@@ -353,20 +347,118 @@ typedef struct satf_import_scene_options {
  * 16..32 (more for flatter ellipses). */
 satf_scene_shell satf_import_choose_shell(const satf_import_fit *fit);
 
-/* The scene as JSON text (malloc'ed, NUL-terminated): one macro-cluster per
+/* The scene (satf/scene.h) of the fitted clusters: one macro-cluster per
  * prototype with one instance per member cluster (macro may be NULL: one
  * macro-cluster per cluster), a camera framing the hair and a key and a
- * fill light. */
+ * fill light. path is where it will be written (it names the scene and its
+ * directory is the base of the relative paths in o), or NULL: paths are
+ * held as given. */
+satf_status satf_import_scene_build(const satf_import_fit *fits, int n,
+                                    const satf_import_macro *macro,
+                                    const satf_import_scene_options *o,
+                                    const char *path, satf_scene **out,
+                                    satf_error *err);
+/* That scene as JSON text (malloc'ed, NUL-terminated; satf_scene_to_json). */
 satf_status satf_import_scene_json(const satf_import_fit *fits, int n,
                                    const satf_import_macro *macro,
                                    const satf_import_scene_options *o,
                                    char **json, satf_error *err);
-/* The same, written to path through a temporary file. */
+/* The same, written to path (satf_scene_write). */
 satf_status satf_import_write_scene(const char *path,
                                     const satf_import_fit *fits, int n,
                                     const satf_import_macro *macro,
                                     const satf_import_scene_options *o,
                                     satf_error *err);
+
+/* ---- The whole import (import_run.c, import_sequence.c) ---------------- */
+
+#define SATF_IMPORT_MAX_INPUTS 64
+
+/* What satf-import's command line asks for. */
+typedef struct satf_import_options {
+  const char *inputs[SATF_IMPORT_MAX_INPUTS];
+  int n_inputs;
+  const char *output;   /* the scene file */
+  const char *vdb;      /* also write the density grid here, or NULL */
+  const char *database; /* named in the scene as given, or NULL */
+  const char *mesh;     /* a head mesh, checked and named absolutely */
+  long clusters;        /* 0: chosen from the data */
+  long follow;          /* TressFX followers per guide; -1: the file's */
+  long control;         /* trajectory control points */
+  long threads;         /* 0: all cores */
+  double voxel;         /* VDB voxel size; 0: from the clusters */
+  double follow_radius; /* < 0: the guides' mean root spacing */
+  double tip_separation;
+  double macro_tol; /* 0: no macro-clusters */
+  uint64_t seed;
+  int quiet; /* no progress bars */
+  /* inputs[0] is a per-frame pattern (one %d) of frames first..last, each
+   * re-fitted onto the clusters of the first as keyframes at fps (0: 24) */
+  int sequence;
+  long first, last;
+  double fps;
+} satf_import_options;
+
+/* The command line's defaults: control 8, follow -1, follow_radius -1,
+ * tip_separation 0.5, macro_tol 0.05, seed 1, the rest 0. */
+satf_import_options satf_import_options_default(void);
+
+/* Reads one strand file by its signature ("HAIR" or a .hair name: cyHair;
+ * otherwise TressFX, with o's follow strands added). */
+satf_status satf_import_read_strands(const char *path,
+                                     const satf_import_options *o,
+                                     satf_strand_set **out, satf_error *err);
+
+/* Fits every cluster of labels (in parallel) and estimates its density:
+ * fits[c] for c < n_clusters. On failure the message is the first
+ * cluster's that failed. */
+satf_status satf_import_fit_all(const satf_strand_set *s, const int *labels,
+                                int n_clusters, const satf_import_fit_params *p,
+                                int threads, satf_import_fit *fits,
+                                satf_import_progress_fn progress,
+                                void *progress_ctx, satf_error *err);
+
+/* Re-fits every frame of the sequence o (inputs[0] with frames first..last)
+ * onto the clusters of labels (the same member strands; each frame must
+ * keep n_strands strands) and adds the fits to scene as keys of its
+ * macro-clusters (one cluster each: macro), after making it animated. */
+satf_status satf_import_sequence_keys(satf_scene *scene,
+                                      const satf_import_options *o,
+                                      const int *labels, int n_strands,
+                                      const satf_import_fit_params *p,
+                                      const satf_import_macro *macro,
+                                      satf_error *err);
+
+/* What an import did, for its summary. */
+typedef struct satf_import_result {
+  int n_strands;
+  size_t n_points;
+  int n_clusters;
+  float rms; /* k-means RMS */
+  int n_macro;
+  size_t bytes_separate, bytes_shared;
+  size_t points, inside; /* strand points, and inside their envelope */
+  double distance_sum;   /* of points to their trajectory */
+  double width_sum;      /* of the clusters' strand widths */
+  int gradient;          /* clusters of layout "gradient" */
+  float voxel;
+  double vdb_mass;
+  /* seconds from the start to the end of each step, and peak memory */
+  double t_read, t_cluster, t_fit, t_vdb0, t_vdb, t_end, peak_mb;
+} satf_import_result;
+
+/* The whole import of o: read, cluster, fit, macro-clusters, density grid,
+ * the scene (with keys for a sequence), written to o->output. Progress
+ * bars go to stderr unless o->quiet. On failure err says what went wrong,
+ * as satf-import prints it after "satf-import: ". */
+satf_status satf_import_run(const satf_import_options *o,
+                            satf_import_result *result, satf_error *err);
+
+/* The summary satf-import prints after an import: "PROG: OUTPUT", then the
+ * strands, clusters, macro-clusters, fit quality, density, VDB and times. */
+void satf_import_print_summary(FILE *out, const char *prog,
+                               const satf_import_options *o,
+                               const satf_import_result *r);
 
 #ifdef __cplusplus
 }

@@ -238,6 +238,15 @@ void satf_scene_destroy(satf_scene *scene);
 satf_status satf_scene_create(const char *name, satf_scene **out,
                               satf_error *err);
 
+/* Appends an opaque mesh `file` (copied; the path the scene should hold)
+ * with the default colour and the identity transform. */
+satf_status satf_scene_add_mesh(satf_scene *scene, const char *file,
+                                satf_error *err);
+
+/* Normalizes v as the parser normalizes light directions and up vectors;
+ * returns 0 (v unchanged) when v has no length. */
+int satf_scene_normalize(float v[3]);
+
 /* The scene as JSON text (malloc'ed, NUL-terminated) in the format of
  * samples/README.md, every value written so that satf_scene_parse gives
  * the same scene back (satf_scene_equal) and writing that gives the same

@@ -1,43 +1,59 @@
-/* import_scene.c - writes fitted clusters as a scene file (the format of
- * samples/README.md, read by satf_scene_load): one macro-cluster per
- * prototype with an instance per member cluster, each prototype's density
- * procedural (its real strand count, the estimated strand width and
- * layout) or the hairstyle's OpenVDB grid, a camera framing the hair, a
- * key and a fill light. */
+/* import_scene.c - fitted clusters as a scene (satf/scene.h): one
+ * macro-cluster per prototype with an instance per member cluster, each
+ * prototype's density procedural (its real strand count, the estimated
+ * strand width and layout) or the hairstyle's OpenVDB grid, a camera
+ * framing the hair, a key and a fill light. The scene library writes it. */
 #define _POSIX_C_SOURCE 200809L
-#include <cjson/cJSON.h>
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "satf/common.h"
 #include "satf/import.h"
+#include "satf/math.h"
 
 /* A number rounded to 7 significant digits, so the file stays readable and
- * floats do not print as 17-digit doubles. */
-static cJSON *num(double v) {
+ * floats do not print as 9-digit ones. */
+static float round7(double v) {
   char buf[32];
   snprintf(buf, sizeof buf, "%.7g", v);
-  return cJSON_CreateNumber(strtod(buf, NULL));
+  return (float)strtod(buf, NULL);
 }
 
-static cJSON *num_array(const float *v, int n) {
-  cJSON *a = cJSON_CreateArray();
-  for (int i = 0; a && i < n; i++)
-    cJSON_AddItemToArray(a, num(v[i]));
-  return a;
-}
-
-static cJSON *vec3(double x, double y, double z) {
-  cJSON *a = cJSON_CreateArray();
-  if (a) {
-    cJSON_AddItemToArray(a, num(x));
-    cJSON_AddItemToArray(a, num(y));
-    cJSON_AddItemToArray(a, num(z));
+static float *rounded(const float *v, int n, int *failed) {
+  float *out = malloc((size_t)(n > 0 ? n : 1) * sizeof *out);
+  if (!out) {
+    *failed = 1;
+    return NULL;
   }
-  return a;
+  for (int i = 0; i < n; i++)
+    out[i] = round7(v[i]);
+  return out;
+}
+
+static char *copy_string(const char *s, int *failed) {
+  char *c = s ? malloc(strlen(s) + 1) : NULL;
+  if (c)
+    strcpy(c, s);
+  else if (s)
+    *failed = 1;
+  return c;
+}
+
+/* base_dir + "/" + path for a relative path: what the loader will make of
+ * the path the file names. */
+static char *scene_path(const char *base_dir, const char *path, int *failed) {
+  if (!path || !base_dir || path[0] == '/')
+    return copy_string(path, failed);
+  char *out = malloc(strlen(base_dir) + strlen(path) + 2);
+  if (!out) {
+    *failed = 1;
+    return NULL;
+  }
+  sprintf(out, "%s%s%s", base_dir,
+          base_dir[strlen(base_dir) - 1] == '/' ? "" : "/", path);
+  return out;
 }
 
 satf_scene_shell satf_import_choose_shell(const satf_import_fit *fit) {
@@ -61,40 +77,34 @@ satf_scene_shell satf_import_choose_shell(const satf_import_fit *fit) {
   return sh;
 }
 
-static cJSON *cluster_json(const satf_import_fit *f,
-                           const satf_import_scene_options *o, uint64_t seed) {
-  cJSON *c = cJSON_CreateObject();
-  cJSON *traj = cJSON_CreateArray();
-  for (int i = 0; i < f->n_ctrl; i++)
-    cJSON_AddItemToArray(
-        traj, vec3(f->traj[3 * i], f->traj[3 * i + 1], f->traj[3 * i + 2]));
-  cJSON_AddItemToObject(c, "trajectory", traj);
-  cJSON_AddItemToObject(c, "a", num_array(f->a, f->n_radius));
-  cJSON_AddItemToObject(c, "b", num_array(f->b, f->n_radius));
-  cJSON_AddItemToObject(c, "twist", num_array(f->twist, f->n_radius));
-  satf_scene_shell sh = satf_import_choose_shell(f);
-  cJSON *shell = cJSON_CreateObject();
-  cJSON_AddNumberToObject(shell, "layers", sh.layers);
-  cJSON_AddNumberToObject(shell, "st", sh.st);
-  cJSON_AddNumberToObject(shell, "su", sh.su);
-  cJSON_AddItemToObject(shell, "core", num(sh.core));
-  cJSON_AddItemToObject(c, "shell", shell);
-  cJSON *d = cJSON_CreateObject();
-  if (o && o->vdb_file) {
-    cJSON_AddStringToObject(d, "type", "vdb");
-    cJSON_AddStringToObject(d, "file", o->vdb_file);
-    cJSON_AddStringToObject(d, "grid", o->vdb_grid ? o->vdb_grid : "density");
-  } else {
-    cJSON_AddStringToObject(d, "type", "procedural");
-    cJSON_AddNumberToObject(d, "strands", f->strands);
-    cJSON_AddNumberToObject(d, "seed", (double)seed);
-    cJSON_AddStringToObject(d, "layout", satf_scene_layout_name(f->layout));
-    cJSON_AddItemToObject(d, "strand_width", num(f->strand_width));
-    if (f->layout == SATF_SCENE_LAYOUT_GRADIENT)
-      cJSON_AddItemToObject(d, "gradient", num(f->gradient));
+static void fill_cluster(const satf_import_fit *f,
+                         const satf_import_scene_options *o,
+                         const char *base_dir, uint64_t seed,
+                         satf_scene_cluster *c, int *failed) {
+  c->n_points = f->n_ctrl;
+  c->trajectory = rounded(f->traj, 3 * f->n_ctrl, failed);
+  satf_scene_curve *curves[3] = {&c->a, &c->b, &c->twist};
+  const float *values[3] = {f->a, f->b, f->twist};
+  for (int i = 0; i < 3; i++) {
+    curves[i]->count = f->n_radius;
+    curves[i]->values = rounded(values[i], f->n_radius, failed);
   }
-  cJSON_AddItemToObject(c, "density", d);
-  return c;
+  c->shell = satf_import_choose_shell(f);
+  c->shell.core = round7(c->shell.core);
+  satf_scene_density *d = &c->density;
+  if (o && o->vdb_file) {
+    d->type = SATF_SCENE_DENSITY_VDB;
+    d->vdb_file = scene_path(base_dir, o->vdb_file, failed);
+    d->vdb_grid = copy_string(o->vdb_grid ? o->vdb_grid : "density", failed);
+    return;
+  }
+  d->type = SATF_SCENE_DENSITY_PROCEDURAL;
+  d->strands = f->strands;
+  d->seed = seed;
+  d->layout = f->layout;
+  d->strand_width = round7(f->strand_width);
+  d->scale = 1.0f;
+  d->gradient = round7(f->gradient);
 }
 
 /* The box around every trajectory's control points grown by the largest
@@ -117,7 +127,8 @@ static void fits_bounds(const satf_import_fit *fits, int n, double lo[3],
   }
 }
 
-static cJSON *camera_json(const satf_import_fit *fits, int n) {
+static void frame_camera(const satf_import_fit *fits, int n,
+                         satf_scene_camera *cam) {
   double lo[3], hi[3];
   fits_bounds(fits, n, lo, hi);
   /* the box's diagonal sphere wastes most of the frame on hair that is
@@ -128,29 +139,135 @@ static cJSON *camera_json(const satf_import_fit *fits, int n) {
     r = fmax(r, 0.5 * (hi[k] - lo[k]));
   }
   r *= 1.15;
-  const double fov = 35.0, pi = 3.14159265358979323846;
-  double dist = 1.05 * r / sin(0.5 * fov * pi / 180.0);
+  const double fov = 35.0;
+  double dist = 1.05 * r / sin(0.5 * fov * SATF_PI / 180.0);
   double dir[3] = {0.3, 0.2, 1.0};
   double len = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-  cJSON *cam = cJSON_CreateObject();
-  cJSON_AddItemToObject(cam, "position",
-                        vec3(c[0] + dist * dir[0] / len,
-                             c[1] + dist * dir[1] / len,
-                             c[2] + dist * dir[2] / len));
-  cJSON_AddItemToObject(cam, "target", vec3(c[0], c[1], c[2]));
-  cJSON_AddItemToObject(cam, "up", vec3(0, 1, 0));
-  cJSON_AddItemToObject(cam, "fov_y", num(fov));
-  return cam;
+  memset(cam, 0, sizeof *cam);
+  for (int k = 0; k < 3; k++) {
+    cam->position[k] = round7(c[k] + dist * dir[k] / len);
+    cam->target[k] = round7(c[k]);
+  }
+  cam->up[1] = 1.0f;
+  cam->fov_y = round7(fov);
 }
 
-static cJSON *light_json(double dx, double dy, double dz, double r, double g,
-                         double b, double intensity) {
-  cJSON *l = cJSON_CreateObject();
-  cJSON_AddStringToObject(l, "type", "directional");
-  cJSON_AddItemToObject(l, "direction", vec3(dx, dy, dz));
-  cJSON_AddItemToObject(l, "color", vec3(r, g, b));
-  cJSON_AddItemToObject(l, "intensity", num(intensity));
-  return l;
+static void directional(double dx, double dy, double dz, double r, double g,
+                        double b, double intensity, satf_scene_light *l) {
+  l->type = SATF_SCENE_LIGHT_DIRECTIONAL;
+  float d[3] = {round7(dx), round7(dy), round7(dz)};
+  satf_scene_normalize(d); /* as the loader would */
+  memcpy(l->direction, d, sizeof d);
+  l->color[0] = round7(r);
+  l->color[1] = round7(g);
+  l->color[2] = round7(b);
+  l->intensity = round7(intensity);
+}
+
+/* Image, camera, lights, background, description, database and mesh. */
+static satf_status fill_view(satf_scene *scene, const satf_import_fit *fits,
+                             int n, const satf_import_scene_options *o,
+                             const char *base_dir, satf_error *err) {
+  scene->image.width = o && o->width ? o->width : 640;
+  scene->image.height = o && o->height ? o->height : 480;
+  frame_camera(fits, n, &scene->camera);
+  satf_scene_light *lights = calloc(2, sizeof *lights);
+  if (!lights)
+    return satf_error_set(err, SATF_ERR_NOMEM, "scene: out of memory");
+  free(scene->lights);
+  scene->lights = lights;
+  scene->n_lights = 2;
+  directional(-0.45, -0.6, -0.66, 1.0, 0.97, 0.92, 1.0, &lights[0]);
+  directional(0.8, -0.1, -0.6, 0.75, 0.82, 1.0, 0.3, &lights[1]);
+  scene->background[0] = round7(0.16);
+  scene->background[1] = round7(0.17);
+  scene->background[2] = round7(0.2);
+  int failed = 0;
+  scene->description = copy_string(o ? o->description : NULL, &failed);
+  scene->database = scene_path(base_dir, o ? o->database : NULL, &failed);
+  if (failed)
+    return satf_error_set(err, SATF_ERR_NOMEM, "scene: out of memory");
+  if (o && o->mesh_file) { /* drawn opaque, occluding and shadowing hair */
+    char *mesh = scene_path(base_dir, o->mesh_file, &failed);
+    satf_status s =
+        mesh ? satf_scene_add_mesh(scene, mesh, err)
+             : satf_error_set(err, SATF_ERR_NOMEM, "scene: out of memory");
+    free(mesh);
+    return s;
+  }
+  return SATF_OK;
+}
+
+static satf_status fill_macro_clusters(satf_scene *scene,
+                                       const satf_import_fit *fits, int n,
+                                       const satf_import_macro *macro,
+                                       const satf_import_scene_options *o,
+                                       const char *base_dir, satf_error *err) {
+  int n_macro = macro ? macro->n_macro : n, failed = 0;
+  uint64_t seed = o ? o->seed : 1;
+  scene->macro_clusters =
+      calloc((size_t)n_macro, sizeof *scene->macro_clusters);
+  if (!scene->macro_clusters)
+    return satf_error_set(err, SATF_ERR_NOMEM, "scene: out of memory");
+  scene->n_macro_clusters = n_macro;
+  for (int m = 0; m < n_macro; m++) {
+    satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
+    int proto = macro ? macro->prototype[m] : m;
+    char name[64];
+    snprintf(name, sizeof name, "cluster %d", proto);
+    mc->name = copy_string(name, &failed);
+    fill_cluster(&fits[proto], o, base_dir, seed + (uint64_t)m, &mc->prototype,
+                 &failed);
+    mc->instances = calloc((size_t)n, sizeof *mc->instances);
+    if (!mc->instances)
+      return satf_error_set(err, SATF_ERR_NOMEM, "scene: out of memory");
+    for (int c = 0; c < n; c++) {
+      if ((macro ? macro->macro_of[c] : c) != m)
+        continue;
+      float *to = mc->instances[mc->n_instances++].m;
+      for (int k = 0; k < 16; k++)
+        to[k] = c != proto ? round7(macro->transform[16 * (size_t)c + k])
+                           : (k % 5 == 0 ? 1.0f : 0.0f);
+    }
+  }
+  return failed ? satf_error_set(err, SATF_ERR_NOMEM, "scene: out of memory")
+                : SATF_OK;
+}
+
+satf_status satf_import_scene_build(const satf_import_fit *fits, int n,
+                                    const satf_import_macro *macro,
+                                    const satf_import_scene_options *o,
+                                    const char *path, satf_scene **out,
+                                    satf_error *err) {
+  *out = NULL;
+  if (n < 1 || (macro && macro->n_clusters != n))
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "scene: %d clusters and a macro-cluster table for "
+                          "%d",
+                          n, macro ? macro->n_clusters : n);
+  char *base_dir = NULL;
+  const char *slash = path ? strrchr(path, '/') : NULL;
+  if (slash) {
+    size_t len = slash == path ? 1 : (size_t)(slash - path);
+    if (!(base_dir = malloc(len + 1)))
+      return satf_error_set(err, SATF_ERR_NOMEM, "scene: out of memory");
+    memcpy(base_dir, path, len);
+    base_dir[len] = '\0';
+  }
+  satf_scene *scene = NULL;
+  satf_status s =
+      satf_scene_create(path ? path : "<imported scene>", &scene, err);
+  if (s == SATF_OK)
+    s = fill_view(scene, fits, n, o, base_dir, err);
+  if (s == SATF_OK)
+    s = fill_macro_clusters(scene, fits, n, macro, o, base_dir, err);
+  free(base_dir);
+  if (s != SATF_OK) {
+    satf_scene_destroy(scene);
+    return s;
+  }
+  *out = scene;
+  return SATF_OK;
 }
 
 satf_status satf_import_scene_json(const satf_import_fit *fits, int n,
@@ -158,68 +275,12 @@ satf_status satf_import_scene_json(const satf_import_fit *fits, int n,
                                    const satf_import_scene_options *o,
                                    char **json, satf_error *err) {
   *json = NULL;
-  if (n < 1 || (macro && macro->n_clusters != n))
-    return satf_error_set(err, SATF_ERR_ARGUMENT,
-                          "scene: %d clusters and a macro-cluster table for "
-                          "%d",
-                          n, macro ? macro->n_clusters : n);
-  cJSON *root = cJSON_CreateObject();
-  if (!root)
-    return satf_error_set(err, SATF_ERR_NOMEM, "scene: out of memory");
-  if (o && o->description)
-    cJSON_AddStringToObject(root, "description", o->description);
-  if (o && o->database)
-    cJSON_AddStringToObject(root, "database", o->database);
-  if (o && o->mesh_file) { /* drawn opaque, occluding and shadowing hair */
-    cJSON *meshes = cJSON_CreateArray(), *mesh = cJSON_CreateObject();
-    cJSON_AddStringToObject(mesh, "file", o->mesh_file);
-    cJSON_AddItemToArray(meshes, mesh);
-    cJSON_AddItemToObject(root, "meshes", meshes);
-  }
-  cJSON *image = cJSON_CreateObject();
-  cJSON_AddNumberToObject(image, "width", o && o->width ? o->width : 640);
-  cJSON_AddNumberToObject(image, "height", o && o->height ? o->height : 480);
-  cJSON_AddItemToObject(root, "image", image);
-  cJSON_AddItemToObject(root, "camera", camera_json(fits, n));
-  cJSON *lights = cJSON_CreateArray();
-  cJSON_AddItemToArray(lights,
-                       light_json(-0.45, -0.6, -0.66, 1.0, 0.97, 0.92, 1.0));
-  cJSON_AddItemToArray(lights,
-                       light_json(0.8, -0.1, -0.6, 0.75, 0.82, 1.0, 0.3));
-  cJSON_AddItemToObject(root, "lights", lights);
-  cJSON_AddItemToObject(root, "background", vec3(0.16, 0.17, 0.2));
-  cJSON *macros = cJSON_CreateArray();
-  int n_macro = macro ? macro->n_macro : n;
-  uint64_t seed = o ? o->seed : 1;
-  for (int m = 0; m < n_macro; m++) {
-    int proto = macro ? macro->prototype[m] : m;
-    cJSON *mc = cJSON_CreateObject();
-    char name[64];
-    snprintf(name, sizeof name, "cluster %d", proto);
-    cJSON_AddStringToObject(mc, "name", name);
-    cJSON_AddItemToObject(mc, "prototype",
-                          cluster_json(&fits[proto], o, seed + (uint64_t)m));
-    cJSON *inst = cJSON_CreateArray();
-    for (int c = 0; c < n; c++) {
-      if ((macro ? macro->macro_of[c] : c) != m)
-        continue;
-      cJSON *i = cJSON_CreateObject();
-      if (c != proto) {
-        cJSON_AddItemToObject(i, "matrix",
-                              num_array(macro->transform + 16 * (size_t)c, 16));
-      }
-      cJSON_AddItemToArray(inst, i);
-    }
-    cJSON_AddItemToObject(mc, "instances", inst);
-    cJSON_AddItemToArray(macros, mc);
-  }
-  cJSON_AddItemToObject(root, "macro_clusters", macros);
-  char *text = cJSON_Print(root);
-  cJSON_Delete(root);
-  if (!text)
-    return satf_error_set(err, SATF_ERR_NOMEM, "scene: out of memory");
-  *json = text;
-  return SATF_OK;
+  satf_scene *scene;
+  satf_status s = satf_import_scene_build(fits, n, macro, o, NULL, &scene, err);
+  if (s == SATF_OK)
+    s = satf_scene_to_json(scene, NULL, json, err);
+  satf_scene_destroy(scene);
+  return s;
 }
 
 satf_status satf_import_write_scene(const char *path,
@@ -227,11 +288,10 @@ satf_status satf_import_write_scene(const char *path,
                                     const satf_import_macro *macro,
                                     const satf_import_scene_options *o,
                                     satf_error *err) {
-  char *text;
-  satf_status st = satf_import_scene_json(fits, n, macro, o, &text, err);
-  if (st != SATF_OK)
-    return st;
-  st = satf_write_file_atomic(path, text, strlen(text), err);
-  free(text);
-  return st;
+  satf_scene *scene;
+  satf_status s = satf_import_scene_build(fits, n, macro, o, path, &scene, err);
+  if (s == SATF_OK)
+    s = satf_scene_write(scene, path, err);
+  satf_scene_destroy(scene);
+  return s;
 }

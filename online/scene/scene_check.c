@@ -52,3 +52,11 @@ satf_status scene_check_direction(scene_ctx *ctx, const float v[3],
                           "has zero length");
   return SATF_OK;
 }
+
+int satf_scene_normalize(float v[3]) {
+  double len = scene_vec_length(v);
+  if (!(len > 1e-9))
+    return 0;
+  scene_normalize(v, len);
+  return 1;
+}

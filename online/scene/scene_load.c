@@ -192,3 +192,26 @@ satf_status satf_scene_create(const char *name, satf_scene **out,
   *out = scene;
   return SATF_OK;
 }
+
+satf_status satf_scene_add_mesh(satf_scene *scene, const char *file,
+                                satf_error *err) {
+  if (!scene || !file || scene->n_meshes >= SATF_SCENE_MAX_MESHES)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "satf_scene_add_mesh: no scene, no file or over %d "
+                          "meshes",
+                          SATF_SCENE_MAX_MESHES);
+  satf_scene_mesh *grown = realloc(
+      scene->meshes, (size_t)(scene->n_meshes + 1) * sizeof *scene->meshes);
+  if (!grown)
+    return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory",
+                          scene->name);
+  scene->meshes = grown;
+  satf_scene_mesh *mesh = &scene->meshes[scene->n_meshes];
+  memset(mesh, 0, sizeof *mesh);
+  scene_parse_default_mesh(mesh);
+  if (!(mesh->file = scene_copy_string(file)))
+    return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory",
+                          scene->name);
+  scene->n_meshes++;
+  return SATF_OK;
+}

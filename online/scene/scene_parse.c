@@ -16,6 +16,7 @@ static const scene_range R_COORD = {-SATF_SCENE_MAX_COORD, SATF_SCENE_MAX_COORD,
 static const scene_range R_UNIT = {0, 1, 0, 0};
 static const scene_range R_COEF = {0, 100, 0, 0};
 static const float BACKGROUND[3] = {0.1f, 0.1f, 0.12f};
+static const float SKIN[3] = {0.55f, 0.42f, 0.36f};
 /* ---- material (SATF eq. 9-12, Scheuermann 2004) ---- */
 
 static satf_status parse_material(scene_ctx *ctx, const cJSON *root,
@@ -383,7 +384,6 @@ static satf_status parse_image(scene_ctx *ctx, const cJSON *root,
 static satf_status parse_mesh(scene_ctx *ctx, const cJSON *obj,
                               const char *base_dir, satf_scene_mesh *mesh) {
   static const char *const keys[] = {"file", "color", "transform", NULL};
-  static const float skin[3] = {0.55f, 0.42f, 0.36f};
   if (!cJSON_IsObject(obj))
     return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
                       scene_type_name(obj));
@@ -392,7 +392,7 @@ static satf_status parse_mesh(scene_ctx *ctx, const cJSON *obj,
   if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
       (s = scene_key_path(ctx, obj, "file", 1, base_dir, &mesh->file)) !=
           SATF_OK ||
-      (s = scene_key_vec(ctx, obj, "color", 3, &R_UNIT, skin, mesh->color)) !=
+      (s = scene_key_vec(ctx, obj, "color", 3, &R_UNIT, SKIN, mesh->color)) !=
           SATF_OK ||
       (s = scene_key_object(ctx, obj, "transform", 0, &transform)) != SATF_OK)
     return s;
@@ -470,4 +470,10 @@ satf_status scene_parse_defaults(scene_ctx *ctx) {
     return s;
   memcpy(scene->background, BACKGROUND, sizeof scene->background);
   return parse_image(ctx, &empty, &scene->image);
+}
+
+void scene_parse_default_mesh(satf_scene_mesh *mesh) {
+  memcpy(mesh->color, SKIN, sizeof mesh->color);
+  for (int k = 0; k < 16; k++)
+    mesh->m[k] = k % 5 == 0 ? 1.0f : 0.0f;
 }

@@ -16,4 +16,7 @@ satf_status scene_parse_root(scene_ctx *ctx, const cJSON *root,
  * camera, the default key light, background and image size. */
 satf_status scene_parse_defaults(scene_ctx *ctx);
 
+/* A mesh's defaults: skin colour, identity transform. */
+void scene_parse_default_mesh(satf_scene_mesh *mesh);
+
 #endif

@@ -101,6 +101,17 @@ static satf_status parse_scale(scene_ctx *ctx, const cJSON *inst,
   return s;
 }
 
+/* f->m from f's translate, rotate and scale (f->is_matrix == 0). */
+static void xform_compose(scene_xform *f) {
+  double translate[3], axis[3], angle_rad, scale[3];
+  for (int k = 0; k < 3; k++) {
+    translate[k] = f->translate[k];
+    scale[k] = f->scale[k];
+  }
+  rotation_of(f, axis, &angle_rad);
+  scene_matrix_trs(translate, axis, angle_rad, scale, f->m);
+}
+
 /* The transform of item (an instance or one of its keys); def is the
  * static transform a key defaults to, NULL for the instance itself. */
 static satf_status parse_form(scene_ctx *ctx, const cJSON *item,
@@ -134,18 +145,8 @@ static satf_status parse_form(scene_ctx *ctx, const cJSON *item,
       (s = parse_rotate(ctx, item, def, out)) != SATF_OK ||
       (s = parse_scale(ctx, item, def, out->scale)) != SATF_OK)
     return s;
-  scene_xform_compose(out);
+  xform_compose(out);
   return SATF_OK;
-}
-
-void scene_xform_compose(scene_xform *f) {
-  double translate[3], axis[3], angle_rad, scale[3];
-  for (int k = 0; k < 3; k++) {
-    translate[k] = f->translate[k];
-    scale[k] = f->scale[k];
-  }
-  rotation_of(f, axis, &angle_rad);
-  scene_matrix_trs(translate, axis, angle_rad, scale, f->m);
 }
 
 /* Splits a key's transform into translation, rotation and stretch for

@@ -16,7 +16,4 @@ satf_status scene_parse_instance(scene_ctx *ctx, const cJSON *item,
 satf_status scene_parse_transform(scene_ctx *ctx, const cJSON *item,
                                   float m[16]);
 
-/* f->m from f's translate, rotate and scale (f->is_matrix == 0). */
-void scene_xform_compose(scene_xform *f);
-
 #endif

@@ -6,6 +6,7 @@
  * and, in keys, values a key takes from the static object. */
 #define _POSIX_C_SOURCE 200809L
 #include <cjson/cJSON.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,25 +33,33 @@ static cJSON *raw(writer *w, const char *text) {
   return item;
 }
 
+/* Whole numbers print as such ("80", not "8e+01"). */
+static void plain_integer(char *buf, size_t size, double v) {
+  if (strchr(buf, 'e') && v == floor(v) && fabs(v) < 1e15)
+    snprintf(buf, size, "%.0f", v);
+}
+
 static cJSON *num_float(writer *w, float f) {
-  char buf[32];
+  char buf[48];
   for (int digits = 1; digits <= 9; digits++) {
     snprintf(buf, sizeof buf, "%.*g", digits, (double)f);
     float back = (float)strtod(buf, NULL);
     if (memcmp(&back, &f, sizeof f) == 0)
       break;
   }
+  plain_integer(buf, sizeof buf, f);
   return raw(w, buf);
 }
 
 static cJSON *num_double(writer *w, double d) {
-  char buf[40];
+  char buf[48];
   for (int digits = 1; digits <= 17; digits++) {
     snprintf(buf, sizeof buf, "%.*g", digits, d);
     double back = strtod(buf, NULL);
     if (memcmp(&back, &d, sizeof d) == 0)
       break;
   }
+  plain_integer(buf, sizeof buf, d);
   return raw(w, buf);
 }
 

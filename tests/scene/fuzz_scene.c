@@ -142,6 +142,26 @@ static void check_animation(const satf_scene *scene) {
     check_snapshot(scene, frames[i]);
 }
 
+/* The writer gives back what was read: the text, read from the same
+ * directory ("fuzz", that of FUZZ_NAME), parses into an equal scene (inputs
+ * with warnings may hold values the format drops, such as the parameters of
+ * another layout, and are left out). */
+static void check_written(const satf_scene *scene) {
+  if (satf_scene_warning_count(scene) > 0)
+    return;
+  char *text = NULL;
+  satf_error err;
+  require(satf_scene_to_json(scene, "fuzz", &text, &err) == SATF_OK,
+          "the scene is written");
+  satf_scene *again = NULL;
+  require(satf_scene_parse(text, strlen(text), FUZZ_NAME, &again, &err) ==
+              SATF_OK,
+          "the written scene parses");
+  require(satf_scene_equal(scene, again), "the written scene is the same");
+  satf_scene_destroy(again);
+  free(text);
+}
+
 /* Returns 1 when the input loaded, 0 when it was rejected. */
 int satf_fuzz_scene_one(const uint8_t *data, size_t size) {
   satf_scene *scene = (satf_scene *)(uintptr_t)1; /* must be overwritten */
@@ -153,6 +173,7 @@ int satf_fuzz_scene_one(const uint8_t *data, size_t size) {
     require(scene != NULL, "scene on success");
     check_scene(scene);
     check_animation(scene);
+    check_written(scene);
     satf_scene_destroy(scene);
     return 1;
   }

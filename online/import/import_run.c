@@ -1,0 +1,324 @@
+/* import_run.c - the whole import as satf-import runs it: strands in,
+ * clusters (k-means), fitted generalized cylinders, macro-clusters, an
+ * optional OpenVDB density grid, and the scene written out (SATF sec.
+ * 3.1-3.3), with progress bars and the summary it prints. */
+#define _XOPEN_SOURCE 700
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+
+#include "satf/common.h"
+#include "satf/import.h"
+
+/* What the steps share. */
+typedef struct run {
+  const satf_import_options *o;
+  satf_import_result *r;
+  double t0;
+  satf_strand_set *all;
+  int *labels;
+  satf_import_fit *fits;
+  satf_import_fit_params fp;
+  satf_import_macro macro;
+  int have_macro;
+  char mesh_path[PATH_MAX];
+  char vdb_name[PATH_MAX];
+} run;
+
+static void progress_cb(void *ctx, size_t done, size_t total) {
+  satf_progress_update(ctx, done, total);
+}
+
+static double peak_rss_mb(void) {
+  struct rusage ru;
+  return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : 0.0;
+}
+
+/* The mesh is checked now, and named absolutely in the scene. */
+static satf_status check_mesh(run *u, satf_error *err) {
+  satf_mesh *probe = NULL;
+  satf_error why;
+  if (satf_mesh_read(u->o->mesh, &probe, &why) != SATF_OK)
+    return satf_error_set(err, why.status, "--mesh: %s", why.message);
+  satf_mesh_destroy(probe);
+  if (!realpath(u->o->mesh, u->mesh_path))
+    snprintf(u->mesh_path, sizeof u->mesh_path, "%s", u->o->mesh);
+  return SATF_OK;
+}
+
+/* Every input into u->all; a sequence's first frame defines the clusters. */
+static satf_status read_inputs(run *u, satf_error *err) {
+  const satf_import_options *o = u->o;
+  char first_frame[PATH_MAX];
+  if (o->sequence) {
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+    snprintf(first_frame, sizeof first_frame, o->inputs[0], (int)o->first);
+#pragma GCC diagnostic pop
+  }
+  for (int i = 0; i < o->n_inputs; i++) {
+    satf_strand_set *s, *both;
+    satf_status st = satf_import_read_strands(
+        o->sequence ? first_frame : o->inputs[i], o, &s, err);
+    if (st != SATF_OK)
+      return st;
+    if (!u->all) {
+      u->all = s;
+      continue;
+    }
+    st = satf_strand_set_concat(u->all, s, &both, err);
+    satf_strand_set_destroy(u->all);
+    satf_strand_set_destroy(s);
+    u->all = both;
+    if (st != SATF_OK)
+      return st;
+  }
+  u->r->n_strands = satf_strand_set_count(u->all);
+  u->r->n_points = satf_strand_set_point_count(u->all);
+  return SATF_OK;
+}
+
+static satf_status cluster(run *u, satf_error *err) {
+  const satf_import_options *o = u->o;
+  satf_import_cluster_params cp = satf_import_cluster_params_default();
+  cp.clusters = (int)o->clusters;
+  cp.seed = o->seed;
+  cp.threads = (int)o->threads;
+  u->labels = malloc((size_t)u->r->n_strands * sizeof(int));
+  satf_progress bar;
+  satf_progress_begin(&bar, stderr, "clustering", "iterations", 1, o->quiet);
+  satf_status st =
+      u->labels ? satf_import_kmeans(u->all, &cp, u->labels, &u->r->n_clusters,
+                                     &u->r->rms, progress_cb, &bar, err)
+                : satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  satf_progress_end(&bar);
+  return st;
+}
+
+static satf_status fit(run *u, satf_error *err) {
+  const satf_import_options *o = u->o;
+  int n = u->r->n_clusters;
+  u->fits = calloc((size_t)n, sizeof *u->fits);
+  u->fp = satf_import_fit_params_default();
+  u->fp.n_ctrl = (int)o->control;
+  u->fp.samples = u->fp.n_ctrl * 4 > 32 ? u->fp.n_ctrl * 4 : 32;
+  u->fp.min_radius = 0.5f * satf_strand_set_root_spacing(u->all);
+  satf_progress bar;
+  satf_progress_begin(&bar, stderr, "fitting", "clusters", 1, o->quiet);
+  satf_error why;
+  satf_status st =
+      u->fits
+          ? satf_import_fit_all(u->all, u->labels, n, &u->fp, (int)o->threads,
+                                u->fits, progress_cb, &bar, &why)
+          : satf_error_set(&why, SATF_ERR_NOMEM, "out of memory");
+  satf_progress_end(&bar);
+  if (st != SATF_OK)
+    return satf_error_set(err, st, "fitting failed: %s", why.message);
+  return SATF_OK;
+}
+
+static int cmp_float(const void *a, const void *b) {
+  float x = *(const float *)a, y = *(const float *)b;
+  return (x > y) - (x < y);
+}
+
+/* The VDB voxel: a sixth of the median cluster radius, no finer than 1/512
+ * of the hairstyle and coarse enough for the widest strand's footprint. */
+static float default_voxel(const satf_import_fit *fits, int n, float diag) {
+  float *r = malloc((size_t)n * sizeof(float));
+  float med = diag / 100.0f, widest = 0.0f;
+  if (r) {
+    for (int c = 0; c < n; c++)
+      r[c] = fits[c].radius;
+    qsort(r, (size_t)n, sizeof(float), cmp_float);
+    med = r[n / 2];
+    free(r);
+  }
+  for (int c = 0; c < n; c++) {
+    float s = satf_import_world_sigma(&fits[c]);
+    widest = s > widest ? s : widest;
+  }
+  float v = med / 6.0f;
+  v = v > diag / 512.0f ? v : diag / 512.0f;
+  v = v > widest / 20.0f ? v : widest / 20.0f;
+  return v;
+}
+
+/* The VDB path as the scene should name it: its file name when it sits in
+ * the scene's directory, else its absolute path. */
+static void scene_vdb_name(const char *scene, const char *vdb, char *out,
+                           size_t size) {
+  char sdir[PATH_MAX], vreal[PATH_MAX], tmp[PATH_MAX];
+  snprintf(tmp, sizeof tmp, "%s", scene);
+  char *slash = strrchr(tmp, '/');
+  if (slash)
+    *slash = '\0';
+  else
+    snprintf(tmp, sizeof tmp, ".");
+  if (!realpath(tmp, sdir) || !realpath(vdb, vreal)) {
+    snprintf(out, size, "%s", vdb);
+    return;
+  }
+  char *vslash = strrchr(vreal, '/');
+  size_t dl = (size_t)(vslash - vreal);
+  if (strlen(sdir) == dl && strncmp(sdir, vreal, dl) == 0)
+    snprintf(out, size, "%s", vslash + 1);
+  else
+    snprintf(out, size, "%s", vreal);
+}
+
+static satf_status density_grid(run *u, satf_error *err) {
+  const satf_import_options *o = u->o;
+  float lo[3], hi[3];
+  satf_strand_set_bounds(u->all, lo, hi);
+  float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+                     (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                     (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  u->r->voxel = o->voxel > 0.0 ? (float)o->voxel
+                               : default_voxel(u->fits, u->r->n_clusters, diag);
+  satf_vdb_builder *b = NULL;
+  satf_progress bar;
+  satf_progress_begin(&bar, stderr, "density", "strands", 1, o->quiet);
+  satf_status st = satf_import_build_vdb(
+      u->all, u->labels, u->fits, u->r->voxel, &b, progress_cb, &bar, err);
+  satf_progress_end(&bar);
+  if (st == SATF_OK)
+    st = satf_vdb_builder_write(b, o->vdb, "density", err);
+  if (st == SATF_OK) {
+    satf_vdb_grid *g = NULL;
+    if (satf_vdb_builder_to_grid(b, &g, err) == SATF_OK)
+      u->r->vdb_mass = satf_vdb_total_mass(g);
+    satf_vdb_grid_destroy(g);
+  }
+  satf_vdb_builder_destroy(b);
+  if (st == SATF_OK)
+    scene_vdb_name(o->output, o->vdb, u->vdb_name, sizeof u->vdb_name);
+  return st;
+}
+
+/* The scene, with keys for a sequence, written once. */
+static satf_status write_scene(run *u, satf_error *err) {
+  const satf_import_options *o = u->o;
+  char desc[512];
+  snprintf(desc, sizeof desc,
+           "imported by satf-import from %s%s: %d strands in %d clusters "
+           "(%d macro-clusters)",
+           o->inputs[0], o->n_inputs > 1 ? " and more" : "", u->r->n_strands,
+           u->r->n_clusters, u->macro.n_macro);
+  satf_import_scene_options so = {
+      o->vdb ? u->vdb_name : NULL,  "density", o->database, desc, 0, 0, o->seed,
+      o->mesh ? u->mesh_path : NULL};
+  satf_scene *scene = NULL;
+  satf_status st = satf_import_scene_build(u->fits, u->r->n_clusters, &u->macro,
+                                           &so, o->output, &scene, err);
+  if (st == SATF_OK && o->sequence)
+    st = satf_import_sequence_keys(scene, o, u->labels, u->r->n_strands, &u->fp,
+                                   &u->macro, err);
+  if (st == SATF_OK)
+    st = satf_scene_write(scene, o->output, err);
+  satf_scene_destroy(scene);
+  return st;
+}
+
+/* Fit quality and density totals for the summary. */
+static void tally(run *u) {
+  satf_import_result *r = u->r;
+  for (int c = 0; c < r->n_clusters; c++) {
+    r->points += u->fits[c].points;
+    r->inside += u->fits[c].inside;
+    r->distance_sum += u->fits[c].distance_sum;
+    r->width_sum += u->fits[c].strand_width;
+    r->gradient += u->fits[c].layout == SATF_SCENE_LAYOUT_GRADIENT;
+  }
+  r->n_macro = u->macro.n_macro;
+  r->bytes_separate = u->macro.bytes_separate;
+  r->bytes_shared = u->macro.bytes_shared;
+}
+
+static satf_status steps(run *u, satf_error *err) {
+  satf_import_result *r = u->r;
+  satf_status st = SATF_OK;
+  if ((u->o->mesh && (st = check_mesh(u, err)) != SATF_OK) ||
+      (st = read_inputs(u, err)) != SATF_OK)
+    return st;
+  r->t_read = satf_now_seconds() - u->t0;
+  if ((st = cluster(u, err)) != SATF_OK)
+    return st;
+  r->t_cluster = satf_now_seconds() - u->t0;
+  if ((st = fit(u, err)) != SATF_OK)
+    return st;
+  r->t_fit = satf_now_seconds() - u->t0;
+  if ((st = satf_import_find_macro(u->fits, r->n_clusters,
+                                   (float)u->o->macro_tol, &u->macro, err)) !=
+      SATF_OK)
+    return st;
+  u->have_macro = 1;
+  r->t_vdb0 = satf_now_seconds() - u->t0;
+  if (u->o->vdb && (st = density_grid(u, err)) != SATF_OK)
+    return st;
+  r->t_vdb = satf_now_seconds() - u->t0;
+  if ((st = write_scene(u, err)) != SATF_OK)
+    return st;
+  r->t_end = satf_now_seconds() - u->t0;
+  tally(u);
+  r->peak_mb = peak_rss_mb();
+  return SATF_OK;
+}
+
+satf_status satf_import_run(const satf_import_options *o,
+                            satf_import_result *result, satf_error *err) {
+  run u;
+  memset(&u, 0, sizeof u);
+  memset(result, 0, sizeof *result);
+  u.o = o;
+  u.r = result;
+  u.t0 = satf_now_seconds();
+  satf_status st = steps(&u, err);
+  if (u.have_macro)
+    satf_import_macro_free(&u.macro);
+  for (int c = 0; u.fits && c < result->n_clusters; c++)
+    satf_import_fit_free(&u.fits[c]);
+  free(u.fits);
+  free(u.labels);
+  satf_strand_set_destroy(u.all);
+  return st;
+}
+
+void satf_import_print_summary(FILE *out, const char *prog,
+                               const satf_import_options *o,
+                               const satf_import_result *r) {
+  char b1[32], b2[32];
+  fprintf(out, "%s: %s\n", prog, o->output);
+  fprintf(out, "  strands          %d (%zu points, from %d file%s)\n",
+          r->n_strands, r->n_points, o->n_inputs, o->n_inputs > 1 ? "s" : "");
+  fprintf(out, "  clusters         %d (%s; k-means RMS %.4g)\n", r->n_clusters,
+          o->clusters ? "as asked" : "chosen from the data", r->rms);
+  fprintf(out,
+          "  macro-clusters   %d (tolerance %g): %s -> %s of cluster "
+          "parameters\n",
+          r->n_macro, o->macro_tol,
+          satf_format_bytes((double)r->bytes_separate, b1, sizeof b1),
+          satf_format_bytes((double)r->bytes_shared, b2, sizeof b2));
+  fprintf(out,
+          "  fit quality      %.1f%% of strand points inside their "
+          "cluster's envelope;\n"
+          "                   mean distance to the trajectory %.4g\n",
+          r->points ? 100.0 * (double)r->inside / (double)r->points : 0.0,
+          r->points ? r->distance_sum / (double)r->points : 0.0);
+  fprintf(out,
+          "  density          mean strand width %.3g cluster radii; %d of "
+          "%d clusters \"gradient\", the rest \"uniform\"\n",
+          r->width_sum / r->n_clusters, r->gradient, r->n_clusters);
+  if (o->vdb)
+    fprintf(out, "  vdb              %s (voxel %.4g, mass %.4g)\n", o->vdb,
+            (double)r->voxel, r->vdb_mass);
+  fprintf(out,
+          "  time             %.2f s (read %.2f, cluster %.2f, fit %.2f, "
+          "vdb %.2f, scene %.2f); peak memory %.0f MB\n",
+          r->t_end, r->t_read, r->t_cluster - r->t_read,
+          r->t_fit - r->t_cluster, r->t_vdb - r->t_vdb0, r->t_end - r->t_vdb,
+          r->peak_mb);
+}

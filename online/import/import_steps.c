@@ -1,0 +1,122 @@
+/* import_steps.c - the steps of an import that satf-import and the
+ * sequence import share: its options, reading a strand file whatever its
+ * format, and fitting every cluster in parallel. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "satf/common.h"
+#include "satf/import.h"
+
+satf_import_options satf_import_options_default(void) {
+  satf_import_options o;
+  memset(&o, 0, sizeof o);
+  o.follow = -1;
+  o.follow_radius = -1.0;
+  o.tip_separation = 0.5;
+  o.control = 8;
+  o.macro_tol = 0.05;
+  o.seed = 1;
+  return o;
+}
+
+static int has_suffix(const char *s, const char *suffix) {
+  size_t n = strlen(s), k = strlen(suffix);
+  return n >= k && strcmp(s + n - k, suffix) == 0;
+}
+
+satf_status satf_import_read_strands(const char *path,
+                                     const satf_import_options *o,
+                                     satf_strand_set **out, satf_error *err) {
+  FILE *f = fopen(path, "rb");
+  if (!f)
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot open", path);
+  char magic[4] = {0};
+  size_t got = fread(magic, 1, 4, f);
+  fclose(f);
+  if ((got == 4 && memcmp(magic, "HAIR", 4) == 0) || has_suffix(path, ".hair"))
+    return satf_hair_read(path, out, err);
+  satf_tfx_info info;
+  satf_strand_set *guides;
+  satf_status st = satf_tfx_read(path, &info, &guides, err);
+  if (st != SATF_OK)
+    return st;
+  satf_follow_params fp;
+  fp.count = o->follow >= 0 ? (int)o->follow : info.follow_per_guide;
+  fp.radius = o->follow_radius >= 0.0 ? (float)o->follow_radius
+                                      : satf_strand_set_root_spacing(guides);
+  fp.tip_separation = (float)o->tip_separation;
+  fp.seed = o->seed;
+  if (fp.count == 0) {
+    *out = guides;
+    return SATF_OK;
+  }
+  st = satf_strand_set_add_follow(guides, &fp, out, err);
+  satf_strand_set_destroy(guides);
+  return st;
+}
+
+typedef struct fit_job {
+  const satf_strand_set *strands;
+  const int *labels;
+  satf_import_fit *fits;
+  const satf_import_fit_params *fp;
+  satf_error *errs;
+  satf_import_progress_fn progress;
+  void *progress_ctx;
+} fit_job;
+
+/* Fits cluster c and estimates its density parameters. */
+static int fit_one(void *vctx, size_t c, int thread) {
+  (void)thread;
+  fit_job *j = vctx;
+  int *members, n;
+  satf_error *err = &j->errs[c];
+  int n_strands = satf_strand_set_count(j->strands);
+  if (satf_import_members(j->labels, n_strands, (int)c, &members, &n, err))
+    return 1;
+  satf_status st =
+      satf_import_fit_cluster(j->strands, members, n, j->fp, &j->fits[c], err);
+  satf_cluster *cl = NULL;
+  if (st == SATF_OK)
+    st = satf_import_fit_cluster_create(&j->fits[c], &cl, err);
+  satf_import_projection proj;
+  if (st == SATF_OK)
+    st = satf_import_project(j->strands, members, n, cl, &proj, err);
+  if (st == SATF_OK) {
+    satf_import_estimate_density(&proj, &j->fits[c]);
+    satf_import_projection_free(&proj);
+  }
+  satf_cluster_destroy(cl);
+  free(members);
+  return st != SATF_OK;
+}
+
+static void progress_cb(void *ctx, size_t done, size_t total) {
+  fit_job *j = ctx;
+  j->progress(j->progress_ctx, done, total);
+}
+
+satf_status satf_import_fit_all(const satf_strand_set *s, const int *labels,
+                                int n_clusters, const satf_import_fit_params *p,
+                                int threads, satf_import_fit *fits,
+                                satf_import_progress_fn progress,
+                                void *progress_ctx, satf_error *err) {
+  satf_error *errs = calloc((size_t)n_clusters, sizeof *errs);
+  if (!errs)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  fit_job job = {s, labels, fits, p, errs, progress, progress_ctx};
+  satf_status st = SATF_OK;
+  if (satf_parallel_for((size_t)n_clusters, threads, fit_one, &job,
+                        progress ? progress_cb : NULL, &job) != 0) {
+    const char *why = "out of memory";
+    for (int c = 0; c < n_clusters; c++)
+      if (errs[c].message[0]) {
+        why = errs[c].message;
+        break;
+      }
+    st = satf_error_set(err, SATF_ERR_FORMAT, "%s", why);
+  }
+  free(errs);
+  return st;
+}
