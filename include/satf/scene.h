@@ -20,7 +20,8 @@
  * without cycles: report (key paths, messages) -> values (typed JSON reads)
  * -> tracks (the one "keys" reader) -> parse_instance -> parse_cluster ->
  * parse -> load; snapshots use only check (validation), interp and the
- * keyframe data (anim); write and equal read the data model only. */
+ * keyframe data (anim); write reads the data model and uses check's
+ * normalization, equal reads the data model only. */
 #ifndef SATF_SCENE_H
 #define SATF_SCENE_H
 
