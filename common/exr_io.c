@@ -6,7 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 /* OpenEXRCore reports errors through a callback; keep the first message so
  * the satf_error can name the real cause rather than a bare code. */
 typedef struct exr_msg {

@@ -13,8 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "satf/common.h"
 #include "hrir_db_internal.h"
+#include "satf/common.h"
 
 #define FORMAT_NAME "satf-hrirdb"
 

@@ -19,9 +19,10 @@ extern "C" {
 #define SATF_FEATURES 3 /* rho_st, rho_s, rho_t */
 
 /* The record contract: what a database records and what a renderer must
- * match to read it (db/params.c). Generalized sectors (SATF paper sec. 3.2-3.3): a 2-D annular
- * region of a cluster's cross-section (a track between two radii, a span of
- * phase) carrying a hair density field on a grid in its (s, t) coordinates.
+ * match to read it (db/params.c). Generalized sectors (SATF paper
+ * sec. 3.2-3.3): a 2-D annular region of a cluster's cross-section (a track
+ * between two radii, a span of phase) carrying a hair density field on a grid
+ * in its (s, t) coordinates.
  *
  * Coordinates. The sector lies in its own plane, centred on the +x axis:
  * a point (s, t) in [0,1]^2 sits at radius r = r_inner + s (r_outer -

@@ -24,9 +24,6 @@ extern "C" {
  * C++ translation unit (online/vdb_openvdb.cpp) and no exception crosses
  * this interface. */
 
-
-
-
 typedef struct satf_vdb_grid satf_vdb_grid;
 typedef struct satf_vdb_builder satf_vdb_builder;
 
@@ -115,7 +112,6 @@ satf_status satf_vdb_write_mixed_test_file(const char *path, satf_error *err);
  * cluster's hair density, either procedural strands placed in the
  * cluster's normalised cross-section or an OpenVDB grid in world space, and
  * the density features (sec. 5.2) of every boundary sector of its shells. */
-
 
 /* Grid nodes per side used to sample a sector's density for its features. */
 #define SATF_SECTOR_GRID 8

@@ -53,9 +53,6 @@ void satf_bspline_eval(const float *ctrl, int n, int dim, double t,
  * A satf_cluster is immutable after satf_cluster_create: every query below
  * may run on many threads at once on one handle. */
 
-
-
-
 /* The modelling parameters H = Modeling(T(t), A(t), B(t), theta(t)) of
  * SATF eq. 2, as B-spline control polygons. The arrays are copied. */
 typedef struct satf_cluster_desc {
@@ -214,9 +211,6 @@ satf_status satf_cluster_build_layer_mesh_from(const satf_cluster *cluster,
  * meshes, zero on meshes read from files) and texture coordinates. Files
  * (OBJ, PLY) carry positions, normals and texture coordinates, not
  * tangents or layer_v. */
-
-
-
 
 typedef struct satf_mesh satf_mesh;
 

@@ -43,7 +43,6 @@ extern "C" {
  * choose their code path from it. Creation makes the context current on
  * the calling thread. All GL calls go through online/gl.h. */
 
-
 /* ---- headless (EGL) ---------------------------------------------------- */
 
 typedef struct satf_gl_context satf_gl_context;
@@ -103,8 +102,6 @@ void satf_gl_window_poll(satf_gl_window *win);
  * offscreen render targets (float colour attachments for the frame and its
  * AOVs, plus depth), read-back, and KHR_debug output. Needs a current
  * context (gl_context.h). Library satf_gl. */
-
-
 
 /* Drains glGetError; if any error was pending, fails with SATF_ERR_GL and
  * a message "LABEL: GL error GL_INVALID_ENUM[, ...]". */

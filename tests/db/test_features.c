@@ -9,8 +9,8 @@
 
 #include <cmocka.h>
 
-#include "satf/common.h"
 #include "kdtree.h"
+#include "satf/common.h"
 #include "satf/db.h"
 
 static void features_by_hand(void **state) {

@@ -8,8 +8,8 @@
 
 #include <cmocka.h>
 
-#include "satf/offline.h"
 #include "satf/db.h"
+#include "satf/offline.h"
 
 static satf_sector *make(int n, float sigma) {
   satf_sector_shape sh = satf_sector_shape_default();

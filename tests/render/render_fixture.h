@@ -9,9 +9,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "satf/render.h"
-#include "satf/offline.h"
 #include "satf/db.h"
+#include "satf/offline.h"
+#include "satf/render.h"
 #include "satf/scene.h"
 
 /* A database small enough to build in a fraction of a second yet with

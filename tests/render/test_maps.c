@@ -14,9 +14,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "satf/density.h"
 #include "maps.h"
 #include "render_fixture.h"
+#include "satf/density.h"
 #include "satf/geometry.h"
 
 #define PI 3.14159265358979323846

@@ -12,9 +12,9 @@
 
 #include <cmocka.h>
 
+#include "render_fixture.h"
 #include "satf/gl.h"
 #include "satf/render.h"
-#include "render_fixture.h"
 #include "satf/scene.h"
 #include "test_util.h"
 
