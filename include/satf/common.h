@@ -17,7 +17,8 @@
 extern "C" {
 #endif
 
-/* cli.h - the command-line argument loop every tool shares, and strict
+/* ---- Command lines ----
+ * the command-line argument loop every tool shares, and strict
  * parsing of command-line numbers. Each parser rejects empty strings,
  * trailing garbage, NaN/inf and values outside [lo, hi], and prints
  * "PROG: --flag: ..." to stderr so every tool words its errors the same.
@@ -92,7 +93,8 @@ int satf_cli_double(const char *prog, const char *flag, const char *text,
 int satf_cli_size(const char *prog, const char *flag, const char *text, long lo,
                   long hi, long *w, long *h);
 
-/* fileio.h - crash-safe output: write to "PATH.tmp-PID" next to the target,
+/* ---- Files ----
+ * crash-safe output: write to "PATH.tmp-PID" next to the target,
  * then rename into place, so a killed process never leaves a half-written
  * file under the final name. */
 
@@ -123,7 +125,8 @@ long long satf_file_size(const char *path);
 satf_status satf_read_file(const char *path, size_t max_bytes, void **data,
                            size_t *size, satf_error *err);
 
-/* parallel.h - a minimal parallel-for over pthreads. Work items are claimed
+/* ---- Parallel-for ----
+ * a minimal parallel-for over pthreads. Work items are claimed
  * from an atomic counter, so the result of each item must not depend on
  * which thread ran it. */
 
@@ -143,7 +146,8 @@ int satf_parallel_for(size_t count, int threads, satf_parallel_fn fn, void *ctx,
 /* Number of online processors (at least 1). */
 int satf_cpu_count(void);
 
-/* progress.h - progress reporting on stderr: a redrawn bar (percent, rate,
+/* ---- Progress ----
+ * progress reporting on stderr: a redrawn bar (percent, rate,
  * ETA) when stderr is a terminal, a plain line every few seconds otherwise,
  * so logs from CI and pipes stay readable. */
 
@@ -169,7 +173,8 @@ void satf_progress_end(satf_progress *p);
 /* Formats a byte count as "12.3 MB" into buf. */
 const char *satf_format_bytes(double bytes, char *buf, size_t size);
 
-/* rng.h - small deterministic random numbers (splitmix64 seeding, xoshiro128+
+/* ---- Random numbers ----
+ * small deterministic random numbers (splitmix64 seeding, xoshiro128+
  * style generation is not needed: splitmix64 alone is fast and passes
  * BigCrush for our use). Stream i of seed s is independent of thread count,
  * which is what makes database builds bit-identical across --threads. */
@@ -190,7 +195,8 @@ uint32_t satf_rng_below(satf_rng *rng, uint32_t n);
 /* Standard normal (Box-Muller, one value per call). */
 double satf_rng_normal(satf_rng *rng);
 
-/* exr_io.h - the one place satf reads and writes OpenEXR files, through
+/* ---- OpenEXR ----
+ * the one place satf reads and writes OpenEXR files, through
  * OpenEXRCore: single-part scanline images of planar float channels, plus a
  * callback for custom header attributes. Used by the HRIR database (whose
  * container is an EXR image) and by the renderer's frame output. */

@@ -14,7 +14,8 @@
 extern "C" {
 #endif
 
-/* vdb.h - world-space hair density fields stored as OpenVDB FloatGrids.
+/* ---- OpenVDB grids ----
+ * world-space hair density fields stored as OpenVDB FloatGrids.
  *
  * Owns two opaque handles: satf_vdb_grid, a read-only density grid that any
  * number of threads may sample at once, and satf_vdb_builder, which splats

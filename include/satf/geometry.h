@@ -14,7 +14,8 @@
 extern "C" {
 #endif
 
-/* bspline.h - uniform clamped (open-uniform) B-splines on t in [0,1], the
+/* ---- B-splines ----
+ * uniform clamped (open-uniform) B-splines on t in [0,1], the
  * curve family of SATF eq. 2 (trajectory T(t) in 3-D, radii A(t), B(t) and
  * twist theta(t) in 1-D).
  *
@@ -35,7 +36,8 @@ int satf_bspline_degree(int n);
 void satf_bspline_eval(const float *ctrl, int n, int dim, double t,
                        double *value, double *d1, double *d2);
 
-/* cluster.h - the geometry of one hair cluster (SATF paper sec. 3.2): a
+/* ---- Clusters ----
+ * the geometry of one hair cluster (SATF paper sec. 3.2): a
  * generalized cylinder swept by an ellipse along a 3-D B-spline, its layered
  * volumetric shells and the Hair Shell Volumes (HSVs) they divide into.
  *
@@ -182,7 +184,7 @@ satf_status satf_shell_hsv_sectors(const satf_cluster *cluster,
                                    satf_error *err);
 
 /* ---- Layer meshes (SATF sec. 6.1) ---- */
-typedef struct satf_mesh satf_mesh; /* satf/mesh.h */
+typedef struct satf_mesh satf_mesh; /* below */
 
 /* The mesh of layer k: its outer surface v_{k+1} as a grid of (st + 1) x
  * (su + 1) vertices (the u seam duplicated so texture coordinates run over
@@ -202,7 +204,8 @@ satf_status satf_cluster_build_layer_mesh_from(const satf_cluster *cluster,
                                                satf_mesh **out,
                                                satf_error *err);
 
-/* mesh.h - triangle meshes for rasterisation: the cluster layer meshes
+/* ---- Meshes ----
+ * triangle meshes for rasterisation: the cluster layer meshes
  * (SATF sec. 6.1) and opaque meshes such as heads. A C front end to an
  * OpenMesh TriMesh (online/mesh_openmesh.cpp); the data is also kept as
  * plain arrays ready for a GL upload.

@@ -29,12 +29,13 @@ extern "C" {
  * functions exported by libOpenGL (up to 4.5) may be called directly;
  * extension-only functions need eglGetProcAddress/glfwGetProcAddress. */
 
-/* gl_context.h - owns the creation of OpenGL contexts.
+/* ---- Contexts ----
+ * owns the creation of OpenGL contexts.
  *
  * Two kinds, each in its own library so a headless tool never links GLFW
  * or needs an X display:
  *   satf_gl_context (library satf_gl): a headless EGL context with no
- *     default framebuffer; render into a satf_gl_target (gl_util.h).
+ *     default framebuffer; render into a satf_gl_target (below).
  *   satf_gl_window (library satf_glfw): a GLFW window and its context, for
  *     the interactive viewer.
  * Both ask for the newest core profile first (4.6, 4.5, 4.3: SSBOs, atomic
@@ -97,11 +98,12 @@ void satf_gl_window_swap(satf_gl_window *win);
 /* Processes pending window-system events (all windows). */
 void satf_gl_window_poll(satf_gl_window *win);
 
-/* gl_util.h - owns the small OpenGL plumbing every pass needs: error
+/* ---- Helpers ----
+ * owns the small OpenGL plumbing every pass needs: error
  * checks, shader/program building with the driver's log in the error,
  * offscreen render targets (float colour attachments for the frame and its
  * AOVs, plus depth), read-back, and KHR_debug output. Needs a current
- * context (gl_context.h). Library satf_gl. */
+ * context (above). */
 
 /* Drains glGetError; if any error was pending, fails with SATF_ERR_GL and
  * a message "LABEL: GL error GL_INVALID_ENUM[, ...]". */

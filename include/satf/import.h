@@ -1,4 +1,9 @@
-/* strands.h - hair given as strands (polylines), the way artists and
+/* import.h - strand hair into satf scenes (online/import/): strand sets and
+ * the .hair/.tfx readers and writers, clustering, fitting, macro-clusters,
+ * density and the scene the importer writes.
+ *
+ * ---- Strands ----
+ * Hair given as strands (polylines), the way artists and
  * simulators store it, and the readers and writers of two common strand
  * formats: Cem Yuksel's cyHair `.hair` and AMD TressFX `.tfx` (3.x and 4.x
  * layouts). The byte layouts are documented in the project's data README.

@@ -100,7 +100,8 @@ satf_status satf_trace_all(const satf_sector *sector,
                            const satf_trace_params *p, int n_view, int n_light,
                            float *re, float *alpha, satf_error *err);
 
-/* build.h - building an HRIR database (SATF sec. 5): random generalized
+/* ---- Builds ----
+ * building an HRIR database (SATF sec. 5): random generalized
  * sectors, planar ray traced under every view x light azimuth pair. */
 
 /* Called on the calling thread about every 100 ms with samples done. */

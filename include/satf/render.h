@@ -86,9 +86,9 @@ satf_status satf_image_write_png_layer(const satf_image *img, const char *layer,
 
 /* The renderer: the online phase of SATF (paper sec. 6) on OpenGL 4.3+:
  * per frame, database look-ups build each shell layer's re/alpha/s-maps
- * (maps.h), layers are lit with Kajiya-Kay diffuse and two shifted
- * highlights, shadowed by the s-maps (eq. 12) and a deep opacity map from
- * the key light, and composited order-independently (eq. 14) through
+ * (online/render/maps.h), layers are lit with Kajiya-Kay diffuse and two
+ * shifted highlights, shadowed by the s-maps (eq. 12) and a deep opacity map
+ * from the key light, and composited order-independently (eq. 14) through
  * per-pixel fragment lists. The caller owns the GL context (headless EGL or
  * a GLFW window) and keeps it current. */
 
