@@ -1,10 +1,11 @@
 /* fileio.c - crash-safe output and capped input, declared in
  * satf/common.h. */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "satf/common.h"
 
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -111,5 +112,68 @@ satf_status satf_read_file(const char *path, size_t max_bytes, void **data,
   buf[n] = '\0';
   *data = buf;
   *size = n;
+  return SATF_OK;
+}
+
+/* A file's identity: device and inode when it exists; otherwise the
+ * canonical directory plus its name (dev = ino = 0). */
+typedef struct file_key {
+  dev_t dev;
+  ino_t ino;
+  char name[PATH_MAX + NAME_MAX + 2];
+} file_key;
+
+static void file_key_of(const char *path, file_key *k) {
+  struct stat sb;
+  memset(k, 0, sizeof *k);
+  if (stat(path, &sb) == 0) {
+    k->dev = sb.st_dev;
+    k->ino = sb.st_ino;
+    return;
+  }
+  char dir[PATH_MAX], resolved[PATH_MAX];
+  const char *slash = strrchr(path, '/');
+  const char *base = slash ? slash + 1 : path;
+  size_t dlen = slash ? (size_t)(slash - path) : 0;
+  if (dlen >= sizeof dir)
+    dlen = sizeof dir - 1;
+  memcpy(dir, path, dlen);
+  dir[dlen] = '\0';
+  if (!slash)
+    snprintf(dir, sizeof dir, ".");
+  else if (dlen == 0)
+    snprintf(dir, sizeof dir, "/");
+  if (realpath(dir, resolved))
+    snprintf(k->name, sizeof k->name, "%s/%s", resolved, base);
+  else
+    snprintf(k->name, sizeof k->name, "%s", path);
+}
+
+static int same_key(const file_key *a, const file_key *b) {
+  if (a->ino || b->ino)
+    return a->ino == b->ino && a->dev == b->dev;
+  return strcmp(a->name, b->name) == 0;
+}
+
+satf_status satf_check_distinct_files(const satf_file_role *files, int n,
+                                      satf_error *err) {
+  for (int i = 0; i < n; i++) {
+    if (!files[i].path || !files[i].is_output)
+      continue;
+    file_key ki;
+    file_key_of(files[i].path, &ki);
+    for (int j = 0; j < n; j++) {
+      if (j == i || !files[j].path || (files[j].is_output && j < i))
+        continue;
+      file_key kj;
+      file_key_of(files[j].path, &kj);
+      if (same_key(&ki, &kj))
+        return satf_error_set(err, SATF_ERR_ARGUMENT,
+                              "%s %s is the same file as %s %s: refusing to "
+                              "overwrite it",
+                              files[i].what, files[i].path, files[j].what,
+                              files[j].path);
+    }
+  }
   return SATF_OK;
 }

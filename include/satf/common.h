@@ -125,6 +125,24 @@ long long satf_file_size(const char *path);
 satf_status satf_read_file(const char *path, size_t max_bytes, void **data,
                            size_t *size, satf_error *err);
 
+/* One file named on a command line: what it is ("the scene", "-o") and
+ * whether the program writes it. */
+typedef struct satf_file_role {
+  const char *what;
+  const char *path; /* NULL: not given, skipped */
+  int is_output;
+} satf_file_role;
+
+/* Refuses (SATF_ERR_ARGUMENT, "OUTPUT-WHAT PATH is the same file as
+ * OTHER-WHAT PATH") when an output names the same file as an input or as
+ * another output, however it is spelt: existing files compare by device
+ * and inode (symbolic links followed, hard links caught), files still to
+ * be written by their resolved directory and name. Outputs are written
+ * through a temporary file renamed into place, so without this check the
+ * rename would silently replace the input. */
+satf_status satf_check_distinct_files(const satf_file_role *files, int n,
+                                      satf_error *err);
+
 /* ---- Parallel-for ----
  * a minimal parallel-for over pthreads. Work items are claimed
  * from an atomic counter, so the result of each item must not depend on

@@ -83,6 +83,10 @@ satf_status satf_image_write_png(const satf_image *img, const char *path,
  * single channel named LAYER (e.g. "shadow"), written as 8-bit grey. */
 satf_status satf_image_write_png_layer(const satf_image *img, const char *layer,
                                        const char *path, satf_error *err);
+/* Decodes the whole PNG at path (so a truncated file fails) and gives its
+ * size; for checking that a frame's preview is complete. */
+satf_status satf_image_png_size(const char *path, int *width, int *height,
+                                satf_error *err);
 
 /* The renderer: the online phase of SATF (paper sec. 6) on OpenGL 4.3+:
  * per frame, database look-ups build each shell layer's re/alpha/s-maps
@@ -201,7 +205,7 @@ typedef struct satf_sequence_opts {
                                 out/frame_%04d.exr; may be NULL */
   const char *png_pattern;   /* the same for PNG previews; may be NULL */
   const char *contact_sheet; /* PNG of all frames' thumbnails; may be NULL */
-  int resume;                /* skip frames whose EXR already reads back */
+  int resume;                /* skip frames whose every output is complete */
   int aovs;
   int quiet;
 } satf_sequence_opts;

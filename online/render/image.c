@@ -332,3 +332,30 @@ satf_status satf_image_write_png(const satf_image *img, const char *path,
                                  satf_error *err) {
   return satf_image_write_png_layer(img, "", path, err);
 }
+
+satf_status satf_image_png_size(const char *path, int *width, int *height,
+                                satf_error *err) {
+  png_image png;
+  memset(&png, 0, sizeof png);
+  png.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&png, path))
+    return satf_error_set(err, SATF_ERR_FORMAT, "%s: not a readable PNG: %s",
+                          path, png.message);
+  png.format = PNG_FORMAT_RGBA;
+  size_t bytes = PNG_IMAGE_SIZE(png);
+  void *pixels =
+      png.width <= 16384 && png.height <= 16384 ? malloc(bytes) : NULL;
+  if (!pixels) {
+    png_image_free(&png);
+    return satf_error_set(err, SATF_ERR_FORMAT, "%s: PNG of %ux%u pixels", path,
+                          png.width, png.height);
+  }
+  int ok = png_image_finish_read(&png, NULL, pixels, 0, NULL);
+  free(pixels);
+  if (!ok)
+    return satf_error_set(err, SATF_ERR_CORRUPT, "%s: damaged PNG: %s", path,
+                          png.message);
+  *width = (int)png.width;
+  *height = (int)png.height;
+  return SATF_OK;
+}

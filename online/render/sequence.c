@@ -38,16 +38,37 @@ static void frame_path(const char *pattern, int frame, char *out, size_t size) {
 #pragma GCC diagnostic pop
 }
 
-/* A frame counts as done when its EXR decodes completely. */
-static int frame_complete(const char *path) {
-  const char *names[1] = {"A"};
-  float *plane = NULL;
+/* The EXR at path decodes completely at w x h, with the AOV layers when
+ * they were asked for ("shadow" stands for them: written last). */
+static int exr_complete(const char *path, int w, int h, int aovs) {
+  const char *names[2] = {"A", "shadow"};
+  float *planes[2] = {NULL, NULL};
+  int fw = 0, fh = 0;
+  satf_status st = satf_exr_read(path, names, aovs ? 2 : 1, 1LL << 28, NULL,
+                                 NULL, &fw, &fh, planes, NULL);
+  free(planes[0]);
+  free(planes[1]);
+  return st == SATF_OK && fw == w && fh == h;
+}
+
+static int png_complete(const char *path, int w, int h) {
+  int fw = 0, fh = 0;
+  return satf_image_png_size(path, &fw, &fh, NULL) == SATF_OK && fw == w &&
+         fh == h;
+}
+
+/* --resume skips a frame only when every output it asks for is on disk,
+ * complete and of this run's size (a missing PNG, or a frame rendered at
+ * another --size, is rendered again), and the contact sheet can take its
+ * thumbnail from the EXR. */
+static int frame_done(const satf_renderer *r, const satf_sequence_opts *o,
+                      const char *exr, const char *png) {
   int w, h;
-  if (satf_exr_read(path, names, 1, 1LL << 28, NULL, NULL, &w, &h, &plane,
-                    NULL) != SATF_OK)
+  satf_renderer_size(r, &w, &h);
+  if (!o->resume || (!exr[0] && !png[0]) || (o->contact_sheet && !exr[0]))
     return 0;
-  free(plane);
-  return 1;
+  return (!exr[0] || exr_complete(exr, w, h, o->aovs)) &&
+         (!png[0] || png_complete(png, w, h));
 }
 
 enum { SHEET_COLUMNS = 8, SHEET_SCALE = 4 };
@@ -213,7 +234,7 @@ satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
       frame_path(o->exr_pattern, f, exr, sizeof exr);
     if (o->png_pattern)
       frame_path(o->png_pattern, f, png, sizeof png);
-    if (o->resume && exr[0] && frame_complete(exr)) {
+    if (frame_done(r, o, exr, png)) {
       if (sh.img)
         st = sheet_from_file(&sh, exr, f - o->first, err);
       stats->skipped++;

@@ -233,6 +233,41 @@ static void failed_commit_removes_the_temp_file(void **state) {
   assert_int_equal(satf_file_size(tmp), -1);
 }
 
+/* Outputs never name an input or another output, however spelt. */
+static void distinct_files_catch_every_spelling(void **state) {
+  (void)state;
+  char dir[512], in[600], alias[700], sym[600], hard[600], out[600];
+  scratch(dir, sizeof dir, "distinct");
+  snprintf(in, sizeof in, "%s/in.json", dir);
+  put(in, "{}", 2);
+  snprintf(alias, sizeof alias, "%s/./../distinct/in.json", dir);
+  snprintf(sym, sizeof sym, "%s/link.json", dir);
+  assert_int_equal(symlink("in.json", sym), 0);
+  snprintf(hard, sizeof hard, "%s/hard.json", dir);
+  assert_int_equal(link(in, hard), 0);
+  snprintf(out, sizeof out, "%s/new.exr", dir);
+  const char *same_as_in[] = {in, alias, sym, hard};
+  satf_error err;
+  for (int i = 0; i < 4; i++) {
+    satf_file_role f[] = {{"the scene", in, 0}, {"-o", same_as_in[i], 1}};
+    assert_int_equal(satf_check_distinct_files(f, 2, &err), SATF_ERR_ARGUMENT);
+    assert_non_null(strstr(err.message, "is the same file as the scene"));
+  }
+  /* two outputs that do not exist yet, spelt differently */
+  char out2[700];
+  snprintf(out2, sizeof out2, "%s/../distinct/new.exr", dir);
+  satf_file_role two[] = {
+      {"the scene", in, 0}, {"-o", out, 1}, {"--png", out2, 1}};
+  assert_int_equal(satf_check_distinct_files(two, 3, &err), SATF_ERR_ARGUMENT);
+  assert_non_null(strstr(err.message, "--png"));
+  /* distinct files, absent options and two identical inputs are fine */
+  satf_file_role ok[] = {{"the scene", in, 0},
+                         {"--db", in, 0},
+                         {"-o", out, 1},
+                         {"--png", NULL, 1}};
+  assert_int_equal(satf_check_distinct_files(ok, 4, &err), SATF_OK);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(read_file_returns_content_up_to_the_exact_cap),
@@ -244,6 +279,7 @@ int main(void) {
       cmocka_unit_test(atomic_write_into_a_missing_directory_fails_cleanly),
       cmocka_unit_test(temp_path_sits_beside_the_target),
       cmocka_unit_test(failed_commit_removes_the_temp_file),
+      cmocka_unit_test(distinct_files_catch_every_spelling),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -89,12 +89,17 @@ static int cmd_verify(const char *path) {
 }
 
 static int cmd_atlas(const char *path, const char *out) {
+  satf_file_role files[] = {{"the database", path, 0}, {"-o", out, 1}};
+  satf_error err;
+  if (satf_check_distinct_files(files, 2, &err) != SATF_OK) {
+    fprintf(stderr, "%s: %s\n", PROG, err.message);
+    return 2;
+  }
   satf_db *db = NULL;
   if (load(path, &db))
     return 1;
   int w, h;
   satf_db_atlas_size(db, &w, &h);
-  satf_error err;
   satf_error_clear(&err);
   satf_status st = satf_db_write_atlas(db, out, &err);
   satf_db_destroy(db);

@@ -142,6 +142,21 @@ static int check_sequence(satf_import_options *o) {
   return 0;
 }
 
+/* No output may overwrite an input or another output. */
+static int check_files(const satf_import_options *o) {
+  satf_file_role files[SATF_IMPORT_MAX_INPUTS + 3] = {
+      {"-o", o->output, 1}, {"--vdb", o->vdb, 1}, {"--mesh", o->mesh, 0}};
+  int n = 3;
+  for (int i = 0; i < o->n_inputs && !o->sequence; i++)
+    files[n++] = (satf_file_role){"the input", o->inputs[i], 0};
+  satf_error err;
+  if (satf_check_distinct_files(files, n, &err) != SATF_OK) {
+    fprintf(stderr, "%s: %s\n", PROG, err.message);
+    return 2;
+  }
+  return 0;
+}
+
 /* 0: run; 1: done (--help); 2: a usage error (printed). */
 static int parse_args(int argc, char **argv, satf_import_options *o) {
   *o = satf_import_options_default();
@@ -174,7 +189,7 @@ static int parse_args(int argc, char **argv, satf_import_options *o) {
             PROG);
     return 2;
   }
-  return 0;
+  return check_files(o);
 }
 
 int main(int argc, char **argv) {

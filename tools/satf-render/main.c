@@ -129,6 +129,16 @@ static int check_args(const options *o) {
             PROG);
     return 2;
   }
+  satf_file_role files[] = {{"the scene", o->scene_path, 0},
+                            {"--db", o->db_path, 0},
+                            {"-o", o->exr, 1},
+                            {"--png", o->png, 1},
+                            {"--contact-sheet", o->sheet, 1}};
+  satf_error err;
+  if (satf_check_distinct_files(files, 5, &err) != SATF_OK) {
+    fprintf(stderr, "%s: %s\n", PROG, err.message);
+    return 2;
+  }
   return -1;
 }
 
