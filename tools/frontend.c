@@ -118,22 +118,6 @@ satf_status satf_frontend_frame_range(const satf_scene *scene, const char *text,
   return SATF_OK;
 }
 
-satf_status satf_frontend_write_png(const satf_image *img, const char *path,
-                                    satf_error *err) {
-  const char *names[3] = {"R", "G", "B"};
-  int w = satf_image_width(img), h = satf_image_height(img);
-  satf_image *rgb = NULL;
-  satf_status st = satf_image_create(w, h, names, 3, &rgb, err);
-  for (int c = 0; c < 3 && st == SATF_OK; c++)
-    memcpy(satf_image_plane(rgb, c),
-           satf_image_const_plane(img, satf_image_channel_index(img, names[c])),
-           (size_t)w * (size_t)h * sizeof(float));
-  if (st == SATF_OK)
-    st = satf_image_write_png(rgb, path, err);
-  satf_image_destroy(rgb);
-  return st;
-}
-
 /* Rotates the eye about the up axis through the target (Rodrigues). */
 static void orbit(satf_scene_camera *cam, const satf_scene_camera *start,
                   float angle) {

@@ -42,11 +42,6 @@ void satf_frontend_table_row(FILE *out, const char *name,
 satf_status satf_frontend_frame_range(const satf_scene *scene, const char *text,
                                       int *first, int *last, satf_error *err);
 
-/* Writes the composite (img's R, G, B over the background) as an opaque
- * sRGB PNG. */
-satf_status satf_frontend_write_png(const satf_image *img, const char *path,
-                                    satf_error *err);
-
 /* Table 1's measurement: one warm-up frame, then `frames` timed frames of
  * the scene's animation, or, for a static scene, of the camera orbiting its
  * target once. Fills the mean stage times and the frame rate; on success

@@ -83,6 +83,10 @@ satf_status satf_image_write_png(const satf_image *img, const char *path,
  * single channel named LAYER (e.g. "shadow"), written as 8-bit grey. */
 satf_status satf_image_write_png_layer(const satf_image *img, const char *layer,
                                        const char *path, satf_error *err);
+/* Writes the composite (R, G, B over the background) as an opaque sRGB
+ * PNG: the preview of a rendered frame. */
+satf_status satf_image_write_png_rgb(const satf_image *img, const char *path,
+                                     satf_error *err);
 /* Decodes the whole PNG at path (so a truncated file fails) and gives its
  * size; for checking that a frame's preview is complete. */
 satf_status satf_image_png_size(const char *path, int *width, int *height,

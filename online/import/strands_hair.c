@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "le_bytes.h"
 #include "satf/common.h"
 #include "satf/import.h"
 
@@ -177,18 +178,6 @@ float satf_strand_set_length(const satf_strand_set *s, int i) {
 
 /* ---- cyHair ------------------------------------------------------------ */
 
-static uint32_t le32(const unsigned char *p) {
-  return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 |
-         (uint32_t)p[3] << 24;
-}
-
-static float lef32(const unsigned char *p) {
-  uint32_t u = le32(p);
-  float f;
-  memcpy(&f, &u, sizeof f);
-  return f;
-}
-
 /* The byte size the header promises, in 64 bits so absurd counts cannot
  * wrap. */
 static uint64_t hair_expected_size(uint32_t flags, uint64_t hairs,
@@ -331,19 +320,6 @@ satf_status satf_hair_read(const char *path, satf_strand_set **out,
     st = satf_hair_parse(data, size, path, out, err);
   free(data);
   return st;
-}
-
-static void put32(unsigned char *p, uint32_t v) {
-  p[0] = (unsigned char)v;
-  p[1] = (unsigned char)(v >> 8);
-  p[2] = (unsigned char)(v >> 16);
-  p[3] = (unsigned char)(v >> 24);
-}
-
-static void putf32(unsigned char *p, float f) {
-  uint32_t u;
-  memcpy(&u, &f, sizeof u);
-  put32(p, u);
 }
 
 satf_status satf_hair_write(const char *path, const satf_strand_set *s,

@@ -17,37 +17,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "le_bytes.h"
 #include "satf/common.h"
 #include "satf/import.h"
 #include "satf/math.h"
 
 enum { TFX3_HEADER = 296, TFX3_OFFSETS = 144, TFX4_HEADER = 160 };
 #define TFX_MAX_VERTICES 4096
-
-static uint32_t le32(const unsigned char *p) {
-  return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 |
-         (uint32_t)p[3] << 24;
-}
-
-static float lef32(const unsigned char *p) {
-  uint32_t u = le32(p);
-  float f;
-  memcpy(&f, &u, sizeof f);
-  return f;
-}
-
-static void put32(unsigned char *p, uint32_t v) {
-  p[0] = (unsigned char)v;
-  p[1] = (unsigned char)(v >> 8);
-  p[2] = (unsigned char)(v >> 16);
-  p[3] = (unsigned char)(v >> 24);
-}
-
-static void putf32(unsigned char *p, float f) {
-  uint32_t u;
-  memcpy(&u, &f, sizeof u);
-  put32(p, u);
-}
 
 static satf_status check_counts(const char *name, uint32_t strands,
                                 uint32_t vertices, satf_error *err) {

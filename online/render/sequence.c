@@ -118,22 +118,6 @@ static satf_status sheet_from_file(sheet *s, const char *path, int i,
   return st;
 }
 
-static satf_status write_png_rgb(const satf_image *img, const char *path,
-                                 satf_error *err) {
-  const char *names[3] = {"R", "G", "B"};
-  satf_image *rgb = NULL;
-  int w = satf_image_width(img), h = satf_image_height(img);
-  satf_status st = satf_image_create(w, h, names, 3, &rgb, err);
-  for (int c = 0; c < 3 && st == SATF_OK; c++)
-    memcpy(satf_image_plane(rgb, c),
-           satf_image_const_plane(img, satf_image_channel_index(img, names[c])),
-           (size_t)w * (size_t)h * sizeof(float));
-  if (st == SATF_OK)
-    st = satf_image_write_png(rgb, path, err);
-  satf_image_destroy(rgb);
-  return st;
-}
-
 /* The output patterns and the frame range. */
 static satf_status check_opts(const satf_sequence_opts *o, satf_error *err) {
   satf_status st = SATF_OK;
@@ -183,7 +167,7 @@ static satf_status render_one(satf_renderer *r, const satf_scene *scene,
   if (st == SATF_OK && exr[0])
     st = satf_image_write_exr(img, exr, err);
   if (st == SATF_OK && png[0])
-    st = write_png_rgb(img, png, err);
+    st = satf_image_write_png_rgb(img, png, err);
   if (st == SATF_OK && sh->img) {
     const float *rgb[3] = {satf_image_const_plane(img, 0),
                            satf_image_const_plane(img, 1),

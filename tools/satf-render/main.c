@@ -202,7 +202,7 @@ static satf_status render_still(const options *o, satf_renderer *r,
   if (st == SATF_OK && o->exr)
     st = satf_image_write_exr(img, o->exr, err);
   if (st == SATF_OK && o->png)
-    st = satf_frontend_write_png(img, o->png, err);
+    st = satf_image_write_png_rgb(img, o->png, err);
   satf_image_destroy(img);
   if (st == SATF_OK && !o->quiet)
     printf("%s: %s%s%s: %ldx%ld, %ld clusters, %ld layers, %.1fK HSVs, "

@@ -157,7 +157,7 @@ static satf_status save_frame(satf_renderer *r, const char *base,
   if (st == SATF_OK)
     st = satf_image_write_exr(img, exr, err);
   if (st == SATF_OK)
-    st = satf_frontend_write_png(img, png, err);
+    st = satf_image_write_png_rgb(img, png, err);
   satf_image_destroy(img);
   if (st == SATF_OK)
     fprintf(stderr, "%s: saved %s and %s\n", PROG, exr, png);
