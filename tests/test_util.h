@@ -21,7 +21,8 @@ static inline const char *test_path(char *buf, size_t size, const char *name) {
   return buf;
 }
 
-/* The whole file (malloc'd, caller frees); fails the test if unreadable. */
+/* The whole file (malloc'd, caller frees, NUL-terminated after *size
+ * bytes); fails the test if unreadable. */
 static inline unsigned char *test_read_file(const char *path, size_t *size) {
   FILE *f = fopen(path, "rb");
   assert_non_null(f);
@@ -29,10 +30,11 @@ static inline unsigned char *test_read_file(const char *path, size_t *size) {
   long n = ftell(f);
   fseek(f, 0, SEEK_SET);
   assert_true(n >= 0);
-  unsigned char *buf = malloc(n > 0 ? (size_t)n : 1);
+  unsigned char *buf = malloc((size_t)n + 1);
   assert_non_null(buf);
   assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
   fclose(f);
+  buf[n] = '\0';
   *size = (size_t)n;
   return buf;
 }

@@ -14,23 +14,12 @@
 
 #include <cmocka.h>
 
+#include "satf/math.h"
 #include "satf/scene.h"
+#include "scene_cases.h"
 
-#define PI 3.14159265358979323846
-
-static satf_scene *parse_ok(const char *json) {
-  satf_scene *scene = NULL;
-  satf_error err;
-  satf_error_clear(&err);
-  satf_status s =
-      satf_scene_parse(json, strlen(json), "anim.json", &scene, &err);
-  if (s != SATF_OK)
-    fprintf(stderr, "unexpected failure: %s\n", err.message);
-  assert_int_equal(s, SATF_OK);
-  assert_non_null(scene);
-  for (int i = 0; i < satf_scene_warning_count(scene); i++)
-    fprintf(stderr, "warning: %s\n", satf_scene_warning(scene, i));
-  return scene;
+static satf_scene *parse_anim(const char *json) {
+  return parse_ok(json, "anim.json");
 }
 
 static satf_scene *at(const satf_scene *scene, double frame) {
@@ -43,13 +32,6 @@ static satf_scene *at(const satf_scene *scene, double frame) {
   assert_non_null(snap);
   assert_false(satf_scene_is_animated(snap));
   return snap;
-}
-
-static void assert_near(double got, double want, double tol) {
-  if (!(fabs(got - want) <= tol)) {
-    fprintf(stderr, "got %.9g, want %.9g (+- %g)\n", got, want, tol);
-    fail();
-  }
 }
 
 static void assert_vec(const float *got, const double *want, int n,
@@ -109,7 +91,7 @@ static const char *const KEYED =
 
 static void test_keys_hit_exactly(void **state) {
   (void)state;
-  satf_scene *scene = parse_ok(KEYED);
+  satf_scene *scene = parse_anim(KEYED);
   assert_int_equal(satf_scene_warning_count(scene), 0);
   assert_true(satf_scene_is_animated(scene));
   int first, last;
@@ -247,7 +229,7 @@ static int snapshot_values(const satf_scene *s, float *out, int cap) {
 
 static void test_continuous_between_keys(void **state) {
   (void)state;
-  satf_scene *scene = parse_ok(KEYED);
+  satf_scene *scene = parse_anim(KEYED);
   static const double keys[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12.5, 15};
   float v0[256], vm[256], vp[256];
   for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++) {
@@ -317,7 +299,7 @@ static double cubic_x(const satf_scene *scene, int track, double frame) {
 
 static void test_cubic_is_c1(void **state) {
   (void)state;
-  satf_scene *scene = parse_ok(CUBIC);
+  satf_scene *scene = parse_anim(CUBIC);
   static const double key_frames[2] = {2, 7}, tangent[2] = {-1.0 / 7, -1.0 / 8};
   const double h = 1e-3;
   for (int track = 0; track < 3; track++) {
@@ -337,7 +319,7 @@ static void test_cubic_is_c1(void **state) {
   satf_scene_destroy(scene);
 
   /* Two keys: the cubic reduces to a straight line. */
-  satf_scene *two = parse_ok(
+  satf_scene *two = parse_anim(
       "{\"animation\": {\"frames\": [1, 5]},"
       " \"macro_clusters\": [{\"prototype\": {"
       "   \"trajectory\": [[0,0,0],[0,1,0]], \"a\": 0.5, \"keys\": ["
@@ -355,7 +337,7 @@ static void test_cubic_is_c1(void **state) {
 
 static void test_static_keys_change_nothing(void **state) {
   (void)state;
-  satf_scene *scene = parse_ok(
+  satf_scene *scene = parse_anim(
       "{\"animation\": {\"frames\": [1, 10]},"
       " \"macro_clusters\": [{\"prototype\": {"
       "   \"trajectory\": [[0,0,0],[0.3,1,0.1],[0.2,2,0.7]],"
@@ -412,7 +394,7 @@ static void test_static_keys_change_nothing(void **state) {
 
 static void test_end_keys_hold(void **state) {
   (void)state;
-  satf_scene *scene = parse_ok(KEYED);
+  satf_scene *scene = parse_anim(KEYED);
   /* Each track's first key at or after frame 0 and last at or before 20:
    * before frame 0 and after frame 20 every value holds; the prototype's
    * keys run 2..12.5, so it holds from frames 0 and 20 too. */
@@ -459,7 +441,7 @@ static void test_end_keys_hold(void **state) {
 
 static void test_slerp_halves_rotations(void **state) {
   (void)state;
-  satf_scene *scene = parse_ok(
+  satf_scene *scene = parse_anim(
       "{\"animation\": {\"frames\": [1, 5]},"
       " \"macro_clusters\": [{\"prototype\": {\"trajectory\": "
       "[[0,0,0],[0,1,0]], \"a\": 0.5}, \"instances\": ["
@@ -474,7 +456,7 @@ static void test_slerp_halves_rotations(void **state) {
       "   {\"frame\": 3, \"rotate\": {\"axis\": [0,1,0], \"angle\": 180}}]}"
       " ]}]}");
   satf_scene *mid = at(scene, 2.0);
-  double c = cos(PI / 4), s = sin(PI / 4);
+  double c = cos(SATF_PI / 4), s = sin(SATF_PI / 4);
   /* 45 degrees about z; the translation halfway along the line. */
   const double r45z[12] = {c, -s, 0, 1, s, c, 0, 2, 0, 0, 1, 3};
   assert_matrix(mid->macro_clusters[0].instances[0].m, r45z, 1e-6);
@@ -488,13 +470,13 @@ static void test_slerp_halves_rotations(void **state) {
     satf_scene *snap = at(scene, 1.0 + 0.25 * i);
     const float *m = snap->macro_clusters[0].instances[0].m;
     double angle = atan2(m[4], m[0]);
-    assert_near(angle, (PI / 2) * i / 8.0, 1e-6);
+    assert_near(angle, (SATF_PI / 2) * i / 8.0, 1e-6);
     satf_scene_destroy(snap);
   }
   satf_scene_destroy(mid);
   /* Three keys, 0, 90, 180 about y: at 2.5 it is 135 degrees. */
   satf_scene *late = at(scene, 2.5);
-  double c3 = cos(3 * PI / 4), s3 = sin(3 * PI / 4);
+  double c3 = cos(3 * SATF_PI / 4), s3 = sin(3 * SATF_PI / 4);
   const double r135y[12] = {c3, 0, s3, 0, 0, 1, 0, 0, -s3, 0, c3, 0};
   assert_matrix(late->macro_clusters[0].instances[2].m, r135y, 1e-6);
   satf_scene_destroy(late);
@@ -502,12 +484,6 @@ static void test_slerp_halves_rotations(void **state) {
 }
 
 /* ---- malformed animations: each its own message with its key path ---- */
-
-typedef struct bad_case {
-  const char *json;
-  satf_status status;
-  const char *expect;
-} bad_case;
 
 #define ANIM "\"animation\": {\"frames\": [1, 48]}"
 #define PROTO_KEYS(keys)                                                       \
@@ -666,27 +642,7 @@ static const bad_case bad_cases[] = {
 
 static void test_malformed_cases(void **state) {
   (void)state;
-  static char messages[N_BAD][sizeof(((satf_error *)0)->message)];
-  for (size_t i = 0; i < N_BAD; i++) {
-    satf_scene *scene = (satf_scene *)&messages; /* must be reset to NULL */
-    satf_error err;
-    satf_error_clear(&err);
-    satf_status s =
-        satf_scene_parse(bad_cases[i].json, strlen(bad_cases[i].json),
-                         "anim.json", &scene, &err);
-    if (s == SATF_OK || !strstr(err.message, bad_cases[i].expect) ||
-        s != bad_cases[i].status) {
-      fprintf(stderr,
-              "case %zu: %s\n  status %d, message: %s\n  expected: %s\n", i,
-              bad_cases[i].json, (int)s, err.message, bad_cases[i].expect);
-      fail();
-    }
-    assert_null(scene);
-    assert_memory_equal(err.message, "anim.json: ", 11);
-    strcpy(messages[i], err.message);
-    for (size_t j = 0; j < i; j++)
-      assert_string_not_equal(messages[i], messages[j]);
-  }
+  check_bad_cases(bad_cases, N_BAD, "anim.json");
 }
 
 static void test_too_many_keys(void **state) {
@@ -719,7 +675,7 @@ static void test_too_many_keys(void **state) {
 
 static void test_unknown_keys_warn(void **state) {
   (void)state;
-  satf_scene *scene = parse_ok(
+  satf_scene *scene = parse_anim(
       "{\"animation\": {\"fsp\": 24, \"frames\": [1, 4]},"
       " \"macro_clusters\": [{\"prototype\": {\"trajectory\": "
       "[[0,0,0],[0,1,0]], \"a\": 0.5, \"keys\": [{\"frame\": 1, "
@@ -755,7 +711,7 @@ static void test_unknown_keys_warn(void **state) {
 
 static void expect_frame_error(const char *json, double frame,
                                const char *expect) {
-  satf_scene *scene = parse_ok(json), *snap = (satf_scene *)&snap;
+  satf_scene *scene = parse_anim(json), *snap = (satf_scene *)&snap;
   satf_error err;
   satf_status s = satf_scene_at_frame(scene, frame, &snap, &err);
   if (s == SATF_OK || !strstr(err.message, expect)) {
@@ -811,7 +767,7 @@ static void test_snapshot_errors(void **state) {
                    SATF_ERR_ARGUMENT);
 
   /* A static scene: not animated, no range, its snapshot a plain copy. */
-  satf_scene *scene = parse_ok(
+  satf_scene *scene = parse_anim(
       "{\"description\": \"d\", \"database\": \"x.exr\", " MINIMAL_MC "}");
   assert_false(satf_scene_is_animated(scene));
   int first = 7, last = 7;
@@ -838,7 +794,7 @@ static void test_snapshot_errors(void **state) {
 
 static void test_change_detection(void **state) {
   (void)state;
-  satf_scene *scene = parse_ok(
+  satf_scene *scene = parse_anim(
       "{\"animation\": {\"frames\": [1, 10]},"
       " \"macro_clusters\": ["
       "  {\"name\": \"still\", \"prototype\": {\"trajectory\": "

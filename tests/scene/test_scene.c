@@ -15,47 +15,13 @@
 
 #include "satf/common.h"
 #include "satf/scene.h"
+#include "scene_cases.h"
 
 int satf_fuzz_scene_one(const uint8_t *data, size_t size);
 
 #define MINIMAL_CLUSTER                                                        \
   "{\"prototype\": {\"trajectory\": [[0,0,0],[0,1,0]], \"a\": 0.5}}"
 #define MINIMAL "{\"macro_clusters\": [" MINIMAL_CLUSTER "]}"
-
-static satf_scene *parse_ok(const char *json, const char *name) {
-  satf_scene *scene = NULL;
-  satf_error err;
-  satf_error_clear(&err);
-  satf_status s = satf_scene_parse(json, strlen(json), name, &scene, &err);
-  if (s != SATF_OK)
-    fprintf(stderr, "unexpected failure: %s\n", err.message);
-  assert_int_equal(s, SATF_OK);
-  assert_non_null(scene);
-  return scene;
-}
-
-static char *read_text(const char *path, size_t *len) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  assert_int_equal(fseek(f, 0, SEEK_END), 0);
-  long n = ftell(f);
-  assert_true(n > 0);
-  rewind(f);
-  char *buf = malloc((size_t)n + 1);
-  assert_non_null(buf);
-  assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
-  fclose(f);
-  buf[n] = '\0';
-  *len = (size_t)n;
-  return buf;
-}
-
-static void assert_near(double got, double want, double tol) {
-  if (fabs(got - want) > tol) {
-    fprintf(stderr, "got %.9g, want %.9g (+- %g)\n", got, want, tol);
-    fail();
-  }
-}
 
 /* ---- samples: SATF Table 1 columns 6(a)-6(d), 7(a), 8 (animated; its
  * keyframes are test_anim's) ---- */
@@ -287,12 +253,6 @@ static void test_explicit_values(void **state) {
 
 /* ---- malformed input: each case its own message with its key path ---- */
 
-typedef struct bad_case {
-  const char *json;
-  satf_status status;
-  const char *expect; /* substring of the message */
-} bad_case;
-
 #define CLUSTER_WITH(extra)                                                    \
   "{\"macro_clusters\": [{\"prototype\": {\"trajectory\": [[0,0,0],[0,1,0]],"  \
   " \"a\": 0.5" extra "}}]}"
@@ -509,27 +469,7 @@ static const bad_case bad_cases[] = {
 
 static void test_malformed_cases(void **state) {
   (void)state;
-  static char messages[N_BAD][sizeof(((satf_error *)0)->message)];
-  for (size_t i = 0; i < N_BAD; i++) {
-    satf_scene *scene = (satf_scene *)&messages; /* must be reset to NULL */
-    satf_error err;
-    satf_error_clear(&err);
-    satf_status s = satf_scene_parse(
-        bad_cases[i].json, strlen(bad_cases[i].json), "bad.json", &scene, &err);
-    if (s == SATF_OK || !strstr(err.message, bad_cases[i].expect) ||
-        s != bad_cases[i].status) {
-      fprintf(stderr,
-              "case %zu: %s\n  status %d, message: %s\n  expected: %s\n", i,
-              bad_cases[i].json, (int)s, err.message, bad_cases[i].expect);
-      fail();
-    }
-    assert_null(scene);
-    assert_int_equal(err.status, s);
-    assert_memory_equal(err.message, "bad.json", 8);
-    strcpy(messages[i], err.message);
-    for (size_t j = 0; j < i; j++)
-      assert_string_not_equal(messages[i], messages[j]);
-  }
+  check_bad_cases(bad_cases, N_BAD, "bad.json");
 }
 
 static void test_exact_message(void **state) {
@@ -774,7 +714,7 @@ static void test_fuzz_replay(void **state) {
     char path[512];
     size_t len;
     snprintf(path, sizeof path, "%s/%s", SATF_SAMPLES_DIR, samples[i].file);
-    char *text = read_text(path, &len);
+    char *text = (char *)test_read_file(path, &len);
     assert_int_equal(count_loaded(text, len), 1);
     /* Truncations: everything before the closing brace is incomplete. */
     size_t last = len;
