@@ -88,7 +88,7 @@ void satf_shell_geom_destroy(satf_shell_geom *g) {
 struct satf_maps {
   const satf_db *db;
   int width;
-  float re_scale; /* 1 / mean reflectance of the database's opaque samples */
+  float *re_scale; /* per database sample: 1 / its mean reflectance */
   float lo[SATF_FEATURES], scale[SATF_FEATURES];
   uint16_t *index; /* AZIMUTH_BINS x width: record sample left of column x */
   float *frac;     /* AZIMUTH_BINS x width: weight of the sample after it */
@@ -131,26 +131,45 @@ satf_map_options satf_map_options_default(void) {
   return o;
 }
 
-/* Mean of re / alpha over every record sample with alpha > 0.5. The
- * renderer uses reflectance relative to it, so that k_dif, k_speI and
- * k_speII keep their meaning whatever Phong constants built the database
- * (the paper multiplies lighting by re without saying what scale re has). */
-static float mean_reflectance(const satf_db *db) {
+/* The scale of reflectance, per database sample: 1 / its mean reflectance
+ * per unit coverage, sum(re) / sum(alpha) over all its records (every view
+ * and light azimuth, every record sample). SATF eq. 13 multiplies the
+ * lighting (eq. 8-11, whose k_dif, k_speI, k_speII and colours are the
+ * hair's material) by re and says nothing of re's scale. Our reading: re
+ * carries how a sector's structure modulates that lighting (which parts of
+ * the record are lit, highlights, light from behind), relative to the same
+ * hair's mean, so a strand has the material's colour on average whatever
+ * the density around it. One scale for the whole database (the mean over
+ * opaque records, as before) does not give that: the tracer shadows strands
+ * by the density between them and the light (trace.c), so re / alpha falls
+ * with density (default database: 0.28 for rho_st < 0.05, 0.18 above 1.6,
+ * flat at 0.285 with --no-shadow), and a sparse cluster came out ~1.4x
+ * brighter per strand than the dense hair that set the scale. Shadowing by
+ * the hair around a layer is eq. 12's job online (and the deep opacity
+ * map's between clusters), which darken a dense cluster's inner layers as
+ * the paper intends. Samples without coverage get the database's mean. */
+static void reflectance_scales(const satf_db *db, float *scale) {
   const satf_build_params *p = satf_db_params(db);
-  double sum = 0.0;
-  long n = 0;
-  for (int i = 0; i < p->samples; i++)
+  double all_re = 0.0, all_al = 0.0;
+  for (int i = 0; i < p->samples; i++) {
+    double sum_re = 0.0, sum_al = 0.0;
     for (int iv = 0; iv < p->n_view; iv++)
       for (int il = 0; il < p->n_light; il++) {
         const float *re, *al;
         satf_db_record(db, i, iv, il, &re, &al);
-        for (int j = 0; j < p->trace.width; j++)
-          if (al[j] > 0.5f) {
-            sum += re[j] / al[j];
-            n++;
-          }
+        for (int j = 0; j < p->trace.width; j++) {
+          sum_re += re[j];
+          sum_al += al[j];
+        }
       }
-  return n > 0 && sum > 0.0 ? (float)(sum / (double)n) : 1.0f;
+    scale[i] = sum_re > 0.0 && sum_al > 1e-3 ? (float)(sum_al / sum_re) : 0.0f;
+    all_re += sum_re;
+    all_al += sum_al;
+  }
+  float fallback = all_re > 0.0 ? (float)(all_al / all_re) : 1.0f;
+  for (int i = 0; i < p->samples; i++)
+    if (scale[i] == 0.0f)
+      scale[i] = fallback;
 }
 
 satf_status satf_maps_create(const satf_db *db, satf_maps **out,
@@ -175,11 +194,12 @@ satf_status satf_maps_create(const satf_db *db, satf_maps **out,
     m->scale[a] = hi[a] > m->lo[a] ? 1.0f / (hi[a] - m->lo[a]) : 1.0f;
   m->index = malloc((size_t)AZIMUTH_BINS * w * sizeof *m->index);
   m->frac = malloc((size_t)AZIMUTH_BINS * w * sizeof *m->frac);
-  if (!m->index || !m->frac) {
+  m->re_scale = malloc((size_t)satf_db_samples(db) * sizeof *m->re_scale);
+  if (!m->index || !m->frac || !m->re_scale) {
     satf_maps_destroy(m);
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }
-  m->re_scale = 1.0f / mean_reflectance(db);
+  reflectance_scales(db, m->re_scale);
   const satf_sector_shape *shape = &satf_db_params(db)->shape;
   for (int b = 0; b < AZIMUTH_BINS; b++) {
     float theta = SATF_TWO_PI_F * (float)b / AZIMUTH_BINS;
@@ -211,6 +231,7 @@ void satf_maps_destroy(satf_maps *m) {
   if (m) {
     free(m->index);
     free(m->frac);
+    free(m->re_scale);
     free(m);
   }
 }
@@ -282,9 +303,10 @@ static params params_average(const params *a, const params *b) {
 /* Lays a record across one HSV row (see maps.h), with the reflectance
  * divided by alpha: eq. 5 accumulates reflectance weighted by opacity, and
  * eq. 14 multiplies by alpha again, so keeping it would count coverage
- * twice (our reading; the paper multiplies re and alpha without comment). */
+ * twice (our reading; the paper multiplies re and alpha without comment),
+ * and times re_scale, the record's normalisation (reflectance_scales). */
 static void lay_row(const satf_maps *m, const float *re, const float *al,
-                    float view, float density, float *row) {
+                    float re_scale, float view, float density, float *row) {
   int w = m->width;
   float turns = view / SATF_TWO_PI_F;
   turns -= floorf(turns); /* any angle, into [0, 1) */
@@ -297,7 +319,7 @@ static void lay_row(const satf_maps *m, const float *re, const float *al,
     float r = re[i] + f * (re[i + 1] - re[i]);
     float a = al[i] + f * (al[i + 1] - al[i]);
     float *t = row + 4 * x;
-    t[0] = a > 1e-4f ? m->re_scale * r / a : 0.0f;
+    t[0] = a > 1e-4f ? re_scale * r / a : 0.0f;
     t[1] = a;
     t[2] = 0.0f; /* the s-map sum, filled by satf_maps_shadow_sums */
     t[3] = density;
@@ -314,14 +336,22 @@ static params sector_params(const satf_shell_geom *g, const float *angles,
   return p;
 }
 
-/* A record at p: from the cached neighbours nb when there are some, else
- * searched among the k nearest samples. */
-static void lookup(const satf_maps *m, const satf_db_neighbors *nb,
-                   const params *p, int k, float *re, float *al) {
-  if (nb)
-    satf_db_lookup_neighbors(m->db, nb, p->view, p->light, re, al);
-  else
-    satf_db_lookup(m->db, p->f, p->view, p->light, k, re, al);
+/* A record at p (SATF eq. 4): from the cached neighbours nb when there
+ * are some, else from the k nearest samples. Returns its reflectance
+ * scale: the neighbours' scales blended with the weights that blend their
+ * records (exact for k = 1, the default). */
+static float lookup(const satf_maps *m, const satf_db_neighbors *nb,
+                    const params *p, int k, float *re, float *al) {
+  satf_db_neighbors found;
+  if (!nb) {
+    satf_db_neighbors_find(m->db, p->f, k, &found);
+    nb = &found;
+  }
+  satf_db_lookup_neighbors(m->db, nb, p->view, p->light, re, al);
+  float scale = 0.0f;
+  for (int c = 0; c < nb->count; c++)
+    scale += nb->weight[c] * m->re_scale[nb->index[c]];
+  return scale;
 }
 
 int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
@@ -336,6 +366,7 @@ int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
       g->neighbors && g->neighbors->k == kn ? g->neighbors : NULL;
   for (int j = 0; j < sh->su; j++) {
     int have_top = 0; /* the previous HSV's bottom record is this top's */
+    float sc_top = 1.0f;
     for (int i = 0; i < sh->st; i++) {
       size_t st0 = sector_index(sh, i, k, j),
              st1 = sector_index(sh, i + 1, k, j);
@@ -348,24 +379,28 @@ int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
         /* uniform HSV: one look-up at the averaged parameters, swept along
          * the HSV (SATF sec. 6.2.2); the HSV's index is its top sector's */
         params ave = params_average(&top, &bot);
-        lookup(m, nc ? &nc->hsv[st0] : NULL, &ave, kn, re_top, al_top);
+        float sc =
+            lookup(m, nc ? &nc->hsv[st0] : NULL, &ave, kn, re_top, al_top);
         lookups++;
-        lay_row(m, re_top, al_top, ave.view, dens, row0);
-        lay_row(m, re_top, al_top, ave.view, dens, row1);
+        lay_row(m, re_top, al_top, sc, ave.view, dens, row0);
+        lay_row(m, re_top, al_top, sc, ave.view, dens, row1);
         have_top = 0;
       } else {
         /* two look-ups, interpolated along the HSV by the texture fetch
          * (SATF eq. 7) */
         if (!have_top) {
-          lookup(m, nc ? &nc->sector[st0] : NULL, &top, kn, re_top, al_top);
+          sc_top =
+              lookup(m, nc ? &nc->sector[st0] : NULL, &top, kn, re_top, al_top);
           lookups++;
         }
-        lookup(m, nc ? &nc->sector[st1] : NULL, &bot, kn, re_bot, al_bot);
+        float sc_bot =
+            lookup(m, nc ? &nc->sector[st1] : NULL, &bot, kn, re_bot, al_bot);
         lookups++;
-        lay_row(m, re_top, al_top, top.view, dens, row0);
-        lay_row(m, re_bot, al_bot, bot.view, dens, row1);
+        lay_row(m, re_top, al_top, sc_top, top.view, dens, row0);
+        lay_row(m, re_bot, al_bot, sc_bot, bot.view, dens, row1);
         memcpy(re_top, re_bot, (size_t)w * sizeof(float));
         memcpy(al_top, al_bot, (size_t)w * sizeof(float));
+        sc_top = sc_bot;
         have_top = 1;
       }
     }

@@ -138,8 +138,13 @@ void main() {
   /* SATF eq. 14 front to back: the front halves, outer to inner, then
    * the back halves, inner to outer */
   for (int pass = 0; pass < 2; pass++) {
-    /* the back side is lit only if the ray gets that far */
-    if (pass == 1) lighting(hair, n_back, v, dom, db, s1b, s2b);
+    /* the back side is lit only if the ray gets that far. SATF eq. 10-11
+     * shift the primary highlight towards the tip and the secondary
+     * towards the root along the cluster normal; a strand at the back is
+     * seen from inside the cluster, so its normal facing the viewer is
+     * -n_back (the outward one would swap the two highlights there and
+     * light the strands seen through a sparse cluster white). */
+    if (pass == 1) lighting(hair, -n_back, v, dom, db, s1b, s2b);
     for (int j = 0; j < u_layers; j++) {
       int k = pass == 0 ? u_layers - 1 - j : inner + j;
       if (k >= u_layers) break;
