@@ -1,10 +1,12 @@
 /* exr_io.c - see exr_io.h. */
 #include "satf/common.h"
 
+#include <errno.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* OpenEXRCore reports errors through a callback; keep the first message so
  * the satf_error can name the real cause rather than a bare code. */
@@ -268,10 +270,13 @@ static satf_status exr_read(const char *path, const char *const *names,
                             satf_exr_attr_reader attrs, void *attrs_ctx,
                             int *width_out, int *height_out, float **planes,
                             const exr_msg *msg, satf_error *err) {
-  long long fsize = satf_file_size(path);
-  if (fsize < 0)
-    return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: no such file",
-                          path);
+  struct stat sb;
+  if (stat(path, &sb) != 0)
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
+                          strerror(errno));
+  if (!S_ISREG(sb.st_mode))
+    return satf_error_set(err, SATF_ERR_IO, "%s: not a regular file", path);
+  long long fsize = (long long)sb.st_size;
   exr_context_t ctx = NULL;
   exr_attr_box2i_t dw;
   memset(&dw, 0, sizeof dw);

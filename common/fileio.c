@@ -5,15 +5,46 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <glob.h>
 #include <limits.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+/* Removes PATH.tmp-PID files whose process is gone: what a run killed
+ * between writing and renaming left behind. Files of live processes (a
+ * concurrent writer) are kept. */
+static void remove_stale_temps(const char *path) {
+  char pattern[4200];
+  int n = snprintf(pattern, sizeof pattern, "%s.tmp-*", path);
+  if (n < 0 || (size_t)n >= sizeof pattern || strpbrk(path, "*?["))
+    return;
+  glob_t g;
+  if (glob(pattern, GLOB_NOSORT, NULL, &g) != 0)
+    return;
+  size_t base = strlen(path) + 5;
+  for (size_t i = 0; i < g.gl_pathc; i++) {
+    const char *digits = g.gl_pathv[i] + base;
+    char *end = NULL;
+    long pid = strtol(digits, &end, 10);
+    if (end == digits || *end || pid <= 0 || pid == (long)getpid())
+      continue;
+    if (kill((pid_t)pid, 0) != 0 && errno == ESRCH)
+      remove(g.gl_pathv[i]);
+  }
+  globfree(&g);
+}
+
 satf_status satf_temp_path(const char *path, char *tmp, size_t size,
                            satf_error *err) {
+  size_t len = strlen(path);
+  if (len == 0 || path[len - 1] == '/')
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "'%s': an output needs a file name", path);
+  remove_stale_temps(path);
   int n = snprintf(tmp, size, "%s.tmp-%ld", path, (long)getpid());
   if (n < 0 || (size_t)n >= size)
     return satf_error_set(err, SATF_ERR_ARGUMENT, "%s: path is too long", path);

@@ -98,7 +98,9 @@ int satf_cli_size(const char *prog, const char *flag, const char *text, long lo,
  * then rename into place, so a killed process never leaves a half-written
  * file under the final name. */
 
-/* Fills tmp with a temporary path in the same directory as path. */
+/* Fills tmp with a temporary path in the same directory as path
+ * ("PATH.tmp-PID"), first removing the PATH.tmp-* files of processes that
+ * no longer run (left by a kill before their rename). */
 satf_status satf_temp_path(const char *path, char *tmp, size_t size,
                            satf_error *err);
 /* fsyncs tmp and renames it to path; removes tmp on failure. */

@@ -116,7 +116,9 @@ static satf_status fit(run *u, satf_error *err) {
           : satf_error_set(&why, SATF_ERR_NOMEM, "out of memory");
   satf_progress_end(&bar);
   if (st != SATF_OK)
-    return satf_error_set(err, st, "fitting failed: %s", why.message);
+    return satf_error_set(err, st, "%s%s: fitting failed: %s", o->inputs[0],
+                          o->n_inputs > 1 ? " (and the other inputs)" : "",
+                          why.message);
   return SATF_OK;
 }
 

@@ -139,8 +139,9 @@ static satf_status sheet_create(const satf_renderer *r, int count, sheet *sh,
   const char *names[3] = {"R", "G", "B"};
   int w, h;
   satf_renderer_size(r, &w, &h);
-  sh->tw = w / SHEET_SCALE;
-  sh->th = h / SHEET_SCALE;
+  /* at least one pixel per thumbnail, however small the frames */
+  sh->tw = w >= SHEET_SCALE ? w / SHEET_SCALE : 1;
+  sh->th = h >= SHEET_SCALE ? h / SHEET_SCALE : 1;
   sh->columns = count < SHEET_COLUMNS ? count : SHEET_COLUMNS;
   int rows = (count + sh->columns - 1) / sh->columns;
   return satf_image_create(sh->tw * sh->columns, sh->th * rows, names, 3,

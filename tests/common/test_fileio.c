@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "satf/common.h"
@@ -268,6 +269,30 @@ static void distinct_files_catch_every_spelling(void **state) {
   assert_int_equal(satf_check_distinct_files(ok, 4, &err), SATF_OK);
 }
 
+/* A temp file left by a killed run is removed by the next write to the same
+ * path; one of a live process (a concurrent writer) is kept. */
+static void stale_temp_files_are_cleaned_up(void **state) {
+  (void)state;
+  char dir[512], out[600], dead[700], live[700];
+  scratch(dir, sizeof dir, "stale");
+  snprintf(out, sizeof out, "%s/scene.json", dir);
+  pid_t child = fork();
+  assert_true(child >= 0);
+  if (child == 0)
+    _exit(0);
+  assert_int_equal(waitpid(child, NULL, 0), child);
+  snprintf(dead, sizeof dead, "%s.tmp-%ld", out, (long)child);
+  snprintf(live, sizeof live, "%s.tmp-%ld", out, (long)getppid());
+  put(dead, "old", 3);
+  put(live, "busy", 4);
+  satf_error err;
+  assert_int_equal(satf_write_file_atomic(out, "{}", 2, &err), SATF_OK);
+  struct stat sb;
+  assert_int_not_equal(stat(dead, &sb), 0);
+  assert_int_equal(stat(live, &sb), 0);
+  assert_int_equal(stat(out, &sb), 0);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(read_file_returns_content_up_to_the_exact_cap),
@@ -280,6 +305,7 @@ int main(void) {
       cmocka_unit_test(temp_path_sits_beside_the_target),
       cmocka_unit_test(failed_commit_removes_the_temp_file),
       cmocka_unit_test(distinct_files_catch_every_spelling),
+      cmocka_unit_test(stale_temp_files_are_cleaned_up),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -100,7 +100,7 @@ static int value_option(satf_cli_args *it, satf_import_options *o) {
   if (satf_cli_is(it, NULL, "--threads"))
     return satf_cli_value_int(it, 0, 256, &o->threads) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--voxel"))
-    return satf_cli_value_double(it, 1e-6, 1e6, &o->voxel) ? 2 : 0;
+    return satf_cli_value_double(it, 1e-5, 1e6, &o->voxel) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--follow-radius"))
     return satf_cli_value_double(it, 0.0, 1e6, &o->follow_radius) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--tip-separation"))

@@ -76,7 +76,7 @@ static int parse_one(satf_cli_args *it, options *o) {
   if (path)
     return satf_cli_value(it, path);
   if (satf_cli_is(it, NULL, "--size"))
-    return satf_cli_value_size(it, 16, 8192, &o->w, &o->h);
+    return satf_cli_value_size(it, 1, 16384, &o->w, &o->h);
   if (satf_cli_is(it, NULL, "--bench"))
     return satf_cli_value_int(it, 1, 100000, &o->bench);
   if (satf_cli_is(it, NULL, "--threads"))

@@ -50,7 +50,7 @@ static int parse_one(satf_cli_args *it, options *o) {
   if (satf_cli_is(it, NULL, "--db"))
     return satf_cli_value(it, &o->db_path);
   if (satf_cli_is(it, NULL, "--size"))
-    return satf_cli_value_size(it, 16, 8192, &o->w, &o->h);
+    return satf_cli_value_size(it, 1, 16384, &o->w, &o->h);
   if (satf_cli_is(it, NULL, "--save-prefix"))
     return satf_cli_value(it, &o->view.prefix);
   if (satf_cli_is(it, NULL, "--screenshot"))
