@@ -102,6 +102,8 @@ void satf_cli_begin(satf_cli_args *it, const char *prog, int argc,
 
 int satf_cli_next(satf_cli_args *it) {
   it->arg = NULL;
+  it->closest = NULL;
+  it->closest_distance = 1 << 30;
   if (it->next >= it->argc)
     return 0;
   it->arg = it->argv[it->next++];
@@ -112,12 +114,47 @@ int satf_cli_next(satf_cli_args *it) {
   return 1;
 }
 
-int satf_cli_is(const satf_cli_args *it, const char *short_name,
+int satf_cli_edit_distance(const char *a, const char *b) {
+  enum { N = 64 };
+  int row[N], la = 0, lb = 0;
+  while (la < N - 1 && a[la])
+    la++;
+  while (lb < N - 1 && b[lb])
+    lb++;
+  for (int j = 0; j <= lb; j++)
+    row[j] = j;
+  for (int i = 1; i <= la; i++) {
+    int diag = row[0];
+    row[0] = i;
+    for (int j = 1; j <= lb; j++) {
+      int up = row[j];
+      int best = diag + (a[i - 1] != b[j - 1]);
+      if (up + 1 < best)
+        best = up + 1;
+      if (row[j - 1] + 1 < best)
+        best = row[j - 1] + 1;
+      row[j] = best;
+      diag = up;
+    }
+  }
+  return row[lb];
+}
+
+int satf_cli_is(satf_cli_args *it, const char *short_name,
                 const char *long_name) {
   if (!it->arg || it->only_positional)
     return 0;
-  return (short_name && !strcmp(it->arg, short_name)) ||
-         (long_name && !strcmp(it->arg, long_name));
+  if ((short_name && !strcmp(it->arg, short_name)) ||
+      (long_name && !strcmp(it->arg, long_name)))
+    return 1;
+  if (long_name && it->arg[0] == '-') {
+    int d = satf_cli_edit_distance(it->arg, long_name);
+    if (d < it->closest_distance) {
+      it->closest = long_name;
+      it->closest_distance = d;
+    }
+  }
+  return 0;
 }
 
 int satf_cli_positional(const satf_cli_args *it) {
@@ -161,6 +198,14 @@ int satf_cli_value_size(satf_cli_args *it, long lo, long hi, long *w, long *h) {
 }
 
 int satf_cli_unknown(const satf_cli_args *it) {
-  fprintf(stderr, "%s: unknown option '%s'%s\n", it->prog, it->arg, it->hint);
+  /* a suggestion only when it is plausibly a slip: at most two edits, and
+   * fewer than a third of the option's length */
+  int len = it->closest ? (int)strlen(it->closest) : 0;
+  if (it->closest && it->closest_distance <= 2 &&
+      3 * it->closest_distance < len)
+    fprintf(stderr, "%s: unknown option '%s' (did you mean '%s'?)%s\n",
+            it->prog, it->arg, it->closest, it->hint);
+  else
+    fprintf(stderr, "%s: unknown option '%s'%s\n", it->prog, it->arg, it->hint);
   return 2;
 }

@@ -59,6 +59,10 @@ typedef struct satf_cli_args {
                           1: "--" is skipped and every later argument is
                           positional */
   int only_positional; /* a "--" was seen (with dashdash) */
+  /* The option satf_cli_is was asked about that is nearest the current
+   * argument by edit distance (for "did you mean"), and that distance. */
+  const char *closest;
+  int closest_distance;
 } satf_cli_args;
 
 void satf_cli_begin(satf_cli_args *it, const char *prog, int argc,
@@ -67,7 +71,7 @@ void satf_cli_begin(satf_cli_args *it, const char *prog, int argc,
 int satf_cli_next(satf_cli_args *it);
 /* Whether the current argument is the option short_name or long_name (either
  * may be NULL). Never true after "--". */
-int satf_cli_is(const satf_cli_args *it, const char *short_name,
+int satf_cli_is(satf_cli_args *it, const char *short_name,
                 const char *long_name);
 /* Whether the current argument is not an option: it does not start with '-'
  * (a lone "-" counts as an option), or it follows "--". */
@@ -82,6 +86,8 @@ int satf_cli_value_double(satf_cli_args *it, double lo, double hi, double *out);
 int satf_cli_value_size(satf_cli_args *it, long lo, long hi, long *w, long *h);
 /* Prints "PROG: unknown option 'ARG' HINT" and returns 2. */
 int satf_cli_unknown(const satf_cli_args *it);
+/* Levenshtein edit distance between a and b (each read up to 63 bytes). */
+int satf_cli_edit_distance(const char *a, const char *b);
 
 int satf_cli_int(const char *prog, const char *flag, const char *text, long lo,
                  long hi, long *out);

@@ -122,6 +122,34 @@ static void unknown_option_message_and_status(void **state) {
                            "--help)\n");
 }
 
+/* A slip of at most two edits gets the nearest option the loop asked
+ * about; anything further gets no guess. */
+static void misspelt_option_gets_did_you_mean(void **state) {
+  (void)state;
+  assert_int_equal(satf_cli_edit_distance("--frame", "--frames"), 1);
+  assert_int_equal(satf_cli_edit_distance("--compsite", "--composite"), 1);
+  assert_int_equal(satf_cli_edit_distance("--sizes", "--seed"), 3);
+  assert_int_equal(satf_cli_edit_distance("", "--db"), 4);
+  const char *cases[][2] = {{"--frame", "satf-render: unknown option "
+                                        "'--frame' (did you mean "
+                                        "'--frames'?) (see --help)\n"},
+                            {"--bogus", "satf-render: unknown option "
+                                        "'--bogus' (see --help)\n"}};
+  for (int k = 0; k < 2; k++) {
+    char *argv[] = {"satf-render", (char *)cases[k][0]};
+    satf_cli_args it;
+    satf_cli_begin(&it, "satf-render", ARGC(argv), argv);
+    assert_true(satf_cli_next(&it));
+    assert_false(satf_cli_is(&it, "-o", "--output"));
+    assert_false(satf_cli_is(&it, NULL, "--frames"));
+    assert_false(satf_cli_is(&it, NULL, "--db"));
+    capture c;
+    capture_begin(&c);
+    assert_int_equal(satf_cli_unknown(&it), 2);
+    assert_string_equal(capture_end(&c), cases[k][1]);
+  }
+}
+
 static void hint_and_start_can_be_changed(void **state) {
   (void)state;
   /* satf-db lookup: options start after "lookup FILE", no "(see --help)" */
@@ -358,6 +386,7 @@ int main(void) {
       cmocka_unit_test(value_is_taken_verbatim),
       cmocka_unit_test(missing_value_is_reported_with_the_flag),
       cmocka_unit_test(unknown_option_message_and_status),
+      cmocka_unit_test(misspelt_option_gets_did_you_mean),
       cmocka_unit_test(hint_and_start_can_be_changed),
       cmocka_unit_test(double_dash_is_an_option_unless_enabled),
       cmocka_unit_test(value_helpers_parse_with_the_spelled_flag),

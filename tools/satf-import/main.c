@@ -173,8 +173,7 @@ static int parse_args(int argc, char **argv, satf_import_options *o) {
     } else if (satf_cli_is(&it, "-q", "--quiet")) {
       o->quiet = 1;
     } else if (!satf_cli_positional(&it) && strcmp(it.arg, "-") != 0) {
-      fprintf(stderr, "%s: unknown option %s (see --help)\n", PROG, it.arg);
-      return 2;
+      return satf_cli_unknown(&it);
     } else if (o->n_inputs < SATF_IMPORT_MAX_INPUTS) {
       o->inputs[o->n_inputs++] = it.arg;
     } else {
