@@ -208,3 +208,30 @@ satf_status satf_check_distinct_files(const satf_file_role *files, int n,
   }
   return SATF_OK;
 }
+
+int satf_path_has_extension(const char *path, const char *ext) {
+  size_t n = strlen(path), e = strlen(ext);
+  if (n <= e || path[n - e - 1] == '/')
+    return 0;
+  for (size_t i = 0; i < e; i++) {
+    char a = path[n - e + i], b = ext[i];
+    if (a >= 'A' && a <= 'Z')
+      a = (char)(a - 'A' + 'a');
+    if (a != b)
+      return 0;
+  }
+  return 1;
+}
+
+satf_status satf_check_output_extension(const char *what, const char *path,
+                                        const char *ext, const char *kind,
+                                        satf_error *err) {
+  if (!path || satf_path_has_extension(path, ext))
+    return SATF_OK;
+  if (!path[0])
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "%s '': an output needs a file name", what);
+  return satf_error_set(err, SATF_ERR_ARGUMENT,
+                        "%s %s: writes %s; give it a name ending in %s", what,
+                        path, kind, ext);
+}

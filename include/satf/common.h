@@ -141,6 +141,17 @@ typedef struct satf_file_role {
   int is_output;
 } satf_file_role;
 
+/* 1 when path ends in ext (".exr"; ASCII case ignored) after a non-empty
+ * file name. */
+int satf_path_has_extension(const char *path, const char *ext);
+
+/* Refuses (SATF_ERR_ARGUMENT) an output whose name says another format
+ * than the one written: "WHAT PATH: writes KIND; name it *EXT". NULL path:
+ * nothing to check. */
+satf_status satf_check_output_extension(const char *what, const char *path,
+                                        const char *ext, const char *kind,
+                                        satf_error *err);
+
 /* Refuses (SATF_ERR_ARGUMENT, "OUTPUT-WHAT PATH is the same file as
  * OTHER-WHAT PATH") when an output names the same file as an input or as
  * another output, however it is spelt: existing files compare by device

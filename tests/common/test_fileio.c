@@ -293,6 +293,24 @@ static void stale_temp_files_are_cleaned_up(void **state) {
   assert_int_equal(stat(out, &sb), 0);
 }
 
+static void extensions_are_checked_without_case(void **state) {
+  (void)state;
+  assert_true(satf_path_has_extension("out/a.exr", ".exr"));
+  assert_true(satf_path_has_extension("A.EXR", ".exr"));
+  assert_false(satf_path_has_extension("a.png", ".exr"));
+  assert_false(satf_path_has_extension(".exr", ".exr"));
+  assert_false(satf_path_has_extension("dir/.exr", ".exr"));
+  assert_false(satf_path_has_extension("a.exr.tmp", ".exr"));
+  satf_error err;
+  assert_int_equal(satf_check_output_extension("-o", NULL, ".exr", "x", &err),
+                   SATF_OK);
+  assert_int_equal(
+      satf_check_output_extension("-o", "f.png", ".exr", "an EXR", &err),
+      SATF_ERR_ARGUMENT);
+  assert_string_equal(err.message,
+                      "-o f.png: writes an EXR; give it a name ending in .exr");
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(read_file_returns_content_up_to_the_exact_cap),
@@ -306,6 +324,7 @@ int main(void) {
       cmocka_unit_test(failed_commit_removes_the_temp_file),
       cmocka_unit_test(distinct_files_catch_every_spelling),
       cmocka_unit_test(stale_temp_files_are_cleaned_up),
+      cmocka_unit_test(extensions_are_checked_without_case),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -124,6 +124,12 @@ static int parse_args(int argc, char **argv, options *o) {
             PROG);
     return 2;
   }
+  satf_error err;
+  if (satf_check_output_extension("-o", o->out, ".exr", "an OpenEXR database",
+                                  &err)) {
+    fprintf(stderr, "%s: %s\n", PROG, err.message);
+    return 2;
+  }
   return -1;
 }
 

@@ -91,7 +91,9 @@ static int cmd_verify(const char *path) {
 static int cmd_atlas(const char *path, const char *out) {
   satf_file_role files[] = {{"the database", path, 0}, {"-o", out, 1}};
   satf_error err;
-  if (satf_check_distinct_files(files, 2, &err) != SATF_OK) {
+  if (satf_check_distinct_files(files, 2, &err) != SATF_OK ||
+      satf_check_output_extension("-o", out, ".exr", "an OpenEXR image",
+                                  &err)) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
     return 2;
   }

@@ -150,7 +150,11 @@ static int check_files(const satf_import_options *o) {
   for (int i = 0; i < o->n_inputs && !o->sequence; i++)
     files[n++] = (satf_file_role){"the input", o->inputs[i], 0};
   satf_error err;
-  if (satf_check_distinct_files(files, n, &err) != SATF_OK) {
+  if (satf_check_distinct_files(files, n, &err) != SATF_OK ||
+      satf_check_output_extension("-o", o->output, ".json", "a JSON scene",
+                                  &err) ||
+      satf_check_output_extension("--vdb", o->vdb, ".vdb", "an OpenVDB grid",
+                                  &err)) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
     return 2;
   }

@@ -135,7 +135,13 @@ static int check_args(const options *o) {
                             {"--png", o->png, 1},
                             {"--contact-sheet", o->sheet, 1}};
   satf_error err;
-  if (satf_check_distinct_files(files, 5, &err) != SATF_OK) {
+  if (satf_check_distinct_files(files, 5, &err) != SATF_OK ||
+      satf_check_output_extension("-o", o->exr, ".exr", "an OpenEXR image",
+                                  &err) ||
+      satf_check_output_extension("--png", o->png, ".png", "a PNG image",
+                                  &err) ||
+      satf_check_output_extension("--contact-sheet", o->sheet, ".png",
+                                  "a PNG image", &err)) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
     return 2;
   }
