@@ -76,7 +76,37 @@ enum { SHEET_COLUMNS = 8, SHEET_SCALE = 4 };
 typedef struct sheet {
   satf_image *img;
   int tw, th, columns;
+  int first; /* the frame number of cell 0, for the labels */
 } sheet;
+
+/* 3x5 pixel digits: one byte per row, bit 2 the left column. */
+static const unsigned char DIGIT_ROWS[10][5] = {
+    {7, 5, 5, 5, 7}, {2, 6, 2, 2, 7}, {7, 1, 7, 4, 7}, {7, 1, 7, 1, 7},
+    {5, 5, 7, 1, 1}, {7, 4, 7, 1, 7}, {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1},
+    {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7}};
+
+/* Writes the frame number in white on a black box in the top-left corner
+ * of cell i, scaled with the thumbnail; nothing when the cell is too small
+ * to hold it. */
+static void sheet_label(sheet *s, int i, int frame) {
+  char text[16];
+  int n = snprintf(text, sizeof text, "%d", frame);
+  int k = s->th >= 60 ? 2 : 1, bw = (4 * n + 1) * k, bh = 7 * k;
+  if (n <= 0 || bw > s->tw || bh > s->th)
+    return;
+  int cx = (i % s->columns) * s->tw, cy = (i / s->columns) * s->th;
+  int sw = satf_image_width(s->img);
+  for (int y = 0; y < bh; y++)
+    for (int x = 0; x < bw; x++) {
+      int gx = x / k - 1, gy = y / k - 1, on = 0;
+      if (gy >= 0 && gy < 5 && gx >= 0 && gx % 4 < 3 && gx / 4 < n &&
+          text[gx / 4] >= '0' && text[gx / 4] <= '9')
+        on = DIGIT_ROWS[text[gx / 4] - '0'][gy] >> (2 - gx % 4) & 1;
+      for (int c = 0; c < 3; c++)
+        satf_image_plane(s->img, c)[(size_t)(cy + y) * sw + cx + x] =
+            on ? 1.0f : 0.0f;
+    }
+}
 
 /* Box-filtered thumbnail of the R, G, B planes of a frame into cell i. */
 static void sheet_put(sheet *s, const float *const rgb[3], int w, int h,
@@ -100,6 +130,7 @@ static void sheet_put(sheet *s, const float *const rgb[3], int w, int h,
         dst[(size_t)(cy + y) * sw + cx + x] = n ? sum / (float)n : 0.0f;
       }
   }
+  sheet_label(s, i, s->first + i);
 }
 
 static satf_status sheet_from_file(sheet *s, const char *path, int i,
@@ -206,7 +237,7 @@ satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
   if (st != SATF_OK)
     return st;
   int count = o->last - o->first + 1;
-  sheet sh = {NULL, 0, 0, SHEET_COLUMNS};
+  sheet sh = {NULL, 0, 0, SHEET_COLUMNS, o->first};
   if (o->contact_sheet && (st = sheet_create(r, count, &sh, err)) != SATF_OK)
     return st;
   satf_progress prog;

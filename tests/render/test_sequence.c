@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 
 #include <cmocka.h>
+#include <png.h>
 
 #include "render_fixture.h"
 #include "satf/gl.h"
@@ -173,6 +174,30 @@ static unsigned char *slurp(const char *path, size_t *n) {
   return buf;
 }
 
+/* Each thumbnail of the sheet carries its frame number in its top-left
+ * corner: a black box with white 3x5 digits, checked by their top rows. */
+static void check_sheet_labels(const char *path, int frames) {
+  png_image png;
+  memset(&png, 0, sizeof png);
+  png.version = PNG_IMAGE_VERSION;
+  assert_true(png_image_begin_read_from_file(&png, path));
+  png.format = PNG_FORMAT_GRAY;
+  unsigned char *px = malloc(PNG_IMAGE_SIZE(png));
+  assert_non_null(px);
+  assert_true(png_image_finish_read(&png, NULL, px, 0, NULL));
+  int tw = (int)png.width / frames, w = (int)png.width;
+  assert_true(png.height >= 7);
+  for (int i = 0; i < frames; i++) {
+    const unsigned char *cell = px + i * tw;
+    int digit = i + 1; /* top rows: 1 010, 2 111, 3 111, 4 101, 5 111 */
+    assert_int_equal(cell[0], 0); /* the box */
+    assert_int_equal(cell[1 * w + 1], digit == 1 ? 0 : 255);
+    assert_int_equal(cell[1 * w + 2], digit == 4 ? 0 : 255);
+    assert_int_equal(cell[1 * w + 3], digit == 1 ? 0 : 255);
+  }
+  free(px);
+}
+
 static void resume_finishes_a_killed_batch(void **state) {
   (void)state;
   satf_scene *anim =
@@ -234,6 +259,7 @@ static void resume_finishes_a_killed_batch(void **state) {
   struct stat sb;
   assert_int_equal(stat(sheet, &sb), 0);
   assert_true(sb.st_size > 100);
+  check_sheet_labels(sheet, 5);
   satf_renderer_destroy(r);
   satf_scene_destroy(anim);
 }
