@@ -80,6 +80,23 @@ satf_status satf_scene_parse(const char *json, size_t len,
                           "%s:%d:%d: NUL byte in the text", name, line, column);
   }
 
+  /* cJSON decodes strings into C strings, so an escaped NUL would silently
+   * cut a path short ("a\u0000b" read as "a"): refuse it. Escapes are
+   * skipped pairwise so an escaped backslash followed by u0000 is text. */
+  for (size_t i = 0; i + 1 < len; i++) {
+    if (json[i] != '\\')
+      continue;
+    if (json[i + 1] == 'u' && i + 5 < len && json[i + 2] == '0' &&
+        json[i + 3] == '0' && json[i + 4] == '0' && json[i + 5] == '0') {
+      int line, column;
+      line_column(json, i, &line, &column);
+      return satf_error_set(err, SATF_ERR_FORMAT,
+                            "%s:%d:%d: \\u0000 (a NUL character) in a string",
+                            name, line, column);
+    }
+    i++;
+  }
+
   /* cJSON reads a terminated copy, so it can never run past the caller's
    * buffer whatever the bytes are. */
   char *text = malloc(len + 1);

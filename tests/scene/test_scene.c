@@ -464,12 +464,23 @@ static const bad_case bad_cases[] = {
     {CLUSTER_WITH(", \"shell\": {\"layers\": 3, \"layers\": 4}"),
      SATF_ERR_FORMAT,
      "macro_clusters[0].prototype.shell: key \"layers\" appears twice"},
+    {SCENE_WITH(", \"database\": \"db\\u0000.exr\""), SATF_ERR_FORMAT,
+     "\\u0000 (a NUL character) in a string"},
 };
 #define N_BAD (sizeof bad_cases / sizeof bad_cases[0])
 
 static void test_malformed_cases(void **state) {
   (void)state;
   check_bad_cases(bad_cases, N_BAD, "bad.json");
+}
+
+/* An escaped backslash before "u0000" is text, not a NUL character. */
+static void test_escaped_backslash_is_not_nul(void **state) {
+  (void)state;
+  satf_scene *scene =
+      parse_ok(SCENE_WITH(", \"description\": \"a\\\\u0000\""), "ok.json");
+  assert_string_equal(scene->description, "a\\u0000");
+  satf_scene_destroy(scene);
 }
 
 static void test_exact_message(void **state) {
@@ -801,6 +812,7 @@ int main(void) {
       cmocka_unit_test(test_explicit_values),
       cmocka_unit_test(test_malformed_cases),
       cmocka_unit_test(test_exact_message),
+      cmocka_unit_test(test_escaped_backslash_is_not_nul),
       cmocka_unit_test(test_load_errors),
       cmocka_unit_test(test_unknown_keys_warn),
       cmocka_unit_test(test_relative_paths),
