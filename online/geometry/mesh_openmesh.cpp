@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -25,6 +26,8 @@
 #include <new>
 #include <string>
 #include <vector>
+
+#include <sys/stat.h>
 
 extern "C" {
 #include "satf/common.h"
@@ -422,6 +425,50 @@ satf_status satf_mesh_write(const satf_mesh *mesh, const char *path,
   return satf_commit_temp(tmp, path, err);
 }
 
+/* The number of faces the file declares: PLY's "element face N" header
+ * line, or OBJ's "f" lines. OpenMesh skips a face it cannot use (a vertex
+ * index out of range, a non-manifold edge) and still reports success, so
+ * the count is how a dropped face is noticed. -1 when it cannot be told. */
+static long long declared_faces(const char *path, const std::string &ext) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  long long n = 0;
+  if (ext == ".ply") {
+    while (std::getline(in, line) && line.rfind("end_header", 0) != 0) {
+      long long v = 0;
+      if (std::sscanf(line.c_str(), "element face %lld", &v) == 1)
+        return v;
+    }
+    return -1;
+  }
+  while (std::getline(in, line))
+    if (line.size() > 1 && line[0] == 'f' &&
+        std::isspace((unsigned char)line[1]))
+      n++;
+  return n;
+}
+
+/* A mesh that satf can use: faces exist, none was dropped, every vertex
+ * is finite. */
+static satf_status check_read_mesh(const char *path, const std::string &ext,
+                                   const satf_mesh *m, satf_error *err) {
+  size_t faces = m->om.n_faces();
+  if (faces == 0)
+    return satf_error_set(err, SATF_ERR_FORMAT,
+                          "%s: no faces (an empty file, or not a mesh)", path);
+  long long declared = declared_faces(path, ext);
+  if (declared > 0 && (long long)faces < declared)
+    return satf_error_set(err, SATF_ERR_CORRUPT,
+                          "%s: %lld of %lld faces could not be used (vertex "
+                          "indices out of range, or non-manifold edges)",
+                          path, declared - (long long)faces, declared);
+  for (const satf_mesh_vertex &v : m->verts)
+    if (!all_finite(v.pos, 3))
+      return satf_error_set(err, SATF_ERR_CORRUPT,
+                            "%s: a vertex position is not finite", path);
+  return SATF_OK;
+}
+
 satf_status satf_mesh_read(const char *path, satf_mesh **out, satf_error *err) {
   if (!out || !path)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
@@ -433,6 +480,12 @@ satf_status satf_mesh_read(const char *path, satf_mesh **out, satf_error *err) {
                           "%s: unknown mesh extension '%s' (use .obj or "
                           ".ply)",
                           path, ext.c_str());
+  struct stat sb;
+  if (stat(path, &sb) != 0)
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
+                          std::strerror(errno));
+  if (!S_ISREG(sb.st_mode)) /* a FIFO would block the reader forever */
+    return satf_error_set(err, SATF_ERR_IO, "%s: not a regular file", path);
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe)
@@ -465,12 +518,7 @@ satf_status satf_mesh_read(const char *path, satf_mesh **out, satf_error *err) {
       } else {
         recompute_normals(m);
       }
-      for (const satf_mesh_vertex &v : m->verts)
-        if (!all_finite(v.pos, 3)) {
-          st = satf_error_set(err, SATF_ERR_CORRUPT,
-                              "%s: a vertex position is not finite", path);
-          break;
-        }
+      st = check_read_mesh(path, ext, m, err);
     }
   } catch (const std::bad_alloc &) {
     st = satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
