@@ -52,6 +52,18 @@ void satf_bspline_eval(const float *ctrl, int n, int dim, double t,
  * "Computation of rotation minimizing frames", ACM TOG 27(1), 2008), so the
  * frame neither flips on helices nor spins on straight stretches.
  *
+ * Twist. SATF eq. 1 reads E(t) = (A cos(theta + u), B sin(theta + u)) and
+ * calls theta(t) "the self-twisting phase of the ellipse E(t)". Read
+ * literally, theta only moves where phase u starts on an ellipse that keeps
+ * its axes on (n1, n2), so a flat cluster could never turn (paper 001's
+ * Fig. 6(c), a ribbon twisted one full turn, would stay flat). satf reads
+ * theta as the angle the cross-section is turned by: the ellipse's axes are
+ * the rotation-minimising normals rotated by theta(t),
+ *   e1 = cos theta n1 + sin theta n2,  e2 = -sin theta n1 + cos theta n2,
+ * and the point at (t, v, u) is T + v (A cos u e1 + B sin u e2). Strands at
+ * fixed (v, u) turn with the ellipse. For A = B the two readings are the
+ * same surface with the same (v, u) coordinates.
+ *
  * A satf_cluster is immutable after satf_cluster_create: every query below
  * may run on many threads at once on one handle. */
 
@@ -61,9 +73,10 @@ typedef struct satf_cluster_desc {
   int n_ctrl;         /* trajectory control points, >= 2 */
   const float *traj;  /* n_ctrl * 3 floats (x, y, z) */
   int n_radius;       /* control points of a, b and twist, >= 1 */
-  const float *a;     /* semi-axis along the twisted n1, > 0 */
-  const float *b;     /* semi-axis along the twisted n2, > 0 */
-  const float *twist; /* self-twisting phase theta, radians */
+  const float *a;     /* semi-axis along e1 (n1 turned by theta), > 0 */
+  const float *b;     /* semi-axis along e2 (n2 turned by theta), > 0 */
+  const float *twist; /* theta: the angle the cross-section is turned by,
+                         radians, counter-clockwise from n1 towards n2 */
 } satf_cluster_desc;
 
 typedef struct satf_cluster satf_cluster;
@@ -87,22 +100,30 @@ void satf_cluster_frame(const satf_cluster *cluster, float t, float tangent[3],
                         float n1[3], float n2[3]);
 
 /* Everything about the cross-section at one t, so per-vertex work along a
- * ring evaluates the splines and the frame once. */
+ * ring evaluates the splines and the frame once. n1 and n2 are the
+ * ellipse's axes, already turned by theta (e1, e2 above), so every consumer
+ * works with the phase u alone; rmf_n1, rmf_n2 are the untwisted
+ * rotation-minimising normals. */
 typedef struct satf_cluster_section {
   float t;
   float center[3];  /* T(t) */
   float dcenter[3]; /* dT/dt */
-  float tangent[3], n1[3], n2[3];
-  float dn1[3], dn2[3]; /* d n1/dt, d n2/dt of the rotation-minimising frame */
-  float a, b, theta;    /* A(t), B(t), theta(t) */
-  float da, db, dtheta; /* their derivatives in t */
+  float tangent[3];
+  float n1[3], n2[3]; /* the ellipse's axes: (rmf_n1, rmf_n2) turned by theta */
+  /* d n1/dt, d n2/dt: the frame's turn along T plus the twist's,
+   * d n1/dt = cos theta rmf_n1' + sin theta rmf_n2' + theta' n2 and
+   * d n2/dt = -sin theta rmf_n1' + cos theta rmf_n2' - theta' n1 */
+  float dn1[3], dn2[3];
+  float rmf_n1[3], rmf_n2[3]; /* the rotation-minimising normals */
+  float a, b, theta;          /* A(t), B(t), theta(t) */
+  float da, db, dtheta;       /* their derivatives in t */
 } satf_cluster_section;
 
 void satf_cluster_section_at(const satf_cluster *cluster, float t,
                              satf_cluster_section *section);
 
-/* SATF eq. 1 placed in the normal plane: T(t) + v (A cos(theta + u) n1 +
- * B sin(theta + u) n2). */
+/* SATF eq. 1 with theta turning the cross-section (see Twist above):
+ * T(t) + v (A cos u n1 + B sin u n2), n1, n2 the section's turned axes. */
 void satf_cluster_section_point(const satf_cluster_section *section, float v,
                                 float u, float p[3]);
 /* dP/dt normalised: the direction the hair runs at (t, v, u). */
@@ -160,11 +181,10 @@ typedef struct satf_shell_sector {
    * (v_inner, u_end) */
   float corners[4][3];
   /* The plane: origin T(t), normal the tangent of T, (n1, n2) the
-   * rotation-minimising normal-plane frame and theta(t) the twist. The
-   * point at (v, u) is origin + v (A cos(theta + u) n1 + B sin(theta + u)
-   * n2) (SATF eq. 1). (axis_x, axis_y) is (n1, n2) rotated by theta: the
-   * direction of phase u = 0, from which u is measured; for A = B the point
-   * is origin + v A (cos u axis_x + sin u axis_y). */
+   * rotation-minimising normal-plane frame and theta(t) the twist.
+   * (axis_x, axis_y) is (n1, n2) rotated by theta: the ellipse's axes, so
+   * the point at (v, u) is origin + v (A cos u axis_x + B sin u axis_y)
+   * (SATF eq. 1, theta turning the cross-section; see Twist above). */
   float origin[3];
   float normal[3];
   float n1[3], n2[3];

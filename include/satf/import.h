@@ -202,9 +202,10 @@ typedef struct satf_import_fit {
   int n_ctrl;
   float *traj; /* n_ctrl * 3 */
   int n_radius;
-  float *a, *b, *twist; /* n_radius each: A along n1, B along n2 */
+  float *a, *b, *twist; /* n_radius each: A, B along n1, n2 turned by theta */
   float *spread;       /* n_radius x 3: second moments xx, xy, yy of the points'
-                          offsets in the normal plane (n1, n2), scene units^2 */
+                          offsets in the untwisted normal-plane frame (n1, n2 of
+                          satf_cluster_frame), scene units^2 */
   int strands;         /* member strands */
   size_t points;       /* their points */
   size_t inside;       /* points inside the envelope (v <= 1) */
@@ -218,14 +219,16 @@ typedef struct satf_import_fit {
 } satf_import_fit;
 
 /* Fits the cluster of the strands `members`: the trajectory is the
- * least-squares cubic B-spline through the members' mean strand. The
- * geometry's ellipse lies on the rotation-minimising frame axes (n1, n2)
- * and its twist theta is the phase from which every strand's angle u is
- * measured (SATF eq. 1 as satf/cluster.h implements it), so A and B come
- * from the spread of the points along n1 and n2 (the second moments at each
- * control value, weighted by its B-spline basis function), scaled together
- * so the envelope encloses `coverage` of the points, and theta(t) is the
- * strands' mean winding about the trajectory (theta(0) = 0). */
+ * least-squares cubic B-spline through the members' mean strand. The twist
+ * theta turns the geometry's ellipse away from the rotation-minimising
+ * axes (SATF eq. 1 as satf/geometry.h reads it), so theta(t) is the
+ * orientation of the principal axes of the points' spread in the normal
+ * plane, unwrapped along t (modulo a quarter turn, A and B trading places;
+ * where the spread is round it follows the strands' winding about the
+ * trajectory), and A and B come from the spread along the turned axes (the
+ * second moments at each control value, weighted by its B-spline basis
+ * function), scaled together so the envelope encloses `coverage` of the
+ * points. */
 satf_status satf_import_fit_cluster(const satf_strand_set *s,
                                     const int *members, int n_members,
                                     const satf_import_fit_params *p,
@@ -237,7 +240,8 @@ satf_status satf_import_fit_cluster_create(const satf_import_fit *fit,
                                            satf_cluster **out, satf_error *err);
 
 /* The point of the trajectory closest to p: its parameter *t, the distance,
- * and p's offset in the normal-plane frame (n1, n2) at *t. */
+ * and p's offset along the ellipse's axes at *t (n1, n2 of
+ * satf_cluster_section, turned by the twist). */
 void satf_import_project_point(const satf_cluster *cluster, const float p[3],
                                float *t, float *distance, float xy[2]);
 

@@ -230,6 +230,9 @@ static int features_slice(void *vctx, size_t i, int thread) {
               memcpy(w, p, sizeof w);
             d = satf_vdb_sample(job->vdb, w);
           } else {
+            /* the strands live at (v cos u, v sin u) in the ellipse's own
+             * axes, which the twist turns (SATF eq. 1, satf/geometry.h):
+             * they turn with the cross-section at no cost here */
             d = satf_strands_density(job->strands, t, v * cosf(u), v * sinf(u));
           }
           dens[b * G + a] = d;

@@ -347,6 +347,27 @@ static void rmf_normal_derivative(const double d2[3], double speed,
     dn[c] = -k * tan[c];
 }
 
+/* The ellipse's axes at t: the rotation-minimising normals (r1, r2) turned
+ * by theta, and their t-derivatives from the frame's derivatives (dr1, dr2)
+ * and the twist rate dth (SATF eq. 1 with theta turning the cross-section,
+ * satf/geometry.h):
+ *   e1 = c r1 + s r2,  e1' = c r1' + s r2' + theta' e2,
+ *   e2 = -s r1 + c r2, e2' = -s r1' + c r2' - theta' e1. */
+static void twisted_axes(const double r1[3], const double r2[3],
+                         const double dr1[3], const double dr2[3], double th,
+                         double dth, double e1[3], double e2[3], double de1[3],
+                         double de2[3]) {
+  double c = cos(th), s = sin(th);
+  for (int k = 0; k < 3; k++) {
+    e1[k] = c * r1[k] + s * r2[k];
+    e2[k] = -s * r1[k] + c * r2[k];
+  }
+  for (int k = 0; k < 3; k++) {
+    de1[k] = c * dr1[k] + s * dr2[k] + dth * e2[k];
+    de2[k] = -s * dr1[k] + c * dr2[k] - dth * e1[k];
+  }
+}
+
 void satf_cluster_section_at(const satf_cluster *cluster, float t,
                              satf_cluster_section *s) {
   double pos[3], d1[3], d2[3], speed, tan[3], n1[3], n2[3], dn1[3], dn2[3];
@@ -355,18 +376,22 @@ void satf_cluster_section_at(const satf_cluster *cluster, float t,
   frame_at(cluster, tt, d1, d2, &speed, tan, n1, n2);
   rmf_normal_derivative(d2, speed, tan, n1, dn1);
   rmf_normal_derivative(d2, speed, tan, n2, dn2);
-  s->t = t;
-  to_float3(pos, s->center);
-  to_float3(d1, s->dcenter);
-  to_float3(tan, s->tangent);
-  to_float3(n1, s->n1);
-  to_float3(n2, s->n2);
-  to_float3(dn1, s->dn1);
-  to_float3(dn2, s->dn2);
   double a, da, b, db, th, dth;
   eval_scalar(cluster, cluster->a, tt, &a, &da);
   eval_scalar(cluster, cluster->b, tt, &b, &db);
   eval_scalar(cluster, cluster->twist, tt, &th, &dth);
+  double e1[3], e2[3], de1[3], de2[3];
+  twisted_axes(n1, n2, dn1, dn2, th, dth, e1, e2, de1, de2);
+  s->t = t;
+  to_float3(pos, s->center);
+  to_float3(d1, s->dcenter);
+  to_float3(tan, s->tangent);
+  to_float3(e1, s->n1);
+  to_float3(e2, s->n2);
+  to_float3(de1, s->dn1);
+  to_float3(de2, s->dn2);
+  to_float3(n1, s->rmf_n1);
+  to_float3(n2, s->rmf_n2);
   s->a = (float)a;
   s->b = (float)b;
   s->theta = (float)th;
@@ -375,45 +400,45 @@ void satf_cluster_section_at(const satf_cluster *cluster, float t,
   s->dtheta = (float)dth;
 }
 
-/* The ellipse of SATF eq. 1 in the normal plane at v = 1: E(u) = A cos(phi)
- * n1 + B sin(phi) n2, phi = theta + u. */
-static void ellipse_offset(const satf_cluster_section *s, double phi,
+/* The ellipse of SATF eq. 1 in the normal plane at v = 1, its axes n1, n2
+ * already turned by theta: E(u) = A cos(u) n1 + B sin(u) n2. */
+static void ellipse_offset(const satf_cluster_section *s, double u,
                            double e[3]) {
-  double x = s->a * cos(phi), y = s->b * sin(phi);
+  double x = s->a * cos(u), y = s->b * sin(u);
   for (int c = 0; c < 3; c++)
     e[c] = x * s->n1[c] + y * s->n2[c];
 }
 
 /* dE/du at v = 1. */
-static void ellipse_du(const satf_cluster_section *s, double phi, double e[3]) {
-  double x = -s->a * sin(phi), y = s->b * cos(phi);
+static void ellipse_du(const satf_cluster_section *s, double u, double e[3]) {
+  double x = -s->a * sin(u), y = s->b * cos(u);
   for (int c = 0; c < 3; c++)
     e[c] = x * s->n1[c] + y * s->n2[c];
 }
 
-/* dE/dt at v = 1: radii, twist and frame all vary along t. */
-static void ellipse_dt(const satf_cluster_section *s, double phi, double e[3]) {
-  double cp = cos(phi), sp = sin(phi);
-  double k1 = s->da * cp - s->a * sp * s->dtheta;
-  double k2 = s->db * sp + s->b * cp * s->dtheta;
+/* dE/dt at v = 1: the radii and the axes vary along t (the axes' derivative
+ * holds both the frame's turn and the twist). */
+static void ellipse_dt(const satf_cluster_section *s, double u, double e[3]) {
+  double cu = cos(u), su = sin(u);
+  double k1 = s->da * cu, k2 = s->db * su;
   for (int c = 0; c < 3; c++)
-    e[c] = k1 * s->n1[c] + s->a * cp * s->dn1[c] + k2 * s->n2[c] +
-           s->b * sp * s->dn2[c];
+    e[c] = k1 * s->n1[c] + s->a * cu * s->dn1[c] + k2 * s->n2[c] +
+           s->b * su * s->dn2[c];
 }
 
 void satf_cluster_section_point(const satf_cluster_section *s, float v, float u,
                                 float p[3]) {
   double e[3];
-  ellipse_offset(s, (double)s->theta + u, e); /* SATF eq. 1 */
+  ellipse_offset(s, u, e); /* SATF eq. 1 */
   for (int c = 0; c < 3; c++)
     p[c] = (float)(s->center[c] + (double)v * e[c]);
 }
 
 /* dP/dt = T'(t) + v dE/dt. */
-static void point_dt(const satf_cluster_section *s, double v, double phi,
+static void point_dt(const satf_cluster_section *s, double v, double u,
                      double out[3]) {
   double e[3];
-  ellipse_dt(s, phi, e);
+  ellipse_dt(s, u, e);
   for (int c = 0; c < 3; c++)
     out[c] = s->dcenter[c] + v * e[c];
 }
@@ -421,7 +446,7 @@ static void point_dt(const satf_cluster_section *s, double v, double phi,
 void satf_cluster_section_hair_tangent(const satf_cluster_section *s, float v,
                                        float u, float dir[3]) {
   double d[3];
-  point_dt(s, v, (double)s->theta + u, d);
+  point_dt(s, v, u, d);
   if (satf_normalize3d(d) == 0.0)
     to_double3(s->tangent, d);
   to_float3(d, dir);
@@ -429,15 +454,15 @@ void satf_cluster_section_hair_tangent(const satf_cluster_section *s, float v,
 
 void satf_cluster_section_surface_normal(const satf_cluster_section *s, float v,
                                          float u, float n[3]) {
-  double phi = (double)s->theta + u, eu[3], pt[3], out[3];
+  double eu[3], pt[3], out[3];
   /* dP/du = v dE/du; the positive factor v does not change the direction. */
-  ellipse_du(s, phi, eu);
-  point_dt(s, v > 0.0f ? v : 0.0f, phi, pt);
+  ellipse_du(s, u, eu);
+  point_dt(s, v > 0.0f ? v : 0.0f, u, pt);
   satf_cross3d(eu, pt, out);
   /* The outward normal of the ellipse within its plane, for orientation and
    * as the fallback where the surface is degenerate. */
   double in_plane[3];
-  double x = s->b * cos(phi), y = s->a * sin(phi);
+  double x = s->b * cos(u), y = s->a * sin(u);
   for (int c = 0; c < 3; c++)
     in_plane[c] = x * s->n1[c] + y * s->n2[c];
   satf_normalize3d(in_plane);

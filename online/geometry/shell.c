@@ -73,16 +73,6 @@ static float sample_t(const satf_shell_params *params, int i) {
   return (float)i / (float)params->st;
 }
 
-/* (n1, n2) rotated by angle theta within their plane. */
-static void rotate_frame(const float n1[3], const float n2[3], float theta,
-                         float x[3], float y[3]) {
-  float c = cosf(theta), s = sinf(theta);
-  for (int a = 0; a < 3; a++) {
-    x[a] = c * n1[a] + s * n2[a];
-    y[a] = -s * n1[a] + c * n2[a];
-  }
-}
-
 static void copy3(const float in[3], float out[3]) {
   out[0] = in[0];
   out[1] = in[1];
@@ -122,10 +112,13 @@ satf_status satf_shell_sector_at(const satf_cluster *cluster,
   satf_cluster_section_point(&s, out->v_inner, out->u_end, out->corners[3]);
   copy3(s.center, out->origin);
   copy3(s.tangent, out->normal);
-  copy3(s.n1, out->n1);
-  copy3(s.n2, out->n2);
+  copy3(s.rmf_n1, out->n1);
+  copy3(s.rmf_n2, out->n2);
   out->theta = s.theta;
-  rotate_frame(s.n1, s.n2, s.theta, out->axis_x, out->axis_y);
+  /* the section's axes are already turned by theta (SATF eq. 1 as
+   * satf/geometry.h reads it), so the sector's phase u starts on them */
+  copy3(s.n1, out->axis_x);
+  copy3(s.n2, out->axis_y);
   return SATF_OK;
 }
 

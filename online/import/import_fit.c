@@ -1,10 +1,9 @@
 /* import_fit.c - fitting one cluster's generalized cylinder (SATF eq. 1-2)
  * to its strands: the trajectory T(t) is the least-squares cubic B-spline
- * through the strands' mean, A(t) and B(t) come from the spread of the
- * strand points in the normal plane along the frame axes n1 and n2 (the
- * geometry's ellipse lies on those axes: satf/cluster.h), and the twist
- * theta(t) is how the strands wind about the trajectory, since eq. 1 makes
- * theta the phase every strand's angle u is measured from. */
+ * through the strands' mean; the twist theta(t) turns the cross-section
+ * (satf/geometry.h), so it is the orientation of the principal axes of the
+ * strands' spread in the normal plane, unwrapped along t; and A(t), B(t)
+ * come from the spread along those turned axes. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -112,7 +111,8 @@ void satf_import_project_point(const satf_cluster *cluster, const float p[3],
 
 /* Raw projection of every member point: (t, x, y) with x, y along n1, n2,
  * and the distance to T(t); or normalised cross-section coordinates (SATF
- * eq. 1 inverted: x / A = v cos(theta + u), y / B = v sin(theta + u)). */
+ * eq. 1 inverted, in the ellipse's twisted axes n1, n2 of the section:
+ * x / A = v cos u, y / B = v sin u). */
 typedef struct project_job {
   const satf_strand_set *s;
   const int *members;
@@ -135,11 +135,9 @@ static int project_strand(void *vctx, size_t i, int thread) {
     satf_cluster_section sec;
     satf_cluster_section_at(j->cluster, t, &sec);
     offset_at(&sec, p + 3 * k, xy, &d);
-    if (j->normalise) {
-      float x = xy[0] / sec.a, y = xy[1] / sec.b;
-      float c = cosf(sec.theta), s = sinf(sec.theta);
-      xy[0] = c * x + s * y;
-      xy[1] = -s * x + c * y;
+    if (j->normalise) { /* the section's axes are already twisted */
+      xy[0] /= sec.a;
+      xy[1] /= sec.b;
     }
     j->txy[3 * o] = t;
     j->txy[3 * o + 1] = xy[0];
@@ -326,30 +324,53 @@ static int cmp_float(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-/* A(t) and B(t) at the Greville points: the RMS offsets along n1 and n2,
- * each point weighted by the control value's basis function (a B-spline
- * with those control values then follows the spread smoothly). */
-static void fit_axes(const float *txy, size_t np, int n, float floor_radius,
-                     float *a, float *b, float *spread) {
-  double sw[64] = {0}, sxx[64] = {0}, sxy[64] = {0}, syy[64] = {0}, w[64];
+static double spline1(const float *ctrl, int n, double t) {
+  double v;
+  satf_bspline_eval(ctrl, n, 1, t, &v, NULL, NULL);
+  return v;
+}
+
+/* Second moments of the points' offsets (x, y) at each control value,
+ * every point weighted by that control value's basis function at its t (a
+ * B-spline with values taken from them follows the spread smoothly). */
+typedef struct basis_moments {
+  double w[64], xx[64], xy[64], yy[64];
+} basis_moments;
+
+static void moments_gather(const float *txy, size_t np, int n,
+                           basis_moments *m) {
+  double w[64];
+  memset(m, 0, sizeof *m);
   for (size_t k = 0; k < np; k++) {
     basis(n, txy[3 * k], w);
     double x = txy[3 * k + 1], y = txy[3 * k + 2];
     for (int j = 0; j < n; j++) {
-      sw[j] += w[j];
-      sxx[j] += w[j] * x * x;
-      sxy[j] += w[j] * x * y;
-      syy[j] += w[j] * y * y;
+      m->w[j] += w[j];
+      m->xx[j] += w[j] * x * x;
+      m->xy[j] += w[j] * x * y;
+      m->yy[j] += w[j] * y * y;
     }
   }
+}
+
+/* The mean moments xx, xy, yy per control value (satf_import_fit.spread). */
+static void moments_spread(const basis_moments *m, int n, float *spread) {
   for (int j = 0; j < n; j++) {
-    double k = sw[j] > 1e-9 ? 1.0 / sw[j] : 0.0;
-    spread[3 * j] = (float)(sxx[j] * k);
-    spread[3 * j + 1] = (float)(sxy[j] * k);
-    spread[3 * j + 2] = (float)(syy[j] * k);
+    double k = m->w[j] > 1e-9 ? 1.0 / m->w[j] : 0.0;
+    spread[3 * j] = (float)(m->xx[j] * k);
+    spread[3 * j + 1] = (float)(m->xy[j] * k);
+    spread[3 * j + 2] = (float)(m->yy[j] * k);
+  }
+}
+
+/* A(t) and B(t) at the Greville points from moments taken in the
+ * ellipse's own (twisted) axes: twice the RMS offset along each. */
+static void fit_axes(const basis_moments *m, int n, float floor_radius,
+                     float *a, float *b) {
+  for (int j = 0; j < n; j++) {
     /* 2 sigma: the edge of a uniformly filled disk is at 2 RMS */
-    double ra = sw[j] > 1e-9 ? 2.0 * sqrt(sxx[j] / sw[j]) : -1.0;
-    double rb = sw[j] > 1e-9 ? 2.0 * sqrt(syy[j] / sw[j]) : -1.0;
+    double ra = m->w[j] > 1e-9 ? 2.0 * sqrt(m->xx[j] / m->w[j]) : -1.0;
+    double rb = m->w[j] > 1e-9 ? 2.0 * sqrt(m->yy[j] / m->w[j]) : -1.0;
     a[j] = (float)ra;
     b[j] = (float)rb;
   }
@@ -362,7 +383,7 @@ static void fit_axes(const float *txy, size_t np, int n, float floor_radius,
           b[j] = b[j - d];
           break;
         }
-        if (j + d < n && a[j + d] >= 0.0f && sw[j + d] > 1e-9) {
+        if (j + d < n && a[j + d] >= 0.0f && m->w[j + d] > 1e-9) {
           a[j] = a[j + d];
           b[j] = b[j + d];
           break;
@@ -377,10 +398,20 @@ static void fit_axes(const float *txy, size_t np, int n, float floor_radius,
   }
 }
 
-static double spline1(const float *ctrl, int n, double t) {
-  double v;
-  satf_bspline_eval(ctrl, n, 1, t, &v, NULL, NULL);
-  return v;
+/* ---- Twist ------------------------------------------------------------- */
+
+/* What the points say about theta in each of TWIST_BINS slices of t: the
+ * second moments of their offsets in the untwisted frame (the orientation
+ * of the cross-section) and how fast the strands wind about the trajectory
+ * (numerator and denominator of an r^2-weighted d phase / dt). */
+typedef struct twist_bins {
+  double w[TWIST_BINS], xx[TWIST_BINS], xy[TWIST_BINS], yy[TWIST_BINS];
+  double num[TWIST_BINS], den[TWIST_BINS];
+} twist_bins;
+
+static int bin_of(double t) {
+  int k = (int)(t * TWIST_BINS);
+  return k < 0 ? 0 : k >= TWIST_BINS ? TWIST_BINS - 1 : k;
 }
 
 /* Adds a segment's winding (dphi over dt, both weighted) to every bin its
@@ -388,10 +419,7 @@ static double spline1(const float *ctrl, int n, double t) {
 static void spread_over_bins(double t0, double t1, double dphi, double dt,
                              double *num, double *den) {
   double lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
-  int b0 = (int)(lo * TWIST_BINS), b1 = (int)(hi * TWIST_BINS);
-  b0 = b0 < 0 ? 0 : b0 >= TWIST_BINS ? TWIST_BINS - 1 : b0;
-  b1 = b1 < 0 ? 0 : b1 >= TWIST_BINS ? TWIST_BINS - 1 : b1;
-  for (int k = b0; k <= b1; k++) {
+  for (int k = bin_of(lo); k <= bin_of(hi); k++) {
     double a = fmax(lo, (double)k / TWIST_BINS);
     double b = fmin(hi, (double)(k + 1) / TWIST_BINS);
     double f = hi > lo ? (b - a) / (hi - lo) : 1.0;
@@ -402,42 +430,47 @@ static void spread_over_bins(double t0, double t1, double dphi, double dt,
   }
 }
 
-/* theta(t): the strands' mean winding rate about the trajectory, measured
- * on their normalised phase and weighted by v^2 (a phase near the core is
- * noise), integrated from theta(0) = 0 and sampled at the Greville points. */
-static void fit_twist(const satf_import_projection *raw, const float *a,
-                      const float *b, int n, float *twist) {
-  double num[TWIST_BINS] = {0}, den[TWIST_BINS] = {0};
+/* Fills the bins from the raw projection (offsets along the untwisted
+ * rotation-minimising normals). A rigid turn of the cross-section turns
+ * every point's angle by the same amount, so weighting by r^2 only mutes
+ * the points near the trajectory, whose angle is noise. */
+static void twist_gather(const satf_import_projection *raw, twist_bins *b) {
+  memset(b, 0, sizeof *b);
   for (int i = 0; i < raw->n_strands; i++) {
     const float *q = raw->txy + 3 * raw->offset[i];
     int m = (int)(raw->offset[i + 1] - raw->offset[i]);
-    double prev_phase = 0.0, prev_v = 0.0, prev_t = 0.0;
+    double prev_phase = 0.0, prev_r2 = 0.0, prev_t = 0.0;
     for (int k = 0; k < m; k++) {
-      double t = q[3 * k];
-      double x = q[3 * k + 1] / spline1(a, n, t),
-             y = q[3 * k + 2] / spline1(b, n, t);
-      double phase = atan2(y, x), v = sqrt(x * x + y * y);
-      if (k > 0) {
-        double dphi = phase - prev_phase, dt = t - prev_t;
-        dphi -= 2.0 * SATF_PI * floor((dphi + SATF_PI) / (2.0 * SATF_PI));
-        double wv = v < prev_v ? v : prev_v;
-        if (fabs(dt) > 1e-6 && wv > 0.1)
-          spread_over_bins(prev_t, t, wv * wv * dphi, wv * wv * dt, num, den);
+      double t = q[3 * k], x = q[3 * k + 1], y = q[3 * k + 2];
+      int bin = bin_of(t);
+      b->w[bin] += 1.0;
+      b->xx[bin] += x * x;
+      b->xy[bin] += x * y;
+      b->yy[bin] += y * y;
+      double phase = atan2(y, x), r2 = x * x + y * y;
+      if (k > 0 && fabs(t - prev_t) > 1e-6) {
+        double dphi = phase - prev_phase;
+        dphi -= SATF_TWO_PI * floor((dphi + SATF_PI) / SATF_TWO_PI);
+        double wr = r2 < prev_r2 ? r2 : prev_r2;
+        spread_over_bins(prev_t, t, wr * dphi, wr * (t - prev_t), b->num,
+                         b->den);
       }
       prev_phase = phase;
-      prev_v = v;
+      prev_r2 = r2;
       prev_t = t;
     }
   }
-  double rate[TWIST_BINS];
+}
+
+/* Winding rate per bin; bins no strand segment spans take the rate of the
+ * nearest that one does (0 everywhere when none does). */
+static void winding_rates(const twist_bins *b, double *rate) {
   int have[TWIST_BINS], any = 0;
   for (int k = 0; k < TWIST_BINS; k++) {
-    have[k] = fabs(den[k]) > 1e-12;
-    rate[k] = have[k] ? num[k] / den[k] : 0.0;
+    have[k] = fabs(b->den[k]) > 1e-12;
+    rate[k] = have[k] ? b->num[k] / b->den[k] : 0.0;
     any |= have[k];
   }
-  /* bins no strand segment spans take the rate of the nearest that one
-   * does */
   for (int k = 0; any && k < TWIST_BINS; k++)
     for (int d = 1; !have[k] && d < TWIST_BINS; d++) {
       if (k - d >= 0 && have[k - d]) {
@@ -449,16 +482,226 @@ static void fit_twist(const satf_import_projection *raw, const float *a,
         break;
       }
     }
-  for (int j = 0; j < n; j++) {
-    double g = n > 1 ? greville(j, n) : 1.0, acc = 0.0;
-    for (int k = 0; k < TWIST_BINS; k++) {
-      double lo = (double)k / TWIST_BINS, hi = (double)(k + 1) / TWIST_BINS;
-      if (g <= lo)
-        break;
-      acc += rate[k] * ((g < hi ? g : hi) - lo);
-    }
-    twist[j] = n > 1 ? (float)acc : 0.0f;
+}
+
+/* The principal axis of bin k's spread, in (-pi/2, pi/2], and how far it
+ * can be trusted, in [0, 1]. The anisotropy (A^2 - B^2) / (A^2 + B^2) of
+ * the spread is 0 for a round cross-section, whose axis means nothing, but
+ * w points drawn from a round one show about sqrt(2 / w) by chance; the
+ * angle counts not at all below twice that (and below 0.1, axes within
+ * 11%) and fully 0.2 above. */
+static double bin_axis(const twist_bins *b, int k, double *trust) {
+  double xx = b->xx[k], xy = b->xy[k], yy = b->yy[k], tr = xx + yy;
+  double aniso = tr > 0.0 ? hypot(xx - yy, 2.0 * xy) / tr : 0.0;
+  double noise = b->w[k] > 0.0 ? 2.0 * sqrt(2.0 / b->w[k]) : 1.0;
+  double s = (aniso - fmax(0.1, noise)) / 0.2;
+  s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
+  *trust = s * s * (3.0 - 2.0 * s);
+  return 0.5 * atan2(2.0 * xy, xx - yy);
+}
+
+/* theta at the bin centres, unwrapped along t: each bin starts from the
+ * previous one carried forward by the strands' winding, then moves to its
+ * own principal axis as far as that can be trusted. An ellipse turned by a
+ * quarter turn is the same ellipse with A and B swapped, and A and B are
+ * measured afterwards, so the axis is taken modulo pi/2: the branch
+ * nearest the prediction, the least turn that explains the points. */
+static void twist_at_bins(const twist_bins *b, double *theta) {
+  double rate[TWIST_BINS], prev = 0.0;
+  winding_rates(b, rate);
+  for (int k = 0; k < TWIST_BINS; k++) {
+    double pred =
+        k == 0 ? 0.0 : prev + 0.5 * (rate[k - 1] + rate[k]) / TWIST_BINS;
+    double trust, axis = bin_axis(b, k, &trust);
+    double quarter = 0.5 * SATF_PI;
+    axis += quarter * floor((pred - axis) / quarter + 0.5);
+    theta[k] = pred + trust * (axis - pred);
+    prev = theta[k];
   }
+}
+
+/* The B-spline with n control values closest in least squares to theta at
+ * the bin centres, each bin weighted by its share of the points, plus a
+ * penalty on the control values' second divided differences: it keeps the
+ * system regular when n exceeds the bins, stops the control values from
+ * swinging to chase a few noisy bins (a strand or two per bin in small
+ * clusters), and does not bias a linear twist, which it reproduces
+ * exactly. */
+static void fit_twist_spline(const twist_bins *b, const double *theta, int n,
+                             float *twist) {
+  double ata[64 * 64] = {0}, atb[64] = {0}, w[64], total = 0.0;
+  for (int k = 0; k < TWIST_BINS; k++)
+    total += b->w[k];
+  for (int k = 0; k < TWIST_BINS; k++) {
+    /* empty bins keep a small say, so the curve stays defined there */
+    double wk = total > 0.0 ? 0.1 + b->w[k] * TWIST_BINS / total : 1.0;
+    basis(n, ((double)k + 0.5) / TWIST_BINS, w);
+    for (int i = 0; i < n; i++) {
+      for (int j = 0; j < n; j++)
+        ata[i * n + j] += wk * w[i] * w[j];
+      atb[i] += wk * w[i] * theta[k];
+    }
+  }
+  /* second divided differences over the Greville abscissae: zero for the
+   * control values of a linear function, whatever their spacing */
+  const double lambda = 1e-3;
+  for (int j = 1; j + 1 < n; j++) {
+    double h0 = greville(j, n) - greville(j - 1, n);
+    double h1 = greville(j + 1, n) - greville(j, n);
+    const int idx[3] = {j - 1, j, j + 1};
+    const double c[3] = {1.0 / h0, -1.0 / h0 - 1.0 / h1, 1.0 / h1};
+    for (int p = 0; p < 3; p++)
+      for (int q = 0; q < 3; q++)
+        ata[idx[p] * n + idx[q]] += lambda * c[p] * c[q];
+  }
+  if (solve(ata, atb, n, 1) != 0) /* cannot happen: every bin has weight */
+    memset(atb, 0, sizeof atb);
+  for (int j = 0; j < n; j++)
+    twist[j] = (float)atb[j];
+}
+
+/* theta(t) (SATF eq. 1-2, theta turning the cross-section as
+ * satf/geometry.h reads it): the orientation of the principal axes of the
+ * strands' spread, unwrapped along t, carried by the strands' winding
+ * where the cross-section is round. */
+static int fit_twist(const satf_import_projection *raw, int n, float *twist) {
+  twist_bins *b = malloc(sizeof *b);
+  double theta[TWIST_BINS];
+  if (!b)
+    return -1;
+  twist_gather(raw, b);
+  twist_at_bins(b, theta);
+  fit_twist_spline(b, theta, n, twist);
+  free(b);
+  return 0;
+}
+
+/* The raw offsets turned into the fitted ellipse's axes at each point's t:
+ * (x, y) rotated by -theta(t). */
+static void to_twisted_axes(const float *raw, size_t np, const float *twist,
+                            int n, float *out) {
+  for (size_t k = 0; k < np; k++) {
+    double t = raw[3 * k], th = spline1(twist, n, t);
+    double c = cos(th), s = sin(th), x = raw[3 * k + 1], y = raw[3 * k + 2];
+    out[3 * k] = (float)t;
+    out[3 * k + 1] = (float)(c * x + s * y);
+    out[3 * k + 2] = (float)(-s * x + c * y);
+  }
+}
+
+/* ---- The whole fit ----------------------------------------------------- */
+
+/* v of every point in the fitted envelope (offsets in the ellipse's axes). */
+static void envelope_v(const float *txy, size_t np, const satf_import_fit *f,
+                       float *v) {
+  for (size_t k = 0; k < np; k++) {
+    double t = txy[3 * k];
+    double x = txy[3 * k + 1] / spline1(f->a, f->n_radius, t);
+    double y = txy[3 * k + 2] / spline1(f->b, f->n_radius, t);
+    v[k] = (float)sqrt(x * x + y * y);
+  }
+}
+
+/* One common scale makes the envelope enclose `coverage` of the points;
+ * then the floor min_radius. Sets out->inside. */
+static satf_status scale_envelope(const float *txy, size_t np,
+                                  const satf_import_fit_params *p,
+                                  satf_import_fit *out, satf_error *err) {
+  float *v = malloc((np ? np : 1) * sizeof(float));
+  float *sorted = malloc((np ? np : 1) * sizeof(float));
+  if (!v || !sorted) {
+    free(v);
+    free(sorted);
+    return satf_error_set(err, SATF_ERR_NOMEM, "fit: out of memory");
+  }
+  envelope_v(txy, np, out, v);
+  float scale = 1.0f;
+  if (np > 0) {
+    memcpy(sorted, v, np * sizeof(float));
+    qsort(sorted, np, sizeof(float), cmp_float);
+    size_t q = (size_t)ceil((double)p->coverage * (double)np);
+    q = q < 1 ? 1 : q > np ? np : q;
+    scale = sorted[q - 1] * 1.0001f;
+    if (!(scale > 0.0f))
+      scale = 1.0f;
+  }
+  free(sorted);
+  for (int j = 0; j < p->n_radius; j++) {
+    out->a[j] = fmaxf(out->a[j] * scale, p->min_radius);
+    out->b[j] = fmaxf(out->b[j] * scale, p->min_radius);
+  }
+  if (p->min_radius > 0.0f) /* the floor may have grown the envelope */
+    envelope_v(txy, np, out, v);
+  else
+    for (size_t k = 0; k < np; k++)
+      v[k] /= scale;
+  size_t inside = 0;
+  for (size_t k = 0; k < np; k++)
+    inside += v[k] <= 1.0f;
+  out->inside = inside;
+  free(v);
+  return SATF_OK;
+}
+
+/* The cross-section of a fit whose trajectory is known: theta(t) from the
+ * raw offsets, then A(t), B(t) in the ellipse's axes, scaled for
+ * coverage. The spread stays in the untwisted frame (satf/import.h). */
+static satf_status fit_section(const satf_import_projection *raw,
+                               const satf_import_fit_params *p,
+                               satf_import_fit *out, satf_error *err) {
+  size_t np = raw->offset[raw->n_strands];
+  float *rot = calloc((np ? np : 1) * 3, sizeof(float));
+  basis_moments *m = malloc(sizeof *m);
+  if (!rot || !m) {
+    free(rot);
+    free(m);
+    return satf_error_set(err, SATF_ERR_NOMEM, "fit: out of memory");
+  }
+  moments_gather(raw->txy, np, p->n_radius, m);
+  moments_spread(m, p->n_radius, out->spread);
+  if (fit_twist(raw, p->n_radius, out->twist) != 0) {
+    free(rot);
+    free(m);
+    return satf_error_set(err, SATF_ERR_NOMEM, "fit: out of memory");
+  }
+  to_twisted_axes(raw->txy, np, out->twist, p->n_radius, rot);
+  moments_gather(rot, np, p->n_radius, m);
+  fit_axes(m, p->n_radius, 1e-3f * out->length, out->a, out->b);
+  free(m);
+  satf_status st = scale_envelope(rot, np, p, out, err);
+  free(rot);
+  return st;
+}
+
+/* The least-squares cubic B-spline through the members' mean strand, each
+ * strand resampled to p->samples points. */
+static satf_status fit_mean_trajectory(const satf_strand_set *s,
+                                       const int *members, int n_members,
+                                       const satf_import_fit_params *p,
+                                       float *traj, satf_error *err) {
+  int m = p->samples;
+  double *mean = calloc(3 * (size_t)m, sizeof(double));
+  float *buf = malloc(3 * (size_t)m * sizeof(float));
+  if (!mean || !buf) {
+    free(mean);
+    free(buf);
+    return satf_error_set(err, SATF_ERR_NOMEM, "fit: out of memory");
+  }
+  for (int i = 0; i < n_members; i++) {
+    satf_import_resample(s, members[i], m, buf);
+    for (int k = 0; k < 3 * m; k++)
+      mean[k] += buf[k];
+  }
+  for (int k = 0; k < 3 * m; k++)
+    mean[k] /= n_members;
+  free(buf);
+  int bad = fit_trajectory(mean, m, p->n_ctrl, traj);
+  free(mean);
+  if (bad)
+    return satf_error_set(err, SATF_ERR_INTERNAL,
+                          "fit: the trajectory's least-squares system is "
+                          "singular");
+  return SATF_OK;
 }
 
 satf_status satf_import_fit_cluster(const satf_strand_set *s,
@@ -476,119 +719,55 @@ satf_status satf_import_fit_cluster(const satf_strand_set *s,
                           "samples (n_ctrl..4096), coverage %g in (0, 1]",
                           n_members, p->n_ctrl, p->n_radius, p->samples,
                           (double)p->coverage);
-  int m = p->samples;
-  double *mean = calloc(3 * (size_t)m, sizeof(double));
-  float *buf = malloc(3 * (size_t)m * sizeof(float));
   out->traj = malloc(3 * (size_t)p->n_ctrl * sizeof(float));
   out->a = malloc((size_t)p->n_radius * sizeof(float));
   out->b = malloc((size_t)p->n_radius * sizeof(float));
   out->twist = calloc((size_t)p->n_radius, sizeof(float));
   out->spread = calloc(3 * (size_t)p->n_radius, sizeof(float));
-  if (!mean || !buf || !out->traj || !out->a || !out->b || !out->twist ||
-      !out->spread) {
-    free(mean);
-    free(buf);
+  if (!out->traj || !out->a || !out->b || !out->twist || !out->spread) {
     satf_import_fit_free(out);
     return satf_error_set(err, SATF_ERR_NOMEM, "fit: out of memory");
   }
-  for (int i = 0; i < n_members; i++) {
-    satf_import_resample(s, members[i], m, buf);
-    for (int k = 0; k < 3 * m; k++)
-      mean[k] += buf[k];
-  }
-  for (int k = 0; k < 3 * m; k++)
-    mean[k] /= n_members;
-  free(buf);
   out->n_ctrl = p->n_ctrl;
   out->n_radius = p->n_radius;
-  int bad = fit_trajectory(mean, m, p->n_ctrl, out->traj);
-  free(mean);
-  if (bad) {
-    satf_import_fit_free(out);
-    return satf_error_set(err, SATF_ERR_INTERNAL,
-                          "fit: the trajectory's least-squares system is "
-                          "singular");
-  }
-  /* A provisional cylinder of unit radius gives the frames. */
+  satf_status st =
+      fit_mean_trajectory(s, members, n_members, p, out->traj, err);
+  /* A provisional cylinder of unit radius and no twist gives the untwisted
+   * rotation-minimising frames the raw offsets are measured in. */
   float one = 1.0f, zero = 0.0f;
   satf_cluster_desc d = {p->n_ctrl, out->traj, 1, &one, &one, &zero};
-  satf_cluster *cl;
-  satf_status st = satf_cluster_create(&d, &cl, err);
-  if (st != SATF_OK) {
-    satf_import_fit_free(out);
-    return st;
-  }
-  out->length = satf_cluster_length(cl);
+  satf_cluster *cl = NULL;
+  if (st == SATF_OK)
+    st = satf_cluster_create(&d, &cl, err);
   satf_import_projection raw;
+  memset(&raw, 0, sizeof raw);
   float *dist = NULL;
-  st = project_all(s, members, n_members, cl, 0, &raw, &dist, err);
+  if (st == SATF_OK) {
+    out->length = satf_cluster_length(cl);
+    st = project_all(s, members, n_members, cl, 0, &raw, &dist, err);
+  }
   satf_cluster_destroy(cl);
-  if (st != SATF_OK) {
-    satf_import_fit_free(out);
-    return st;
-  }
-  size_t np = raw.offset[n_members];
-  fit_axes(raw.txy, np, p->n_radius, 1e-3f * out->length, out->a, out->b,
-           out->spread);
-  fit_twist(&raw, out->a, out->b, p->n_radius, out->twist);
-  /* One common scale makes the envelope enclose `coverage` of the points. */
-  float *v = malloc((np ? np : 1) * sizeof(float));
-  if (!v) {
-    free(dist);
-    satf_import_projection_free(&raw);
-    satf_import_fit_free(out);
-    return satf_error_set(err, SATF_ERR_NOMEM, "fit: out of memory");
-  }
-  double dsum = 0.0;
-  for (size_t k = 0; k < np; k++) {
-    double t = raw.txy[3 * k];
-    double x = raw.txy[3 * k + 1] / spline1(out->a, p->n_radius, t);
-    double y = raw.txy[3 * k + 2] / spline1(out->b, p->n_radius, t);
-    v[k] = (float)sqrt(x * x + y * y);
-    dsum += dist[k];
-  }
-  float *sorted = malloc((np ? np : 1) * sizeof(float));
-  float scale = 1.0f;
-  if (sorted && np > 0) {
-    memcpy(sorted, v, np * sizeof(float));
-    qsort(sorted, np, sizeof(float), cmp_float);
-    size_t q = (size_t)ceil((double)p->coverage * (double)np);
-    q = q < 1 ? 1 : q > np ? np : q;
-    scale = sorted[q - 1] * 1.0001f;
-    if (!(scale > 0.0f))
-      scale = 1.0f;
-  }
-  free(sorted);
-  for (int j = 0; j < p->n_radius; j++) {
-    out->a[j] = fmaxf(out->a[j] * scale, p->min_radius);
-    out->b[j] = fmaxf(out->b[j] * scale, p->min_radius);
-  }
-  size_t inside = 0;
-  if (p->min_radius > 0.0f) { /* the floor may have grown the envelope */
-    for (size_t k = 0; k < np; k++) {
-      double t = raw.txy[3 * k];
-      double x = raw.txy[3 * k + 1] / spline1(out->a, p->n_radius, t);
-      double y = raw.txy[3 * k + 2] / spline1(out->b, p->n_radius, t);
-      inside += x * x + y * y <= 1.0;
-    }
-  } else {
+  if (st == SATF_OK)
+    st = fit_section(&raw, p, out, err);
+  if (st == SATF_OK) {
+    size_t np = raw.offset[n_members];
+    double dsum = 0.0, ma = 0.0, mb = 0.0;
     for (size_t k = 0; k < np; k++)
-      inside += v[k] <= scale;
+      dsum += dist[k];
+    for (int j = 0; j < p->n_radius; j++) {
+      ma += out->a[j];
+      mb += out->b[j];
+    }
+    out->strands = n_members;
+    out->points = np;
+    out->distance_sum = dsum;
+    out->strand_width = 0.05f;
+    out->radius = (float)sqrt(ma * mb) / (float)p->n_radius;
+    out->layout = SATF_SCENE_LAYOUT_UNIFORM;
   }
-  free(v);
   free(dist);
   satf_import_projection_free(&raw);
-  out->strands = n_members;
-  out->points = np;
-  out->inside = inside;
-  out->distance_sum = dsum;
-  out->strand_width = 0.05f;
-  double ma = 0.0, mb = 0.0;
-  for (int j = 0; j < p->n_radius; j++) {
-    ma += out->a[j];
-    mb += out->b[j];
-  }
-  out->radius = (float)sqrt(ma * mb) / (float)p->n_radius;
-  out->layout = SATF_SCENE_LAYOUT_UNIFORM;
-  return SATF_OK;
+  if (st != SATF_OK)
+    satf_import_fit_free(out);
+  return st;
 }

@@ -23,7 +23,9 @@
 /* The proxy: (st + 1) x (PROXY_COLUMNS + 1) vertices on an elliptic
  * cylinder circumscribing the outer shell, each with position, hair
  * tangent, (u, t), and the cross-section at t as the shading pass needs it:
- * C(t), n1, n2, (A, B, theta, |dT/dt|), the unit tangent of T. */
+ * C(t), the ellipse's axes n1, n2 (already turned by the twist theta, SATF
+ * eq. 1 as satf/geometry.h reads it, so the shader measures the phase u
+ * from them directly), (A, B, theta, |dT/dt|), the unit tangent of T. */
 enum { PROXY_FLOATS = 24 };
 
 /* The scene gives A, B and twist as separate curves; the cluster takes one

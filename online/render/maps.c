@@ -48,9 +48,11 @@ satf_status satf_shell_geom_create(const satf_cluster *cluster,
         float *f = g->frames + 9 * sector_index(shell, i, k, j);
         satf_cluster_section_point(&sec, v, u, f);
         /* In the normal plane, the ellipse point moves along
-         * (-A sin, B cos) as u grows; its outward normal is (B cos, A sin)
-         * in the (n1, n2) frame rotated by the twist (SATF eq. 1). */
-        float c = cosf(sec.theta + u), s = sinf(sec.theta + u);
+         * (-A sin u, B cos u) as u grows; its outward normal is
+         * (B cos u, A sin u) in the ellipse's axes (n1, n2), which the
+         * section has already turned by the twist (SATF eq. 1,
+         * satf/geometry.h). */
+        float c = cosf(u), s = sinf(u);
         for (int a = 0; a < 3; a++) {
           f[3 + a] = sec.b * c * sec.n1[a] + sec.a * s * sec.n2[a];
           f[6 + a] = -sec.a * s * sec.n1[a] + sec.b * c * sec.n2[a];

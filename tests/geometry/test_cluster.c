@@ -132,34 +132,89 @@ static void test_straight_line_frame_constant(void **state) {
   satf_cluster_destroy(cl);
 }
 
-/* At v = 1 the point at phase theta + u = 0 is A along n1 and the one at
- * theta + u = pi/2 is B along n2 (SATF eq. 1); in general the coordinates
- * in (n1, n2) are (A v cos(theta + u), B v sin(theta + u)). */
+/* SATF eq. 1 with theta turning the cross-section (satf/geometry.h): in
+ * the untwisted rotation-minimising frame (n1, n2) of satf_cluster_frame,
+ * the point at (v, u) is R(theta) (A v cos u, B v sin u), and the section's
+ * own n1, n2 are that frame turned by theta. */
 static void test_ellipse_axes_with_twist(void **state) {
   (void)state;
   float traj[12 * 3];
   helix_ctrl(12, 2.0, 0.5, 3.0, traj);
   const float a[3] = {0.4f, 0.4f, 0.4f}, b[3] = {0.1f, 0.1f, 0.1f};
   const float tw[3] = {0.7f, 0.7f, 0.7f};
+  const double c = cos(0.7), s = sin(0.7);
   satf_cluster *cl = make_cluster(12, traj, 3, a, b, tw);
   for (int i = 0; i <= 20; i++) {
     float t = i / 20.0f, T[3], tan[3], n1[3], n2[3], p[3], d[3];
     satf_cluster_trajectory(cl, t, T, NULL);
     satf_cluster_frame(cl, t, tan, n1, n2);
-    satf_cluster_point(cl, t, 1.0f, -0.7f, p);
-    test_sub3(p, T, d);
-    assert_near(test_len3(d), 0.4, 1e-6);
-    assert_near(test_dot3(d, n1), 0.4, 1e-6);
-    satf_cluster_point(cl, t, 1.0f, (float)(SATF_PI / 2) - 0.7f, p);
-    test_sub3(p, T, d);
-    assert_near(test_len3(d), 0.1, 1e-6);
-    assert_near(test_dot3(d, n2), 0.1, 1e-6);
+    satf_cluster_section sec;
+    satf_cluster_section_at(cl, t, &sec);
+    for (int k = 0; k < 3; k++) {
+      assert_near(sec.rmf_n1[k], n1[k], 1e-7);
+      assert_near(sec.n1[k], c * n1[k] + s * n2[k], 1e-6);
+      assert_near(sec.n2[k], -s * n1[k] + c * n2[k], 1e-6);
+    }
     for (int k = 0; k < 8; k++) {
       float u = (float)k, v = 0.3f + 0.1f * k;
+      double x = 0.4 * v * cos(u), y = 0.1 * v * sin(u);
       satf_cluster_point(cl, t, v, u, p);
       test_sub3(p, T, d);
-      assert_near(test_dot3(d, n1), 0.4 * v * cos(0.7 + u), 1e-6);
-      assert_near(test_dot3(d, n2), 0.1 * v * sin(0.7 + u), 1e-6);
+      assert_near(test_dot3(d, n1), c * x - s * y, 1e-6);
+      assert_near(test_dot3(d, n2), s * x + c * y, 1e-6);
+    }
+  }
+  satf_cluster_destroy(cl);
+}
+
+/* How far the angle of d in the plane of (n1, n2) is from `expect`,
+ * wrapped into [-pi, pi). */
+static double angle_error(const float d[3], const float n1[3],
+                          const float n2[3], double expect) {
+  double e = atan2(test_dot3(d, n2), test_dot3(d, n1)) - expect;
+  return e - 2.0 * SATF_PI * floor((e + SATF_PI) / (2.0 * SATF_PI));
+}
+
+/* A ribbon (A = 20 B) twisted one full turn, theta(t) = 2 pi t, along a
+ * curved trajectory: its major axis, the direction of P(t, 1, 0) - T(t),
+ * is A long and at angle 2 pi t in the untwisted frame; its minor axis
+ * (u = pi/2) is B long, a quarter turn further. Read as a phase only
+ * (theta + u), the point at u = 0 would be (A cos theta, B sin theta): at
+ * t = 0.25 only B long, so the ribbon would never turn. The axes'
+ * derivatives carry the twist rate: they match finite differences. */
+static void test_ribbon_full_turn(void **state) {
+  (void)state;
+  float traj[12 * 3];
+  helix_ctrl(12, 2.0, 0.5, 3.0, traj);
+  const float a[2] = {1.0f, 1.0f}, b[2] = {0.05f, 0.05f};
+  const float tw[2] = {0.0f, (float)(2.0 * SATF_PI)};
+  satf_cluster *cl = make_cluster(12, traj, 2, a, b, tw);
+  const float ts[5] = {0.0f, 0.125f, 0.25f, 0.375f, 0.5f};
+  for (int i = 0; i < 5; i++) {
+    float t = ts[i], T[3], tan[3], n1[3], n2[3], p[3], d[3];
+    double expect = 2.0 * SATF_PI * t;
+    satf_cluster_trajectory(cl, t, T, NULL);
+    satf_cluster_frame(cl, t, tan, n1, n2);
+    satf_cluster_point(cl, t, 1.0f, 0.0f, p);
+    test_sub3(p, T, d);
+    assert_near(test_len3(d), 1.0, 1e-5);
+    assert_near(angle_error(d, n1, n2, expect), 0.0, 1e-5);
+    satf_cluster_point(cl, t, 1.0f, (float)(0.5 * SATF_PI), p);
+    test_sub3(p, T, d);
+    assert_near(test_len3(d), 0.05, 1e-5);
+    assert_near(angle_error(d, n1, n2, expect + 0.5 * SATF_PI), 0.0, 1e-4);
+  }
+  const float h = 1e-3f;
+  for (int i = 1; i < 20; i++) {
+    satf_cluster_section s, s0, s1;
+    float t = i / 20.0f;
+    satf_cluster_section_at(cl, t, &s);
+    satf_cluster_section_at(cl, t - h, &s0);
+    satf_cluster_section_at(cl, t + h, &s1);
+    for (int k = 0; k < 3; k++) {
+      /* |dn/dt| is about 2 pi here: 2e-3 is a relative 3e-4 */
+      assert_near(s.dn1[k], (s1.n1[k] - s0.n1[k]) / (2.0 * h), 2e-3);
+      assert_near(s.dn2[k], (s1.n2[k] - s0.n2[k]) / (2.0 * h), 2e-3);
     }
   }
   satf_cluster_destroy(cl);
@@ -330,6 +385,7 @@ int main(void) {
       cmocka_unit_test(test_helix_frames_do_not_flip),
       cmocka_unit_test(test_straight_line_frame_constant),
       cmocka_unit_test(test_ellipse_axes_with_twist),
+      cmocka_unit_test(test_ribbon_full_turn),
       cmocka_unit_test(test_section_end_values),
       cmocka_unit_test(test_hair_tangent_and_normal),
       cmocka_unit_test(test_helix_length),

@@ -92,7 +92,8 @@ static void test_layer_radii(void **state) {
 }
 
 /* On a straight circular cylinder along +z the sector corners are known in
- * closed form: radius v r at phase theta + u. */
+ * closed form: radius v r at phase theta + u (for a circle, turning the
+ * cross-section by theta and shifting the phase by theta agree). */
 static void test_sector_on_cylinder(void **state) {
   (void)state;
   const float traj[2 * 3] = {0, 0, 0, 0, 0, 4};
@@ -148,6 +149,48 @@ static void test_sector_on_cylinder(void **state) {
   assert_int_equal(satf_shell_sector_at(cl, &p, 0, 0, 16, s, &err),
                    SATF_ERR_ARGUMENT);
   assert_int_equal(satf_shell_sector_at(cl, &p, 8, 3, 15, s, &err), SATF_OK);
+  satf_cluster_destroy(cl);
+}
+
+/* A flat cluster (A = 0.5, B = 0.1) along +z twisted half a turn: every
+ * boundary sector's axes are the untwisted frame turned by theta(t) = pi t,
+ * its corners lie at (A v cos u, B v sin u) on those axes (SATF eq. 1 with
+ * theta turning the cross-section), and the layer mesh's vertices of ring i
+ * are the same points, so shells and HSVs turn with the ribbon. */
+static void test_sectors_turn_with_twist(void **state) {
+  (void)state;
+  const float traj[2 * 3] = {0, 0, 0, 0, 0, 4};
+  const float a[2] = {0.5f, 0.5f}, b[2] = {0.1f, 0.1f};
+  const float tw[2] = {0.0f, (float)SATF_PI};
+  satf_cluster_desc d = {2, traj, 2, a, b, tw};
+  satf_cluster *cl = NULL;
+  assert_int_equal(satf_cluster_create(&d, &cl, NULL), SATF_OK);
+  satf_shell_params p = {2, 4, 8, 0.2f};
+  satf_mesh *mesh = NULL;
+  assert_int_equal(satf_cluster_build_layer_mesh(cl, &p, 1, &mesh, NULL),
+                   SATF_OK);
+  const satf_mesh_vertex *mv = satf_mesh_vertices(mesh);
+  for (int i = 0; i <= p.st; i++)
+    for (int j = 0; j < p.su; j++) {
+      satf_shell_sector s;
+      assert_int_equal(satf_shell_sector_at(cl, &p, i, 1, j, &s, NULL),
+                       SATF_OK);
+      double th = SATF_PI * i / p.st, c = cos(th), n = sin(th);
+      assert_near(s.theta, th, 1e-6);
+      for (int k = 0; k < 3; k++) {
+        assert_near(s.axis_x[k], c * s.n1[k] + n * s.n2[k], 1e-6);
+        assert_near(s.axis_y[k], -n * s.n1[k] + c * s.n2[k], 1e-6);
+      }
+      float dlt[3];
+      test_sub3(s.corners[1], s.origin, dlt); /* (v_outer, u_begin) */
+      assert_near(test_dot3(dlt, s.axis_x), 0.5 * cos(s.u_begin), 1e-6);
+      assert_near(test_dot3(dlt, s.axis_y), 0.1 * sin(s.u_begin), 1e-6);
+      /* the outer layer's mesh vertex (i, j) is that corner */
+      const float *q = mv[(size_t)i * (size_t)(p.su + 1) + (size_t)j].pos;
+      for (int k = 0; k < 3; k++)
+        assert_near(q[k], s.corners[1][k], 1e-6);
+    }
+  satf_mesh_destroy(mesh);
   satf_cluster_destroy(cl);
 }
 
@@ -518,6 +561,7 @@ int main(void) {
       cmocka_unit_test(test_hsv_count_table1),
       cmocka_unit_test(test_layer_radii),
       cmocka_unit_test(test_sector_on_cylinder),
+      cmocka_unit_test(test_sectors_turn_with_twist),
       cmocka_unit_test(test_layer_mesh_structure),
       cmocka_unit_test(test_mesh_normals_by_hand),
       cmocka_unit_test(test_mesh_create_rejects),

@@ -1,8 +1,9 @@
 #version 430 core
 /* cluster_vs.glsl - the outermost shell with the cluster's local frame at
- * each vertex: the trajectory point C(t), the normal-plane frame n1, n2,
- * the trajectory's unit tangent and |dT/dt|, and A, B, theta, all in the
- * prototype's frame (vertex layout: hierarchy.c). */
+ * each vertex: the trajectory point C(t), the ellipse's axes n1, n2 (the
+ * normal-plane frame turned by the twist theta), the trajectory's unit
+ * tangent and |dT/dt|, and A, B, theta, all in the prototype's frame (vertex
+ * layout: hierarchy.c). */
 layout(location = 0) in vec3 a_pos;
 layout(location = 2) in vec3 a_tangent;
 layout(location = 3) in vec2 a_uv;

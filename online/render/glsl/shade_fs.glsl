@@ -114,7 +114,9 @@ vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   return dif + s1 + s2;
 }
 void main() {
-  float A = v_shape.x, B = v_shape.y, theta = v_shape.z;
+  /* n1, n2 are the ellipse's axes, already turned by the twist (SATF
+   * eq. 1, satf/geometry.h): the phase u is the angle from n1 */
+  float A = v_shape.x, B = v_shape.y;
   vec3 n1 = normalize(v_n1), n2 = normalize(v_n2), axis = normalize(v_axis);
   vec3 d = normalize(v_local - u_eye_local);
   vec3 q = v_local - v_centre;
@@ -153,7 +155,7 @@ void main() {
       if (disc <= 0.0) { inner = k + 1; break; }
       float s = (-b + (pass == 0 ? -1.0 : 1.0) * sqrt(disc)) / a;
       vec2 X = P + s * D;
-      float u_turns = atan2_turns(X.y, X.x) - theta * 0.159154943;
+      float u_turns = atan2_turns(X.y, X.x);
       float t = v_t + s * dt_ds;
       vec4 m = fetch_map(u_turns, t, k);
       vec2 ra = reflectance_alpha(m);
