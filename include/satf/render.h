@@ -14,7 +14,9 @@ extern "C" {
 
 /* Images: the renderer's frame in memory and on disk: a float image
  * of named planar channels ("R", "G", "B", "A" for the beauty pass, plus
- * AOVs named like "diffuse.R" or single-channel "shadow"), written as
+ * AOVs named LAYER.CHANNEL with standard channel tokens: "diffuse.R", or
+ * "shadow.Y" for a single-channel layer, so Blender, Nuke and OpenImageIO
+ * list every layer), written as
  * OpenEXR (through the EXR writer of satf/common.h) or as an 8-bit sRGB PNG for
  * viewing.
  *
@@ -80,13 +82,24 @@ satf_status satf_image_write_exr_float(const satf_image *img, const char *path,
 satf_status satf_image_write_png(const satf_image *img, const char *path,
                                  satf_error *err);
 /* Same for one layer: "LAYER.R", "LAYER.G", "LAYER.B" (+ "LAYER.A"), or a
- * single channel named LAYER (e.g. "shadow"), written as 8-bit grey. */
+ * single channel "LAYER.Y" (e.g. "shadow.Y") or named LAYER, written as
+ * 8-bit grey. */
 satf_status satf_image_write_png_layer(const satf_image *img, const char *layer,
                                        const char *path, satf_error *err);
-/* Writes the composite (R, G, B over the background) as an opaque sRGB
- * PNG: the preview of a rendered frame. */
+/* Writes the composite (premultiplied R, G, B over the image's background
+ * colour, see satf_image_set_background) as an opaque sRGB PNG: the
+ * preview of a rendered frame. */
 satf_status satf_image_write_png_rgb(const satf_image *img, const char *path,
                                      satf_error *err);
+/* The colour behind the image's premultiplied R, G, B (alpha "A"): what
+ * satf_image_write_png_rgb and satf_image_flatten composite them over.
+ * Black unless set; the renderer sets the scene's background. */
+void satf_image_set_background(satf_image *img, const float rgb[3]);
+void satf_image_background(const satf_image *img, float rgb[3]);
+/* Composites R, G, B over the background in place (RGB += (1 - A) bg; A
+ * stays) and makes the background black, so the preview is unchanged:
+ * satf-render --background-in-exr. No-op without R, G, B and A. */
+void satf_image_flatten(satf_image *img);
 /* Decodes the whole PNG at path (so a truncated file fails) and gives its
  * size; for checking that a frame's preview is complete. */
 satf_status satf_image_png_size(const char *path, int *width, int *height,
@@ -139,6 +152,9 @@ typedef struct satf_frame_timing {
 
 typedef struct satf_render_stats {
   long clusters, layers, strands, hsvs, macro_clusters, prototypes_shared;
+  /* pixels of the last frame that received more fragments than the
+   * per-pixel arrays hold (64; exact compositing): they keep the nearest */
+  long overflow_pixels;
 } satf_render_stats;
 
 /* Builds clusters, shells, meshes, density features and GL resources.
@@ -169,9 +185,11 @@ unsigned satf_renderer_texture(const satf_renderer *r);
 unsigned satf_renderer_framebuffer(const satf_renderer *r);
 
 /* Renders the beauty pass (and with aovs != 0 every AOV) into a new image
- * with channels R G B A (colour composited over the background, A the hair
- * coverage) and, for AOVs, diffuse.R/G/B, specI.R/G/B, specII.R/G/B,
- * shadow, alpha. */
+ * with channels R G B A (colour premultiplied over transparent black, as
+ * compositors expect of an EXR; A the coverage; the scene's background is
+ * the image's background colour, see satf_image_set_background) and, for
+ * AOVs, diffuse.R/G/B, specI.R/G/B, specII.R/G/B, shadow.Y, alpha.Y (all
+ * premultiplied over black). */
 satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
                                        satf_image **out,
                                        satf_frame_timing *timing,
@@ -212,6 +230,8 @@ typedef struct satf_sequence_opts {
   int resume;                /* skip frames whose every output is complete */
   int aovs;
   int quiet;
+  int background_in_exr; /* frames' R, G, B flattened over the background
+                            (satf_image_flatten) before the EXR is written */
 } satf_sequence_opts;
 
 typedef struct satf_sequence_stats {

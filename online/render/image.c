@@ -14,7 +14,8 @@
 struct satf_image {
   int width, height, nchannels;
   char *names[SATF_IMAGE_MAX_CHANNELS];
-  float *data; /* nchannels planes of width * height, top row first */
+  float *data;         /* nchannels planes of width * height, top row first */
+  float background[3]; /* behind the premultiplied R, G, B */
 };
 
 static size_t plane_size(const satf_image *img) {
@@ -150,6 +151,30 @@ satf_status satf_image_store_interleaved(satf_image *img, const float *src,
   return SATF_OK;
 }
 
+void satf_image_set_background(satf_image *img, const float rgb[3]) {
+  memcpy(img->background, rgb, sizeof img->background);
+}
+
+void satf_image_background(const satf_image *img, float rgb[3]) {
+  memcpy(rgb, img->background, sizeof img->background);
+}
+
+/* Premultiplied "over": C = C_fg + (1 - A_fg) C_bg (Porter & Duff 1984). */
+void satf_image_flatten(satf_image *img) {
+  static const char *const names[4] = {"R", "G", "B", "A"};
+  int idx[4];
+  for (int k = 0; k < 4; k++)
+    if ((idx[k] = satf_image_channel_index(img, names[k])) < 0)
+      return;
+  const float *a = satf_image_const_plane(img, idx[3]);
+  for (int c = 0; c < 3; c++) {
+    float *p = satf_image_plane(img, idx[c]);
+    for (size_t i = 0; i < plane_size(img); i++)
+      p[i] += (1.0f - a[i]) * img->background[c];
+    img->background[c] = 0.0f;
+  }
+}
+
 /* ---- OpenEXR ----------------------------------------------------------- */
 
 static satf_status write_exr(const satf_image *img, const char *path,
@@ -246,8 +271,8 @@ static satf_status png_encode(FILE *f, const unsigned char *pixels, int width,
 }
 
 /* Finds the colour channels of a layer: "R","G","B"[,"A"] for the empty
- * layer, "L.R","L.G","L.B"[,"L.A"], or the single channel "L". Returns the
- * component count (1, 3 or 4; alpha last) or 0. */
+ * layer, "L.R","L.G","L.B"[,"L.A"], or the single channel "L.Y" or "L".
+ * Returns the component count (1, 3 or 4; alpha last) or 0. */
 static int find_layer(const satf_image *img, const char *layer, int idx[4]) {
   static const char *const suffix[4] = {"R", "G", "B", "A"};
   char name[SATF_IMAGE_MAX_NAME + 3];
@@ -264,7 +289,12 @@ static int find_layer(const satf_image *img, const char *layer, int idx[4]) {
   }
   if (n >= 3)
     return n;
-  idx[0] = layer[0] ? satf_image_channel_index(img, layer) : -1;
+  if (!layer[0])
+    return 0;
+  snprintf(name, sizeof name, "%s.Y", layer);
+  idx[0] = satf_image_channel_index(img, name);
+  if (idx[0] < 0)
+    idx[0] = satf_image_channel_index(img, layer);
   return idx[0] >= 0 ? 1 : 0;
 }
 
@@ -366,10 +396,21 @@ satf_status satf_image_write_png_rgb(const satf_image *img, const char *path,
   satf_image *rgb = NULL;
   int w = satf_image_width(img), h = satf_image_height(img);
   satf_status st = satf_image_create(w, h, names, 3, &rgb, err);
-  for (int c = 0; c < 3 && st == SATF_OK; c++)
-    memcpy(satf_image_plane(rgb, c),
-           satf_image_const_plane(img, satf_image_channel_index(img, names[c])),
-           (size_t)w * (size_t)h * sizeof(float));
+  const float *a =
+      satf_image_const_plane(img, satf_image_channel_index(img, "A"));
+  for (int c = 0; c < 3 && st == SATF_OK; c++) {
+    const float *src =
+        satf_image_const_plane(img, satf_image_channel_index(img, names[c]));
+    if (!src) {
+      st = satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "%s: image has no channel '%s'", path, names[c]);
+      break;
+    }
+    /* premultiplied "over" the background (Porter & Duff 1984) */
+    float *dst = satf_image_plane(rgb, c);
+    for (size_t i = 0; i < plane_size(img); i++)
+      dst[i] = src[i] + (a ? (1.0f - a[i]) * img->background[c] : 0.0f);
+  }
   if (st == SATF_OK)
     st = satf_image_write_png(rgb, path, err);
   satf_image_destroy(rgb);

@@ -185,16 +185,13 @@ static void set_shading_uniforms(const satf_renderer *r, GLuint p,
   set_dom_uniforms(r, p, aov);
 }
 
-/* Clears the frame to the background (or black for AOVs) and draws the
- * opaque meshes, leaving their depth for the hair to test against. */
+/* Clears the frame to transparent black (every pass is premultiplied over
+ * it; the background is composited by whoever shows the image) and draws
+ * the opaque meshes, leaving their depth for the hair to test against. */
 static void begin_frame(const satf_renderer *r, satf_aov aov,
                         const float viewproj[16]) {
   satf_gl_target_bind(r->out);
-  if (aov == SATF_AOV_BEAUTY)
-    glClearColor(r->scene->background[0], r->scene->background[1],
-                 r->scene->background[2], 0.0f);
-  else
-    glClearColor(0, 0, 0, 0);
+  glClearColor(0, 0, 0, 0);
   glClearDepth(1.0);
   glDepthMask(GL_TRUE);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -228,19 +225,25 @@ static void hair_depth_test(int on) {
   }
 }
 
-/* Every cluster's fragments into the per-pixel arrays. */
+/* Every cluster's fragments into the per-pixel arrays (mode: u_list_mode
+ * of glsl/shade_fs.glsl). */
 static void fill_lists(const satf_renderer *r, satf_aov aov,
-                       const float viewproj[16]) {
-  GLuint zero = 0;
+                       const float viewproj[16], int mode) {
+  GLuint zero = 0, empty = 0xFFFFFFFFu;
   glClearTexImage(r->counts_tex, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   glBindImageTexture(0, r->counts_tex, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
   glBindImageTexture(1, r->frags_tex, 0, GL_TRUE, 0, GL_READ_WRITE,
                      GL_RGBA32UI);
+  if (mode == 1) /* no key yet: every slot farther than any fragment */
+    glClearTexImage(r->keys_tex, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &empty);
+  if (mode > 0)
+    glBindImageTexture(2, r->keys_tex, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
   glViewport(0, 0, r->width, r->height);
   hair_depth_test(r->nmeshes > 0);
   glDisable(GL_CULL_FACE);
   set_shading_uniforms(r, r->prog_shade, aov);
+  glUniform1i(glGetUniformLocation(r->prog_shade, "u_list_mode"), mode);
   glEnable(GL_CULL_FACE); /* front faces: each traces the whole cluster */
   glCullFace(GL_BACK);
   draw_clusters(r, r->prog_shade, viewproj, 0);
@@ -268,20 +271,27 @@ static void resolve_lists(const satf_renderer *r, const float viewproj[16]) {
 }
 
 GLuint passes_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
-                    long *fragments) {
+                    int nearest, long *fragments, long *overflow) {
   begin_frame(r, aov, viewproj);
-  fill_lists(r, aov, viewproj);
+  /* nearest: a first pass finds each pixel's r->slots nearest depths (an
+   * arrival-order-free k-buffer), the second stores only fragments no
+   * farther than the last of them */
+  if (nearest)
+    fill_lists(r, aov, viewproj, 1);
+  fill_lists(r, aov, viewproj, nearest ? 2 : 0);
   resolve_lists(r, viewproj);
   /* the deepest pixel decides whether the arrays were large enough */
   size_t n = (size_t)r->width * (size_t)r->height;
   GLuint *counts = malloc(n * sizeof(GLuint)), most = 0;
   *fragments = 0;
+  *overflow = 0;
   if (counts) {
     glBindTexture(GL_TEXTURE_2D, r->counts_tex);
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, counts);
     for (size_t i = 0; i < n; i++) {
       most = counts[i] > most ? counts[i] : most;
-      *fragments += counts[i];
+      *fragments += counts[i] < (GLuint)r->slots ? counts[i] : (GLuint)r->slots;
+      *overflow += counts[i] > (GLuint)r->slots;
     }
     free(counts);
   }

@@ -128,23 +128,30 @@ unsigned satf_renderer_framebuffer(const satf_renderer *r) {
 
 /* The composite pass of the renderer's mode; exact mode grows the
  * fragment arrays and draws again when a pixel had more fragments than
- * slots. */
+ * slots, and where a pixel has more than the arrays' largest size draws
+ * once more keeping each pixel's nearest fragments (so the frame does not
+ * depend on the order fragments arrive in). */
 static satf_status composite(satf_renderer *r, satf_aov aov,
                              const float viewproj[16], long *count,
                              satf_error *err) {
+  r->stats.overflow_pixels = 0;
   if (r->composite == SATF_COMPOSITE_ORDERED)
     return passes_ordered(r, aov, viewproj, err);
-  GLuint most = passes_lists(r, aov, viewproj, count);
-  if (r->composite == SATF_COMPOSITE_EXACT && (int)most > r->slots &&
-      r->slots < SATF_MAX_FRAGMENTS) {
+  long over = 0, ignore = 0;
+  GLuint most = passes_lists(r, aov, viewproj, 0, count, &over);
+  satf_status st = SATF_OK;
+  if ((int)most > r->slots && r->slots < SATF_MAX_FRAGMENTS) {
     int slots = (int)most + 4;
-    satf_status st = resources_alloc_lists(
+    st = resources_alloc_lists(
         r, slots < SATF_MAX_FRAGMENTS ? slots : SATF_MAX_FRAGMENTS, err);
     if (st != SATF_OK)
       return st;
-    passes_lists(r, aov, viewproj, count);
+    most = passes_lists(r, aov, viewproj, 0, count, &over);
   }
-  return SATF_OK;
+  if (over > 0 && (st = resources_alloc_keys(r, err)) == SATF_OK)
+    passes_lists(r, aov, viewproj, 1, count, &ignore);
+  r->stats.overflow_pixels = over;
+  return st;
 }
 
 /* A frame; with refresh 0 the maps and the deep opacity map of the
@@ -189,6 +196,9 @@ void satf_renderer_present(satf_renderer *r) {
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, satf_gl_target_color_texture(r->out, 0));
   glUniform1i(glGetUniformLocation(r->prog_display, "u_image"), 0);
+  /* the target is premultiplied over transparent black */
+  glUniform3fv(glGetUniformLocation(r->prog_display, "u_background"), 1,
+               r->scene->background);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   passes_fullscreen(r);
@@ -200,9 +210,9 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
                                        satf_error *err) {
   *out = NULL;
   static const char *const names[] = {
-      "R",         "G",         "B",        "A",       "diffuse.R",
-      "diffuse.G", "diffuse.B", "specI.R",  "specI.G", "specI.B",
-      "specII.R",  "specII.G",  "specII.B", "shadow",  "alpha"};
+      "R",         "G",         "B",        "A",        "diffuse.R",
+      "diffuse.G", "diffuse.B", "specI.R",  "specI.G",  "specI.B",
+      "specII.R",  "specII.G",  "specII.B", "shadow.Y", "alpha.Y"};
   int n = aovs ? 15 : 4;
   satf_image *img = NULL;
   satf_status st = satf_image_create(r->width, r->height, names, n, &img, err);
@@ -219,8 +229,8 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
       (const char *const[]){"diffuse.R", "diffuse.G", "diffuse.B", NULL},
       (const char *const[]){"specI.R", "specI.G", "specI.B", NULL},
       (const char *const[]){"specII.R", "specII.G", "specII.B", NULL},
-      (const char *const[]){"shadow", NULL, NULL, NULL},
-      (const char *const[]){"alpha", NULL, NULL, NULL}};
+      (const char *const[]){"shadow.Y", NULL, NULL, NULL},
+      (const char *const[]){"alpha.Y", NULL, NULL, NULL}};
   int passes = aovs ? SATF_AOV_COUNT : 1;
   for (int a = 0; a < passes && st == SATF_OK; a++) {
     /* shadow and alpha AOVs are coverage-weighted: their composite over a
@@ -237,6 +247,7 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
     satf_image_destroy(img);
     return st;
   }
+  satf_image_set_background(img, r->scene->background);
   *out = img;
   return SATF_OK;
 }

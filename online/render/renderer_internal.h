@@ -76,7 +76,9 @@ struct satf_renderer {
   GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve,
       prog_display;
   GLuint empty_vao, counts_tex, frags_tex, list_fbo;
-  int slots; /* fragments kept per pixel */
+  GLuint keys_tex; /* per-pixel depth keys of the nearest `slots` fragments,
+                      made when a pixel first overflows (0: none yet) */
+  int slots;       /* fragments kept per pixel */
   satf_gl_target *out, *dom_depth, *dom_opacity;
   float light_viewproj[16], dom_slab;
 };
@@ -109,6 +111,8 @@ satf_status resources_build(satf_renderer *r, satf_error *err);
 satf_status resources_alloc_screen(satf_renderer *r, satf_error *err);
 /* Fragment arrays of `slots` fragments per pixel. */
 satf_status resources_alloc_lists(satf_renderer *r, int slots, satf_error *err);
+/* r->keys_tex for r->slots keys per pixel, unless it exists. */
+satf_status resources_alloc_keys(satf_renderer *r, satf_error *err);
 void resources_release(satf_renderer *r);
 
 /* ---- frame.c: per-frame CPU work (Table 1: I, C, M) ------------------- */
@@ -137,9 +141,12 @@ int *frame_far_to_near(const satf_renderer *r);
 /* The deep opacity map from the key light. */
 void passes_dom(satf_renderer *r);
 /* Per-pixel fragment arrays, then their sorted composite; returns the
- * largest number of fragments a pixel received. */
+ * largest number of fragments a pixel received and sets *overflow to the
+ * pixels that received more than r->slots. With `nearest` (r->keys_tex
+ * allocated) each pixel keeps its r->slots nearest fragments, whatever
+ * their arrival order; otherwise the first r->slots to arrive. */
 GLuint passes_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
-                    long *fragments);
+                    int nearest, long *fragments, long *overflow);
 /* Clusters drawn far to near with "over" blending. */
 satf_status passes_ordered(satf_renderer *r, satf_aov aov,
                            const float viewproj[16], satf_error *err);

@@ -85,6 +85,9 @@ satf_status resources_alloc_lists(satf_renderer *r, int slots,
     glDeleteTextures(1, &r->counts_tex);
   if (r->frags_tex)
     glDeleteTextures(1, &r->frags_tex);
+  if (r->keys_tex) /* made again, at the new size, when a frame needs it */
+    glDeleteTextures(1, &r->keys_tex);
+  r->keys_tex = 0;
   glGenTextures(1, &r->counts_tex);
   glBindTexture(GL_TEXTURE_2D, r->counts_tex);
   glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32UI, r->width, r->height);
@@ -94,6 +97,16 @@ satf_status resources_alloc_lists(satf_renderer *r, int slots,
                  slots);
   r->slots = slots;
   return satf_gl_check("fragment arrays", err);
+}
+
+satf_status resources_alloc_keys(satf_renderer *r, satf_error *err) {
+  if (r->keys_tex)
+    return SATF_OK;
+  glGenTextures(1, &r->keys_tex);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, r->keys_tex);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_R32UI, r->width, r->height,
+                 r->slots);
+  return satf_gl_check("fragment depth keys", err);
 }
 
 satf_status resources_alloc_screen(satf_renderer *r, satf_error *err) {
@@ -249,8 +262,8 @@ void resources_release(satf_renderer *r) {
       glDeleteProgram(progs[i]);
   if (r->empty_vao)
     glDeleteVertexArrays(1, &r->empty_vao);
-  GLuint texs[2] = {r->counts_tex, r->frags_tex};
-  glDeleteTextures(2, texs);
+  GLuint texs[3] = {r->counts_tex, r->frags_tex, r->keys_tex};
+  glDeleteTextures(3, texs);
   if (r->list_fbo)
     glDeleteFramebuffers(1, &r->list_fbo);
   satf_gl_target_destroy(r->out);

@@ -39,9 +39,9 @@ static void frame_path(const char *pattern, int frame, char *out, size_t size) {
 }
 
 /* The EXR at path decodes completely at w x h, with the AOV layers when
- * they were asked for ("shadow" stands for them: written last). */
+ * they were asked for ("shadow.Y" stands for them: written last). */
 static int exr_complete(const char *path, int w, int h, int aovs) {
-  const char *names[2] = {"A", "shadow"};
+  const char *names[2] = {"A", "shadow.Y"};
   float *planes[2] = {NULL, NULL};
   int fw = 0, fh = 0;
   satf_status st = satf_exr_read(path, names, aovs ? 2 : 1, 1LL << 28, NULL,
@@ -76,7 +76,8 @@ enum { SHEET_COLUMNS = 8, SHEET_SCALE = 4 };
 typedef struct sheet {
   satf_image *img;
   int tw, th, columns;
-  int first; /* the frame number of cell 0, for the labels */
+  int first;   /* the frame number of cell 0, for the labels */
+  float bg[3]; /* behind the frames' premultiplied colour */
 } sheet;
 
 /* 3x5 pixel digits: one byte per row, bit 2 the left column. */
@@ -108,8 +109,10 @@ static void sheet_label(sheet *s, int i, int frame) {
     }
 }
 
-/* Box-filtered thumbnail of the R, G, B planes of a frame into cell i. */
-static void sheet_put(sheet *s, const float *const rgb[3], int w, int h,
+/* Box-filtered thumbnail of the R, G, B planes of a frame into cell i,
+ * composited over the background by the A plane (rgb[3]; NULL: opaque).
+ * "Over" is linear, so the box filter may come first. */
+static void sheet_put(sheet *s, const float *const rgb[4], int w, int h,
                       int i) {
   int cx = (i % s->columns) * s->tw, cy = (i / s->columns) * s->th;
   int sw = satf_image_width(s->img);
@@ -117,34 +120,40 @@ static void sheet_put(sheet *s, const float *const rgb[3], int w, int h,
     float *dst = satf_image_plane(s->img, c);
     for (int y = 0; y < s->th; y++)
       for (int x = 0; x < s->tw; x++) {
-        float sum = 0.0f;
+        float sum = 0.0f, alpha = 0.0f;
         int n = 0;
         for (int dy = 0; dy < SHEET_SCALE; dy++)
           for (int dx = 0; dx < SHEET_SCALE; dx++) {
             int px = x * SHEET_SCALE + dx, py = y * SHEET_SCALE + dy;
             if (px < w && py < h) {
               sum += rgb[c][(size_t)py * w + px];
+              alpha += rgb[3] ? rgb[3][(size_t)py * w + px] : 1.0f;
               n++;
             }
           }
-        dst[(size_t)(cy + y) * sw + cx + x] = n ? sum / (float)n : 0.0f;
+        /* premultiplied "over" (Porter & Duff 1984) */
+        dst[(size_t)(cy + y) * sw + cx + x] =
+            n ? (sum + (n - alpha) * s->bg[c]) / (float)n : 0.0f;
       }
   }
   sheet_label(s, i, s->first + i);
 }
 
+/* A frame on disk: premultiplied R, G, B, A (or, written with
+ * background_in_exr, colour already over the background: A is ignored). */
 static satf_status sheet_from_file(sheet *s, const char *path, int i,
-                                   satf_error *err) {
-  const char *names[3] = {"R", "G", "B"};
-  float *planes[3] = {NULL, NULL, NULL};
+                                   int flattened, satf_error *err) {
+  const char *names[4] = {"R", "G", "B", "A"};
+  float *planes[4] = {NULL, NULL, NULL, NULL};
   int w, h;
   satf_status st =
-      satf_exr_read(path, names, 3, 1LL << 28, NULL, NULL, &w, &h, planes, err);
+      satf_exr_read(path, names, 4, 1LL << 28, NULL, NULL, &w, &h, planes, err);
   if (st == SATF_OK) {
-    const float *rgb[3] = {planes[0], planes[1], planes[2]};
+    const float *rgb[4] = {planes[0], planes[1], planes[2],
+                           flattened ? NULL : planes[3]};
     sheet_put(s, rgb, w, h, i);
   }
-  for (int c = 0; c < 3; c++)
+  for (int c = 0; c < 4; c++)
     free(planes[c]);
   return st;
 }
@@ -196,14 +205,17 @@ static satf_status render_one(satf_renderer *r, const satf_scene *scene,
   satf_image *img = NULL;
   if (st == SATF_OK)
     st = satf_renderer_render_image(r, o->aovs, &img, t, err);
+  if (st == SATF_OK && o->background_in_exr)
+    satf_image_flatten(img); /* the PNG and the sheet are unchanged by it */
   if (st == SATF_OK && exr[0])
     st = satf_image_write_exr(img, exr, err);
   if (st == SATF_OK && png[0])
     st = satf_image_write_png_rgb(img, png, err);
   if (st == SATF_OK && sh->img) {
-    const float *rgb[3] = {satf_image_const_plane(img, 0),
-                           satf_image_const_plane(img, 1),
-                           satf_image_const_plane(img, 2)};
+    const float *rgb[4] = {
+        satf_image_const_plane(img, 0), satf_image_const_plane(img, 1),
+        satf_image_const_plane(img, 2), satf_image_const_plane(img, 3)};
+    satf_image_background(img, sh->bg); /* black once flattened */
     sheet_put(sh, rgb, satf_image_width(img), satf_image_height(img),
               f - o->first);
   }
@@ -237,7 +249,7 @@ satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
   if (st != SATF_OK)
     return st;
   int count = o->last - o->first + 1;
-  sheet sh = {NULL, 0, 0, SHEET_COLUMNS, o->first};
+  sheet sh = {NULL, 0, 0, SHEET_COLUMNS, o->first, {0, 0, 0}};
   if (o->contact_sheet && (st = sheet_create(r, count, &sh, err)) != SATF_OK)
     return st;
   satf_progress prog;
@@ -251,8 +263,12 @@ satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
     if (o->png_pattern)
       frame_path(o->png_pattern, f, png, sizeof png);
     if (frame_done(r, o, exr, png)) {
-      if (sh.img)
-        st = sheet_from_file(&sh, exr, f - o->first, err);
+      if (sh.img) {
+        /* the colour the renderer puts behind its frames (renderer.c) */
+        for (int c = 0; c < 3; c++)
+          sh.bg[c] = scene->background[c];
+        st = sheet_from_file(&sh, exr, f - o->first, o->background_in_exr, err);
+      }
       stats->skipped++;
     } else {
       satf_frame_timing t;

@@ -15,6 +15,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <png.h>
+
 #include "render_fixture.h"
 #include "satf/common.h"
 #include "satf/gl.h"
@@ -71,9 +73,9 @@ typedef struct fixture {
 } fixture;
 
 static const char *const all_channels[] = {
-    "R",         "G",         "B",        "A",       "diffuse.R",
-    "diffuse.G", "diffuse.B", "specI.R",  "specI.G", "specI.B",
-    "specII.R",  "specII.G",  "specII.B", "shadow",  "alpha"};
+    "R",         "G",         "B",        "A",        "diffuse.R",
+    "diffuse.G", "diffuse.B", "specI.R",  "specI.G",  "specI.B",
+    "specII.R",  "specII.G",  "specII.B", "shadow.Y", "alpha.Y"};
 #define NCHANNELS 15
 
 static int setup(void **state) {
@@ -122,18 +124,6 @@ static double luminance(const satf_image *img, size_t i) {
          0.0722 * fixture_plane(img, "B")[i];
 }
 
-/* The frame target is RGBA32F or RGBA16F: a value written into it comes
- * back as the float itself or as one of the two halves (11 significant
- * bits, normal range) around it; GL leaves the rounding of floats to
- * halves to the implementation (llvmpipe truncates clear colours). */
-static int stored_exactly(float got, float want) {
-  int e;
-  double m = frexp((double)want, &e);
-  double lo = ldexp(floor(ldexp(m, 11)), e - 11);
-  double hi = ldexp(ceil(ldexp(m, 11)), e - 11);
-  return got == want || (double)got == lo || (double)got == hi;
-}
-
 /* Pixels the hair covers noticeably. */
 static size_t hair_pixels(const satf_image *img, float min_alpha) {
   const float *a = fixture_plane(img, "A");
@@ -166,8 +156,9 @@ static void test_deterministic(void **state) {
   satf_image_destroy(b);
 }
 
-/* Background where no hair is; hair pixels have coverage; the frame is
- * not empty. */
+/* Transparent black where no hair is (the background is the image's
+ * background colour, for the preview); hair pixels have coverage; the
+ * frame is not empty. */
 static void test_background_and_coverage(void **state) {
   fixture *f = *state;
   satf_image *img = render(f->r, 1);
@@ -176,11 +167,14 @@ static void test_background_and_coverage(void **state) {
   assert_int_equal(satf_image_height(img), H);
   const size_t corners[4] = {0, W - 1, (size_t)W * (H - 1), (size_t)W * H - 1};
   const float *bg = f->one->background;
+  float img_bg[3];
+  satf_image_background(img, img_bg);
   for (int k = 0; k < 4; k++) {
     size_t i = corners[k];
-    for (int c = 0; c < 3; c++)
-      assert_true(
-          stored_exactly(fixture_plane(img, all_channels[c])[i], bg[c]));
+    for (int c = 0; c < 3; c++) {
+      assert_true(fixture_plane(img, all_channels[c])[i] == 0.0f);
+      assert_true(img_bg[c] == bg[c]);
+    }
     assert_true(fixture_plane(img, "A")[i] == 0.0f);
     for (int c = 4; c < NCHANNELS; c++) /* AOVs are over black */
       assert_true(fixture_plane(img, all_channels[c])[i] == 0.0f);
@@ -202,14 +196,16 @@ static void test_background_and_coverage(void **state) {
 }
 
 /* The AOVs decompose the frame: every layer is composited with the same
- * fragments and alphas, and eq. 14 is linear in colour, so beauty = bg (1 -
- * A) + diffuse + specI + specII, the alpha AOV is A, and the shadow AOV
+ * fragments and alphas, and eq. 14 is linear in colour, so the
+ * premultiplied beauty = diffuse + specI + specII (+ bg (1 - A) once
+ * flattened), the alpha AOV is A, and the shadow AOV
  * (transmittance x coverage) lies in [0, A]. Fragments are stored as
  * halves per pass, hence the tolerance. */
 static void test_aovs_decompose_beauty(void **state) {
   fixture *f = *state;
   satf_image *img = render(f->r, 1);
   assert_non_null(img);
+  satf_image_flatten(img); /* what --background-in-exr writes */
   const float *bg = f->one->background;
   const char *layers[3][3] = {{"diffuse.R", "specI.R", "specII.R"},
                               {"diffuse.G", "specI.G", "specII.G"},
@@ -229,8 +225,8 @@ static void test_aovs_decompose_beauty(void **state) {
                  c, beauty, sum);
       spec2 = fmax(spec2, fixture_plane(img, layers[c][2])[i]);
     }
-    float alpha = fixture_plane(img, "alpha")[i];
-    float shadow = fixture_plane(img, "shadow")[i];
+    float alpha = fixture_plane(img, "alpha.Y")[i];
+    float shadow = fixture_plane(img, "shadow.Y")[i];
     /* the alpha AOV is a fragment's colour sum, A its 1 - prod(1 - a):
      * equal, but each is rounded to a half separately, so they may land
      * one half step (2^-11 relative) apart */
@@ -276,6 +272,100 @@ static void test_exr_with_aovs(void **state) {
   satf_image_destroy(img);
 }
 
+/* The channel names in the header of the EXR at path, through OpenEXRCore
+ * (what Blender, Nuke and OpenImageIO list); returns their count. */
+static int exr_channel_names(const char *path, char names[][64], int max) {
+  exr_context_t ctx = NULL;
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  if (exr_start_read(&ctx, path, &init) != EXR_ERR_SUCCESS)
+    return -1;
+  const exr_attr_chlist_t *list = NULL;
+  int n = -1;
+  if (exr_get_channels(ctx, 0, &list) == EXR_ERR_SUCCESS) {
+    n = list->num_channels < max ? list->num_channels : max;
+    for (int c = 0; c < n; c++)
+      snprintf(names[c], 64, "%s", list->entries[c].name.str);
+  }
+  exr_finish(&ctx);
+  return n;
+}
+
+/* One of the EXR's names: a single-letter layer-less beauty channel
+ * or LAYER.TOKEN with a token every compositor knows. */
+static int standard_channel(const char *name) {
+  const char *dot = strrchr(name, '.');
+  const char *token = dot ? dot + 1 : name;
+  return strlen(token) == 1 && strchr("RGBAY", token[0]) &&
+         (!dot || dot > name);
+}
+
+/* EXR conventions (issue 13 item 9): every channel is named with a
+ * standard token, the beauty is R, G, B, A, colour is premultiplied over
+ * transparent black (alpha 0: RGB 0), and the PNG preview is that colour
+ * over the background: PNG = RGB + (1 - A) bg, i.e. for an opaque
+ * background-free preview RGB = PNG colour x A. */
+static void test_exr_premultiplied_and_named(void **state) {
+  fixture *f = *state;
+  satf_image *img = render(f->r, 1);
+  assert_non_null(img);
+  char exr[1024], png[1024];
+  test_path(exr, sizeof exr, "test_render_conv.exr");
+  test_path(png, sizeof png, "test_render_conv.png");
+  satf_error err;
+  assert_int_equal(satf_image_write_exr(img, exr, &err), SATF_OK);
+  assert_int_equal(satf_image_write_png_rgb(img, png, &err), SATF_OK);
+  char names[NCHANNELS + 4][64];
+  assert_int_equal(exr_channel_names(exr, names, NCHANNELS + 4), NCHANNELS);
+  for (int c = 0; c < NCHANNELS; c++) {
+    int found = 0;
+    for (int k = 0; k < NCHANNELS; k++)
+      found |= strcmp(names[k], all_channels[c]) == 0;
+    if (!found || !standard_channel(names[c]))
+      fail_msg("channel '%s' missing or '%s' not LAYER.TOKEN", all_channels[c],
+               names[c]);
+  }
+  float *p[4] = {NULL};
+  int w = 0, h = 0;
+  assert_int_equal(
+      satf_exr_read(exr, all_channels, 4, 1 << 24, NULL, NULL, &w, &h, p, &err),
+      SATF_OK);
+  png_image pi;
+  memset(&pi, 0, sizeof pi);
+  pi.version = PNG_IMAGE_VERSION;
+  assert_true(png_image_begin_read_from_file(&pi, png));
+  pi.format = PNG_FORMAT_RGB;
+  unsigned char *px = malloc(PNG_IMAGE_SIZE(pi));
+  assert_non_null(px);
+  assert_true(png_image_finish_read(&pi, NULL, px, 0, NULL));
+  const float *bg = f->one->background;
+  size_t clear = 0, half = 0;
+  for (size_t i = 0; i < (size_t)W * H; i++) {
+    float a = p[3][i];
+    for (int c = 0; c < 3; c++) {
+      if (a == 0.0f && p[c][i] != 0.0f)
+        fail_msg("pixel %zu: A = 0 but %s = %g", i, all_channels[c],
+                 (double)p[c][i]);
+      double v = px[3 * i + (size_t)c] / 255.0; /* sRGB decode */
+      v = v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
+      double want = p[c][i] + (1.0 - a) * bg[c];
+      /* 8-bit sRGB steps are at most 1.4% of the value, plus the toe */
+      if (want <= 1.0 && fabs(v - want) > 0.015 * want + 0.002)
+        fail_msg("pixel %zu %s: PNG %.4f, EXR over background %.4f", i,
+                 all_channels[c], v, want);
+    }
+    clear += a == 0.0f;
+    half += a > 0.3f && a < 0.7f;
+  }
+  printf("%zu pixels with A = 0, %zu half covered\n", clear, half);
+  assert_true(clear > 1000 && half > 20);
+  free(px);
+  for (int c = 0; c < 4; c++)
+    free(p[c]);
+  remove(exr);
+  remove(png);
+  satf_image_destroy(img);
+}
+
 /* Fig. 4(b): without the secondary highlight only specII (and the beauty
  * colour, by exactly specII) changes. */
 static void test_secondary_highlight_off(void **state) {
@@ -289,7 +379,7 @@ static void test_secondary_highlight_off(void **state) {
   assert_non_null(off);
   const char *same[] = {"A",         "diffuse.R", "diffuse.G",
                         "diffuse.B", "specI.R",   "specI.G",
-                        "specI.B",   "shadow",    "alpha"};
+                        "specI.B",   "shadow.Y",  "alpha.Y"};
   for (size_t k = 0; k < sizeof same / sizeof same[0]; k++)
     if (!fixture_same_bits(on, off, same[k]))
       fail_msg("%s changed with the secondary highlight off", same[k]);
@@ -338,11 +428,11 @@ static void test_self_shadow_off(void **state) {
     if (A[i] > 0.05f) {
       lum_on += luminance(on, i);
       lum_off += luminance(off, i);
-      sh_on += fixture_plane(on, "shadow")[i];
-      sh_off += fixture_plane(off, "shadow")[i];
+      sh_on += fixture_plane(on, "shadow.Y")[i];
+      sh_off += fixture_plane(off, "shadow.Y")[i];
       n++;
-      assert_true(fixture_plane(off, "shadow")[i] >=
-                  fixture_plane(on, "shadow")[i] - 1e-5f);
+      assert_true(fixture_plane(off, "shadow.Y")[i] >=
+                  fixture_plane(on, "shadow.Y")[i] - 1e-5f);
     }
   assert_true(n > 0);
   printf("mean luminance over %zu hair pixels: %.4f with s-maps, %.4f "
@@ -351,8 +441,8 @@ static void test_self_shadow_off(void **state) {
   assert_true(lum_off > 1.03 * lum_on);
   assert_true(sh_off > sh_on);
   for (size_t i = 0; i < (size_t)W * H; i++)
-    assert_true(fabsf(fixture_plane(none, "shadow")[i] -
-                      fixture_plane(none, "alpha")[i]) <= 1e-5f);
+    assert_true(fabsf(fixture_plane(none, "shadow.Y")[i] -
+                      fixture_plane(none, "alpha.Y")[i]) <= 1e-5f);
   satf_image_destroy(on);
   satf_image_destroy(off);
   satf_image_destroy(none);
@@ -551,6 +641,7 @@ int main(void) {
       cmocka_unit_test(test_background_and_coverage),
       cmocka_unit_test(test_aovs_decompose_beauty),
       cmocka_unit_test(test_exr_with_aovs),
+      cmocka_unit_test(test_exr_premultiplied_and_named),
       cmocka_unit_test(test_secondary_highlight_off),
       cmocka_unit_test(test_self_shadow_off),
       cmocka_unit_test(test_satf_off),

@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 
 #include <cmocka.h>
+#include <math.h>
 #include <png.h>
 
 #include "render_fixture.h"
@@ -198,6 +199,33 @@ static void check_sheet_labels(const char *path, int frames) {
   free(px);
 }
 
+/* The frames' EXRs are premultiplied over transparent black; the sheet
+ * composites them over the scene's background (0.2, 0.2, 0.25) whether a
+ * thumbnail came from the renderer or, resumed, from the file: the
+ * bottom-right pixel of every cell (no hair there) is the background. */
+static void check_sheet_background(const char *path, int frames) {
+  png_image png;
+  memset(&png, 0, sizeof png);
+  png.version = PNG_IMAGE_VERSION;
+  assert_true(png_image_begin_read_from_file(&png, path));
+  png.format = PNG_FORMAT_RGB;
+  unsigned char *px = malloc(PNG_IMAGE_SIZE(png));
+  assert_non_null(px);
+  assert_true(png_image_finish_read(&png, NULL, px, 0, NULL));
+  int tw = (int)png.width / frames, w = (int)png.width;
+  const double bg[3] = {0.2, 0.2, 0.25};
+  for (int i = 0; i < frames; i++) {
+    const unsigned char *p =
+        px + 3 * ((size_t)(png.height - 1) * w + (size_t)(i + 1) * tw - 1);
+    for (int c = 0; c < 3; c++) {
+      double want = (1.055 * pow(bg[c], 1.0 / 2.4) - 0.055) * 255.0;
+      if (fabs(p[c] - want) > 1.0)
+        fail_msg("cell %d channel %d: %d, background %.1f", i, c, p[c], want);
+    }
+  }
+  free(px);
+}
+
 static void resume_finishes_a_killed_batch(void **state) {
   (void)state;
   satf_scene *anim =
@@ -222,12 +250,12 @@ static void resume_finishes_a_killed_batch(void **state) {
     snprintf(old, sizeof old, "%s/f_%03d.exr", dir_b, k);
     remove(old);
   }
-  satf_sequence_opts full = {1, 5, pat_a, NULL, NULL, 0, 0, 1};
+  satf_sequence_opts full = {1, 5, pat_a, NULL, NULL, 0, 0, 1, 0};
   satf_sequence_stats st;
   assert_int_equal(satf_sequence_render(r, anim, &full, &st, &err), SATF_OK);
   assert_int_equal(st.rendered, 5);
   /* the "killed" batch: frames 1-2 complete, frame 3 cut short */
-  satf_sequence_opts part = {1, 2, pat_b, NULL, NULL, 0, 0, 1};
+  satf_sequence_opts part = {1, 2, pat_b, NULL, NULL, 0, 0, 1, 0};
   assert_int_equal(satf_sequence_render(r, anim, &part, &st, &err), SATF_OK);
   char f3a[700], f3b[700];
   snprintf(f3a, sizeof f3a, "%s/f_003.exr", dir_a);
@@ -239,7 +267,7 @@ static void resume_finishes_a_killed_batch(void **state) {
   fwrite(bytes, 1, n / 2, f);
   fclose(f);
   free(bytes);
-  satf_sequence_opts resume = {1, 5, pat_b, NULL, sheet, 1, 0, 1};
+  satf_sequence_opts resume = {1, 5, pat_b, NULL, sheet, 1, 0, 1, 0};
   assert_int_equal(satf_sequence_render(r, anim, &resume, &st, &err), SATF_OK);
   assert_int_equal(st.skipped, 2);
   assert_int_equal(st.rendered, 3);
@@ -260,6 +288,7 @@ static void resume_finishes_a_killed_batch(void **state) {
   assert_int_equal(stat(sheet, &sb), 0);
   assert_true(sb.st_size > 100);
   check_sheet_labels(sheet, 5);
+  check_sheet_background(sheet, 5);
   satf_renderer_destroy(r);
   satf_scene_destroy(anim);
 }

@@ -20,9 +20,14 @@ static void usage(FILE *out) {
       "needed).\n"
       "\n"
       "options:\n"
-      "  -o, --output PATH    OpenEXR frame (RGBA half; with --aov also\n"
-      "                       diffuse, specI, specII, shadow, alpha)\n"
-      "  --png PATH           sRGB PNG preview\n"
+      "  -o, --output PATH    OpenEXR frame: R, G, B, A half, colour\n"
+      "                       premultiplied over transparent black (ready\n"
+      "                       to composite over a plate); with --aov also\n"
+      "                       diffuse.R/G/B, specI.R/G/B, specII.R/G/B,\n"
+      "                       shadow.Y, alpha.Y\n"
+      "  --png PATH           sRGB PNG preview, over the scene's background\n"
+      "  --background-in-exr  composite the EXR's R, G, B over the scene's\n"
+      "                       background too (A kept; the old output)\n"
       "  --db PATH            HRIR database (default: the scene's "
       "\"database\")\n"
       "  --size WxH           image size (default: the scene's, else "
@@ -49,7 +54,7 @@ static void usage(FILE *out) {
 typedef struct options {
   const char *scene_path, *db_path, *exr, *png, *mesh_path, *frames, *sheet;
   long w, h, bench, threads;
-  int resume, aov, quiet, composite;
+  int resume, aov, quiet, composite, bg_in_exr;
   satf_scene_effects off;
 } options;
 
@@ -94,6 +99,8 @@ static int parse_one(satf_cli_args *it, options *o) {
     o->resume = 1;
   else if (satf_cli_is(it, NULL, "--aov"))
     o->aov = 1;
+  else if (satf_cli_is(it, NULL, "--background-in-exr"))
+    o->bg_in_exr = 1;
   else if (satf_cli_is(it, "-q", "--quiet"))
     o->quiet = 1;
   else if (satf_frontend_effect_flag(it->arg, &o->off))
@@ -170,8 +177,8 @@ static int parse_args(int argc, char **argv, options *o) {
  * patterns and are done afterwards. */
 static satf_status render_frames(options *o, satf_renderer *r,
                                  const satf_scene *scene, satf_error *err) {
-  satf_sequence_opts so = {0,        0,         o->exr, o->png,
-                           o->sheet, o->resume, o->aov, o->quiet};
+  satf_sequence_opts so = {0,         0,      o->exr,   o->png,      o->sheet,
+                           o->resume, o->aov, o->quiet, o->bg_in_exr};
   satf_sequence_stats ss;
   satf_status st =
       satf_frontend_frame_range(scene, o->frames, &so.first, &so.last, err);
@@ -205,6 +212,10 @@ static satf_status render_still(const options *o, satf_renderer *r,
   satf_image *img = NULL;
   satf_frame_timing t;
   satf_status st = satf_renderer_render_image(r, o->aov, &img, &t, err);
+  if (st == SATF_OK && o->bg_in_exr)
+    satf_image_flatten(img); /* the PNG preview is the same either way */
+  satf_render_stats frame;   /* overflow of this frame */
+  satf_renderer_stats(r, &frame);
   if (st == SATF_OK && o->exr)
     st = satf_image_write_exr(img, o->exr, err);
   if (st == SATF_OK && o->png)
@@ -212,11 +223,12 @@ static satf_status render_still(const options *o, satf_renderer *r,
   satf_image_destroy(img);
   if (st == SATF_OK && !o->quiet)
     printf("%s: %s%s%s: %ldx%ld, %ld clusters, %ld layers, %.1fK HSVs, "
-           "%ld look-ups, %.1fM fragments, frame %.1f ms (set-up %.2f s)\n",
+           "%ld look-ups, %.1fM fragments, %ld pixels over 64 fragments "
+           "(nearest kept), frame %.1f ms (set-up %.2f s)\n",
            PROG, o->exr ? o->exr : "", o->exr && o->png ? " + " : "",
            o->png ? o->png : "", o->w, o->h, stats->clusters, stats->layers,
-           stats->hsvs / 1000.0, t.lookups, t.fragments / 1e6, t.total_ms,
-           t_setup);
+           stats->hsvs / 1000.0, t.lookups, t.fragments / 1e6,
+           frame.overflow_pixels, t.total_ms, t_setup);
   return st;
 }
 

@@ -1,0 +1,183 @@
+/* test_overflow.c - exact compositing beyond the per-pixel arrays (64
+ * fragments, SATF_MAX_FRAGMENTS): a pixel behind more clusters than that
+ * keeps its nearest fragments, whatever order they arrive in, and the
+ * renderer counts such pixels (satf_render_stats.overflow_pixels). */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+/* cmocka needs the headers above first */
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_fixture.h"
+#include "satf/gl.h"
+#include "satf/render.h"
+#include "test_util.h"
+
+#define W 64
+#define H 64
+#define NEAR 64 /* vertical copies: exactly what a pixel's arrays hold */
+#define FAR 16  /* horizontal copies behind them all */
+
+typedef struct fixture {
+  satf_gl_context *ctx;
+  satf_db *db;
+} fixture;
+
+static int setup(void **state) {
+  fixture *f = calloc(1, sizeof *f);
+  satf_error err;
+  if (!f)
+    return -1;
+  if (satf_gl_context_create_headless(W, H, &f->ctx, &err) != SATF_OK) {
+    fprintf(stderr, "%s\n", err.message);
+    return -1;
+  }
+  if (!(f->db = fixture_db()))
+    return -1;
+  *state = f;
+  return 0;
+}
+
+static int teardown(void **state) {
+  fixture *f = *state;
+  satf_db_destroy(f->db);
+  satf_gl_context_destroy(f->ctx);
+  free(f);
+  return 0;
+}
+
+/* One straight cluster copied `near` times along the view axis (0.05
+ * apart, vertical) and, with far > 0, `far` times further back turned
+ * horizontal (hair across: another colour under the same light). With
+ * far_first the far copies are listed (so drawn, so arrive) first, and
+ * each group far to near. Cluster shadows are off: the deep opacity map's
+ * slabs follow the scene bounds, which the reference scene changes. */
+static satf_scene *stack_scene(int near, int far, int far_first) {
+  size_t cap = 64 * 1024, len = 0;
+  char *inst = malloc(cap), *json = malloc(cap + 1024);
+  if (!inst || !json)
+    return NULL;
+  inst[0] = '\0';
+  for (int g = 0; g < 2; g++) {
+    int horizontal = g == (far_first ? 0 : 1), n = horizontal ? far : near;
+    for (int k = 0; k < n; k++) {
+      double z = horizontal ? -(near * 0.05 + 2.0 + (far - 1 - k) * 0.05)
+                            : -(near - 1 - k) * 0.05;
+      len += (size_t)snprintf(
+          inst + len, cap - len, "%s{\"translate\": [0, 0, %.3f]%s}",
+          len ? ", " : "", z,
+          horizontal ? ", \"rotate\": {\"axis\": [0, 0, 1], \"angle\": 90}"
+                     : "");
+    }
+  }
+  snprintf(json, cap + 1024,
+           "{\"macro_clusters\": [{\"prototype\": {"
+           "  \"trajectory\": [[0, -3, 0], [0, 3, 0]], \"a\": 0.8,"
+           "  \"shell\": {\"layers\": 2, \"st\": 8, \"su\": 8},"
+           "  \"density\": {\"strands\": 150, \"seed\": 7}},"
+           " \"instances\": [%s]}],"
+           " \"camera\": {\"position\": [0, 0, 60], \"target\": [0, 0, 0],"
+           "              \"fov_y\": 10},"
+           " \"lights\": [{\"direction\": [-0.7, -0.1, -0.7]}],"
+           " \"effects\": {\"cluster_shadows\": false},"
+           " \"background\": [0, 0, 0]}",
+           inst);
+  satf_scene *s = fixture_scene(json);
+  free(inst);
+  free(json);
+  return s;
+}
+
+/* The beauty pass of `scene` (exact compositing); *overflow from the
+ * renderer's stats. */
+static satf_image *render_stack(const fixture *f, const satf_scene *scene,
+                                long *overflow) {
+  satf_renderer *r = NULL;
+  satf_image *img = NULL;
+  satf_error err;
+  satf_render_stats stats;
+  if (satf_renderer_create(scene, f->db, W, H, 0, &r, &err) != SATF_OK ||
+      satf_renderer_render_image(r, 0, &img, NULL, &err) != SATF_OK) {
+    fprintf(stderr, "%s\n", err.message);
+    satf_renderer_destroy(r);
+    return NULL;
+  }
+  satf_renderer_stats(r, &stats);
+  *overflow = stats.overflow_pixels;
+  satf_renderer_destroy(r);
+  return img;
+}
+
+static const char *const rgba[4] = {"R", "G", "B", "A"};
+
+/* More than 64 clusters over a pixel: the frame is the same bit for bit
+ * twice and with the clusters listed (so arriving) in the other order, and
+ * where the near clusters cover a pixel fully it is the frame of the 64
+ * nearest alone: the far ones were the ones left out. Before, the first
+ * 64 to arrive were kept (here the far ones: listed first). */
+static void test_nearest_fragments_kept(void **state) {
+  fixture *f = *state;
+  satf_scene *far_first = stack_scene(NEAR, FAR, 1);
+  satf_scene *near_first = stack_scene(NEAR, FAR, 0);
+  satf_scene *nearest = stack_scene(NEAR, 0, 0);
+  assert_non_null(far_first);
+  assert_non_null(near_first);
+  assert_non_null(nearest);
+  long over_a = 0, over_b = 0, over_c = 0, over_ref = -1;
+  satf_image *a = render_stack(f, far_first, &over_a);
+  satf_image *b = render_stack(f, far_first, &over_b);
+  satf_image *c = render_stack(f, near_first, &over_c);
+  satf_image *ref = render_stack(f, nearest, &over_ref);
+  assert_non_null(a);
+  assert_non_null(b);
+  assert_non_null(c);
+  assert_non_null(ref);
+  printf("pixels over 64 fragments: %ld (%ld, %ld); 64 nearest alone: %ld\n",
+         over_a, over_b, over_c, over_ref);
+  assert_true(over_a > 0);
+  assert_int_equal(over_a, over_b);
+  assert_int_equal(over_a, over_c);
+  assert_int_equal(over_ref, 0);
+  for (int k = 0; k < 4; k++) {
+    if (!fixture_same_bits(a, b, rgba[k]) || !fixture_same_bits(a, c, rgba[k]))
+      fail_msg("%s differs between renders or drawing orders", rgba[k]);
+  }
+  const float *ra = fixture_plane(ref, "A");
+  size_t compared = 0;
+  double worst = 0.0;
+  for (size_t i = 0; i < (size_t)W * H; i++) {
+    if (!(ra[i] > 0.999f))
+      continue; /* elsewhere the far clusters show through, as they should */
+    compared++;
+    for (int k = 0; k < 4; k++) {
+      double d =
+          fabs(fixture_plane(a, rgba[k])[i] - fixture_plane(ref, rgba[k])[i]);
+      worst = d > worst ? d : worst;
+    }
+  }
+  printf("%zu fully covered pixels: largest difference from the 64 nearest "
+         "alone %.2e\n",
+         compared, worst);
+  assert_true(compared > 50);
+  assert_true(worst <= 1e-3);
+  satf_image_destroy(a);
+  satf_image_destroy(b);
+  satf_image_destroy(c);
+  satf_image_destroy(ref);
+  satf_scene_destroy(far_first);
+  satf_scene_destroy(near_first);
+  satf_scene_destroy(nearest);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_nearest_fragments_kept),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
