@@ -54,6 +54,10 @@ uniform float u_dom_slab;
 uniform float u_kcluster;
 uniform int u_aov;  /* 0 beauty, 1 diffuse, 2 specI, 3 specII, 4 shadow, 5 alpha */
 #if EXACT
+/* The depth test against the opaque meshes must run before the shader:
+ * a fragment's image stores happen whatever a later test decides, so hair
+ * behind a head would otherwise be composited over it. */
+layout(early_fragment_tests) in;
 uniform int u_slots;
 /* 0: every fragment takes the next slot; 1: only the depth keys of the
  * u_slots nearest are kept (u_keys); 2: fragments no farther than the
