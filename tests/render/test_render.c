@@ -181,6 +181,9 @@ static void test_background_and_coverage(void **state) {
   }
   size_t centre = (size_t)W * (H / 2) + W / 2;
   assert_true(fixture_plane(img, "A")[centre] > 0.1f);
+  satf_render_stats stats; /* no pixel of this scene overflows */
+  satf_renderer_stats(f->r, &stats);
+  assert_int_equal(stats.overflow_pixels, 0);
   size_t covered = hair_pixels(img, 0.01f);
   printf("hair covers %zu of %d pixels\n", covered, W * H);
   assert_true(covered > 500 && covered < (size_t)W * H / 2);
