@@ -124,6 +124,50 @@ satf_status satf_strand_set_add_follow(const satf_strand_set *guides,
  * scale of a sensible follow radius. 0 for fewer than two strands. */
 float satf_strand_set_root_spacing(const satf_strand_set *s);
 
+/* ---- PLY strands (strands_ply*.c) --------------------------------------- */
+
+/* A `vertex` element with x, y, z (other properties skipped) and either a
+ * strand element (`strand`, `strands`, `hair` or `curve`) with each
+ * strand's point count (property `vertex_count`, `vertices`,
+ * `num_vertices`, `nverts`, `num_points`, `points` or `count`) or segment
+ * count (`segments`, `num_segments`, `segment_count`), the strands' points
+ * in vertex order; or an `edge` element (`vertex1`, `vertex2`) chained into
+ * polylines, each from its lower-numbered end. ascii,
+ * binary_little_endian and binary_big_endian. Strands of one point are
+ * skipped; branching or looping edges are refused. */
+satf_status satf_ply_parse(const void *data, size_t size, const char *name,
+                           satf_strand_set **out, satf_error *err);
+satf_status satf_ply_read(const char *path, satf_strand_set **out,
+                          satf_error *err);
+
+/* ---- USC-HairSalon .data (strands_usc.c) -------------------------------- */
+
+/* int32 strand count, then per strand an int32 point count and float32
+ * x, y, z per point, little-endian, nothing after. Strands of fewer than
+ * two points (the dataset marks bald scalp with one-point strands) are
+ * skipped, as the dataset's own loader does. */
+satf_status satf_usc_parse(const void *data, size_t size, const char *name,
+                           satf_strand_set **out, satf_error *err);
+satf_status satf_usc_read(const char *path, satf_strand_set **out,
+                          satf_error *err);
+
+/* ---- Which format a strand file is (strands_detect.c) ------------------- */
+
+typedef enum satf_strands_format {
+  SATF_STRANDS_UNKNOWN,
+  SATF_STRANDS_HAIR, /* "HAIR" */
+  SATF_STRANDS_TFX,  /* a TressFX version 1..6 in the first float */
+  SATF_STRANDS_PLY,  /* "ply" line */
+  SATF_STRANDS_USC   /* strand and point counts that fill the file exactly */
+} satf_strands_format;
+
+/* The format the bytes say, or UNKNOWN. */
+satf_strands_format satf_strands_detect(const void *data, size_t size);
+/* The format a file name's extension names (.hair .tfx .ply .data). */
+satf_strands_format satf_strands_format_of_name(const char *path);
+/* "cyHair", "TressFX", "PLY", "USC-HairSalon .data" or "unknown". */
+const char *satf_strands_format_name(satf_strands_format f);
+
 /* import.h - turning strand hair (satf/strands.h) into the SATF hierarchy
  * (Xu et al. 2006, sec. 3.1-3.3, "in case the hair model is given as strand
  * positions"): strands are grouped into clusters (k-means on resampled
@@ -452,6 +496,9 @@ typedef struct satf_import_result {
   int gradient;          /* clusters of layout "gradient" */
   float voxel;
   double vdb_mass;
+  /* what the strands were multiplied by to fit the scene limits (1: not
+   * rescaled; satf_import_run) */
+  double scale;
   /* seconds from the start to the end of each step, and peak memory */
   double t_read, t_cluster, t_fit, t_vdb0, t_vdb, t_end, peak_mb;
 } satf_import_result;

@@ -81,6 +81,84 @@ static satf_status read_inputs(run *u, satf_error *err) {
   return SATF_OK;
 }
 
+/* Multiplies every point (and thickness) of u->all by k. */
+static satf_status scale_strands(run *u, double k, satf_error *err) {
+  const satf_strand_set *s = u->all;
+  int n = satf_strand_set_count(s);
+  size_t np = satf_strand_set_point_count(s);
+  int *counts = malloc((size_t)n * sizeof(int));
+  float *pts = malloc(3 * np * sizeof(float));
+  int thick = satf_strand_set_thickness(s, 0) != NULL;
+  float *th = thick ? malloc(np * sizeof(float)) : NULL;
+  satf_status st = SATF_OK;
+  if (!counts || !pts || (thick && !th))
+    st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  for (int i = 0, at = 0; i < n && st == SATF_OK; i++) {
+    const float *p = satf_strand_set_strand(s, i, &counts[i]);
+    const float *t = satf_strand_set_thickness(s, i);
+    for (int j = 0; j < counts[i]; j++, at++) {
+      for (int c = 0; c < 3; c++)
+        pts[3 * at + c] = (float)(p[3 * j + c] * k);
+      if (thick)
+        th[at] = (float)(t[j] * k);
+    }
+  }
+  satf_strand_set *scaled = NULL;
+  if (st == SATF_OK)
+    st = satf_strand_set_create(n, counts, pts, th, &scaled, err);
+  if (st == SATF_OK) {
+    satf_strand_set_destroy(u->all);
+    u->all = scaled;
+  }
+  free(counts);
+  free(pts);
+  free(th);
+  return st;
+}
+
+/* Hair in tiny units (spanning under IMPORT_MIN_SPAN: fitting and voxels
+ * would run into the scene's and the grid's resolution) or huge ones
+ * (coordinates over IMPORT_MAX_COORD, a tenth of the scene limit, leaving
+ * room for the camera) is rescaled by a power of ten so that it spans 1 to
+ * 10 units. With a mesh or a sequence the other files would no longer
+ * match, so those are refused instead. */
+#define IMPORT_MIN_SPAN 1e-2
+#define IMPORT_MAX_COORD (0.1 * SATF_SCENE_MAX_COORD)
+static satf_status fit_units(run *u, satf_error *err) {
+  const satf_import_options *o = u->o;
+  float lo[3], hi[3];
+  satf_strand_set_bounds(u->all, lo, hi);
+  double span = 0.0, far = 0.0;
+  for (int c = 0; c < 3; c++) {
+    span += ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
+    far = fmax(far, fmax(fabs((double)lo[c]), fabs((double)hi[c])));
+  }
+  span = sqrt(span);
+  u->r->scale = 1.0;
+  if ((span >= IMPORT_MIN_SPAN && far <= IMPORT_MAX_COORD) || !(span > 0.0))
+    return SATF_OK;
+  const char *more = o->n_inputs > 1 ? " (and the other inputs)" : "";
+  if (o->mesh || o->sequence)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "%s%s: the hair spans %g units with coordinates up "
+                          "to %g, outside what a scene holds (spans of at "
+                          "least %g, coordinates up to %g), and with %s it "
+                          "cannot be rescaled: scale the strands",
+                          o->inputs[0], more, span, far, IMPORT_MIN_SPAN,
+                          IMPORT_MAX_COORD, o->mesh ? "--mesh" : "a sequence");
+  double k = pow(10.0, -floor(log10(span)));
+  if (far * k > IMPORT_MAX_COORD)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "%s%s: the hair spans %g units but lies %g from "
+                          "the origin: no scale brings it within the scene "
+                          "limits (coordinates up to %g, a tenth of the "
+                          "scene's %g, leave the camera room)",
+                          o->inputs[0], more, span, far, IMPORT_MAX_COORD,
+                          SATF_SCENE_MAX_COORD);
+  u->r->scale = k;
+  return scale_strands(u, k, err);
+}
+
 static satf_status cluster(run *u, satf_error *err) {
   const satf_import_options *o = u->o;
   satf_import_cluster_params cp = satf_import_cluster_params_default();
@@ -150,17 +228,33 @@ static float default_voxel(const satf_import_fit *fits, int n, float diag) {
 }
 
 /* The VDB path as the scene should name it: its file name when it sits in
- * the scene's directory, else its absolute path. */
+ * the scene's directory, else its absolute path. Found before the grid is
+ * written (the scene is checked first), from its directory when the file
+ * does not exist yet. */
 static void scene_vdb_name(const char *scene, const char *vdb, char *out,
                            size_t size) {
-  char sdir[PATH_MAX], vreal[PATH_MAX], tmp[PATH_MAX];
+  char sdir[PATH_MAX], tmp[PATH_MAX], vdir[PATH_MAX];
+  char vreal[2 * PATH_MAX + 2]; /* room for a directory and a name */
   snprintf(tmp, sizeof tmp, "%s", scene);
   char *slash = strrchr(tmp, '/');
   if (slash)
     *slash = '\0';
   else
     snprintf(tmp, sizeof tmp, ".");
-  if (!realpath(tmp, sdir) || !realpath(vdb, vreal)) {
+  snprintf(vdir, sizeof vdir, "%s", vdb);
+  char *vs = strrchr(vdir, '/');
+  const char *base = vs ? vs + 1 : vdb;
+  if (vs)
+    *vs = '\0';
+  else
+    snprintf(vdir, sizeof vdir, ".");
+  char real_dir[PATH_MAX];
+  int found = realpath(vdb, vreal) != NULL;
+  if (!found && realpath(vdir, real_dir)) {
+    snprintf(vreal, sizeof vreal, "%s/%s", real_dir, base);
+    found = 1;
+  }
+  if (!realpath(tmp, sdir) || !found) {
     snprintf(out, size, "%s", vdb);
     return;
   }
@@ -168,8 +262,10 @@ static void scene_vdb_name(const char *scene, const char *vdb, char *out,
   size_t dl = (size_t)(vslash - vreal);
   if (strlen(sdir) == dl && strncmp(sdir, vreal, dl) == 0)
     snprintf(out, size, "%s", vslash + 1);
+  else if (strlen(vreal) < size)
+    memcpy(out, vreal, strlen(vreal) + 1);
   else
-    snprintf(out, size, "%s", vreal);
+    snprintf(out, size, "%s", vdb);
 }
 
 static satf_status density_grid(run *u, satf_error *err) {
@@ -196,13 +292,11 @@ static satf_status density_grid(run *u, satf_error *err) {
     satf_vdb_grid_destroy(g);
   }
   satf_vdb_builder_destroy(b);
-  if (st == SATF_OK)
-    scene_vdb_name(o->output, o->vdb, u->vdb_name, sizeof u->vdb_name);
   return st;
 }
 
-/* The scene, with keys for a sequence, written once. */
-static satf_status write_scene(run *u, satf_error *err) {
+/* The scene, with keys for a sequence. */
+static satf_status build_scene(run *u, satf_scene **scene, satf_error *err) {
   const satf_import_options *o = u->o;
   char desc[512];
   snprintf(desc, sizeof desc,
@@ -210,19 +304,44 @@ static satf_status write_scene(run *u, satf_error *err) {
            "(%d macro-clusters)",
            o->inputs[0], o->n_inputs > 1 ? " and more" : "", u->r->n_strands,
            u->r->n_clusters, u->macro.n_macro);
+  if (o->vdb)
+    scene_vdb_name(o->output, o->vdb, u->vdb_name, sizeof u->vdb_name);
   satf_import_scene_options so = {
       o->vdb ? u->vdb_name : NULL,  "density", o->database, desc, 0, 0, o->seed,
       o->mesh ? u->mesh_path : NULL};
-  satf_scene *scene = NULL;
   satf_status st = satf_import_scene_build(u->fits, u->r->n_clusters, &u->macro,
-                                           &so, o->output, &scene, err);
+                                           &so, o->output, scene, err);
   if (st == SATF_OK && o->sequence)
-    st = satf_import_sequence_keys(scene, o, u->labels, u->r->n_strands, &u->fp,
-                                   &u->macro, err);
-  if (st == SATF_OK)
-    st = satf_scene_write(scene, o->output, err);
-  satf_scene_destroy(scene);
+    st = satf_import_sequence_keys(*scene, o, u->labels, u->r->n_strands,
+                                   &u->fp, &u->macro, err);
   return st;
+}
+
+/* The scene goes through the checks satf_scene_load makes (the text it
+ * would be written as, parsed back), so satf-import never writes a scene
+ * the renderer refuses: fitted values past the scene limits (a twist over
+ * 1e4 rad from a tightly wound strand, coordinates past 1e6) are caught
+ * here, before any file is written. */
+static satf_status check_scene(run *u, const satf_scene *scene,
+                               satf_error *err) {
+  const satf_import_options *o = u->o;
+  char *json = NULL;
+  satf_scene *back = NULL;
+  satf_error why;
+  satf_status st = satf_scene_to_json(scene, NULL, &json, &why);
+  if (st == SATF_OK)
+    st = satf_scene_parse(json, strlen(json), o->output, &back, &why);
+  free(json);
+  satf_scene_destroy(back);
+  if (st != SATF_OK)
+    return satf_error_set(err, st,
+                          "%s%s: the scene made from it breaks the scene "
+                          "limits, so the renderer would refuse it (nothing "
+                          "written): %s",
+                          o->inputs[0],
+                          o->n_inputs > 1 ? " (and the other inputs)" : "",
+                          why.message);
+  return SATF_OK;
 }
 
 /* Fit quality and density totals for the summary. */
@@ -244,7 +363,8 @@ static satf_status steps(run *u, satf_error *err) {
   satf_import_result *r = u->r;
   satf_status st = SATF_OK;
   if ((u->o->mesh && (st = check_mesh(u, err)) != SATF_OK) ||
-      (st = read_inputs(u, err)) != SATF_OK)
+      (st = read_inputs(u, err)) != SATF_OK ||
+      (st = fit_units(u, err)) != SATF_OK)
     return st;
   r->t_read = satf_now_seconds() - u->t0;
   if ((st = cluster(u, err)) != SATF_OK)
@@ -258,11 +378,18 @@ static satf_status steps(run *u, satf_error *err) {
       SATF_OK)
     return st;
   u->have_macro = 1;
-  r->t_vdb0 = satf_now_seconds() - u->t0;
-  if (u->o->vdb && (st = density_grid(u, err)) != SATF_OK)
-    return st;
-  r->t_vdb = satf_now_seconds() - u->t0;
-  if ((st = write_scene(u, err)) != SATF_OK)
+  satf_scene *scene = NULL;
+  if ((st = build_scene(u, &scene, err)) == SATF_OK &&
+      (st = check_scene(u, scene, err)) == SATF_OK) {
+    r->t_vdb0 = satf_now_seconds() - u->t0;
+    if (u->o->vdb)
+      st = density_grid(u, err);
+    r->t_vdb = satf_now_seconds() - u->t0;
+    if (st == SATF_OK)
+      st = satf_scene_write(scene, u->o->output, err);
+  }
+  satf_scene_destroy(scene);
+  if (st != SATF_OK)
     return st;
   r->t_end = satf_now_seconds() - u->t0;
   tally(u);
@@ -314,6 +441,11 @@ void satf_import_print_summary(FILE *out, const char *prog,
           "  density          mean strand width %.3g cluster radii; %d of "
           "%d clusters \"gradient\", the rest \"uniform\"\n",
           r->width_sum / r->n_clusters, r->gradient, r->n_clusters);
+  if (r->scale != 1.0)
+    fprintf(out,
+            "  scale            x%g (the hair's units were too %s for a "
+            "scene: rescaled to span 1 to 10 units)\n",
+            r->scale, r->scale > 1.0 ? "small" : "large");
   if (o->vdb)
     fprintf(out, "  vdb              %s (voxel %.4g, mass %.4g)\n", o->vdb,
             (double)r->voxel, r->vdb_mass);

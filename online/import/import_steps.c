@@ -20,25 +20,21 @@ satf_import_options satf_import_options_default(void) {
   return o;
 }
 
-static int has_suffix(const char *s, const char *suffix) {
-  size_t n = strlen(s), k = strlen(suffix);
-  return n >= k && strcmp(s + n - k, suffix) == 0;
-}
-
-satf_status satf_import_read_strands(const char *path,
-                                     const satf_import_options *o,
-                                     satf_strand_set **out, satf_error *err) {
-  FILE *f = fopen(path, "rb");
-  if (!f)
-    return satf_error_set(err, SATF_ERR_IO, "%s: cannot open", path);
-  char magic[4] = {0};
-  size_t got = fread(magic, 1, 4, f);
-  fclose(f);
-  if ((got == 4 && memcmp(magic, "HAIR", 4) == 0) || has_suffix(path, ".hair"))
-    return satf_hair_read(path, out, err);
+/* The parser of format f on the file's bytes; TressFX guides get their
+ * follow strands as o asks. */
+static satf_status parse_as(satf_strands_format f, const void *data,
+                            size_t size, const char *path,
+                            const satf_import_options *o, satf_strand_set **out,
+                            satf_error *err) {
+  if (f == SATF_STRANDS_HAIR)
+    return satf_hair_parse(data, size, path, out, err);
+  if (f == SATF_STRANDS_PLY)
+    return satf_ply_parse(data, size, path, out, err);
+  if (f == SATF_STRANDS_USC)
+    return satf_usc_parse(data, size, path, out, err);
   satf_tfx_info info;
   satf_strand_set *guides;
-  satf_status st = satf_tfx_read(path, &info, &guides, err);
+  satf_status st = satf_tfx_parse(data, size, path, &info, &guides, err);
   if (st != SATF_OK)
     return st;
   satf_follow_params fp;
@@ -53,6 +49,41 @@ satf_status satf_import_read_strands(const char *path,
   }
   st = satf_strand_set_add_follow(guides, &fp, out, err);
   satf_strand_set_destroy(guides);
+  return st;
+}
+
+/* The format is what the bytes say; the name only decides when they say
+ * nothing (then TressFX, whose parser says what is wrong). A name that
+ * promises another format than the bytes is refused, naming both. */
+satf_status satf_import_read_strands(const char *path,
+                                     const satf_import_options *o,
+                                     satf_strand_set **out, satf_error *err) {
+  *out = NULL;
+  void *data;
+  size_t size;
+  satf_status st =
+      satf_read_file(path, SATF_STRANDS_MAX_FILE_BYTES, &data, &size, err);
+  if (st != SATF_OK)
+    return st;
+  satf_strands_format named = satf_strands_format_of_name(path);
+  satf_strands_format is = satf_strands_detect(data, size);
+  if (is != SATF_STRANDS_UNKNOWN && named != SATF_STRANDS_UNKNOWN &&
+      is != named)
+    st = satf_error_set(err, SATF_ERR_FORMAT,
+                        "%s: this is a %s file, not %s (rename it to end in "
+                        "%s)",
+                        path, satf_strands_format_name(is),
+                        satf_strands_format_name(named),
+                        is == SATF_STRANDS_HAIR  ? ".hair"
+                        : is == SATF_STRANDS_PLY ? ".ply"
+                        : is == SATF_STRANDS_USC ? ".data"
+                                                 : ".tfx");
+  else
+    st = parse_as(is != SATF_STRANDS_UNKNOWN      ? is
+                  : named != SATF_STRANDS_UNKNOWN ? named
+                                                  : SATF_STRANDS_TFX,
+                  data, size, path, o, out, err);
+  free(data);
   return st;
 }
 
