@@ -55,6 +55,8 @@ L = []
 L.append('{')
 L.append('  "description": "SATF Table 1 column 8 (Fig. 8): an animated hairstyle of 40 clusters (5 macro-clusters) on a head-sized scalp, a sphere of radius 10 at the origin facing +z (80 layers, ~42K HSVs, ~21K strands), the hair swaying over frames 1-48 at 24 fps while the camera turns slowly.",')
 L.append('  "database": "../out/satf-default.hrirdb.exr",')
+# the head of scripts/gen-head.py, written into out/ by scripts/main.sh
+L.append('  "meshes": [{"file": "../out/head.obj", "color": [0.55, 0.42, 0.36]}],')
 L.append('  "image": {"width": 640, "height": 480},')
 L.append('  "animation": {"fps": 24, "frames": [1, 48]},')
 L.append('  "camera": {')

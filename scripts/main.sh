@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job: installs what is missing, builds, builds the default HRIR
-# database into out/, and renders the samples into out/.
+# database and the samples' head mesh into out/, and renders the samples
+# into out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -13,6 +14,8 @@ else
   build/bin/satf-build -o "$db"
 fi
 build/bin/satf-db info "$db"
+# the head the hairstyle samples sit on (their "meshes": ../out/head.obj)
+python3 scripts/gen-head.py out/head.obj
 if [ -x build/bin/satf-render ]; then
   bash scripts/render-samples.sh build "$db" out
 fi

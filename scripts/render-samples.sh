@@ -10,6 +10,9 @@ db=${2:-out/satf-default.hrirdb.exr}
 out=${3:-out}
 cd "$(dirname "$0")/.."
 mkdir -p "$out"
+# The head-based samples name "../out/head.obj" (relative to samples/),
+# whatever OUT_DIR is: write it when it is missing.
+[ -s out/head.obj ] || python3 scripts/gen-head.py out/head.obj
 render=$build/bin/satf-render
 frames=${SATF_BENCH_FRAMES:-20}
 for scene in samples/*.json; do

@@ -23,7 +23,7 @@ int satf_fuzz_scene_one(const uint8_t *data, size_t size);
   "{\"prototype\": {\"trajectory\": [[0,0,0],[0,1,0]], \"a\": 0.5}}"
 #define MINIMAL "{\"macro_clusters\": [" MINIMAL_CLUSTER "]}"
 
-/* ---- samples: SATF Table 1 columns 6(a)-6(d), 7(a), 8 (animated; its
+/* ---- samples: SATF Table 1 columns 6(a)-6(d), 7(a)-7(d), 8 (animated; its
  * keyframes are test_anim's) ---- */
 
 typedef struct sample_case {
@@ -39,6 +39,9 @@ static const sample_case samples[] = {
     {"cluster_6c.json", 1, 10, 11000, 2000, SATF_SCENE_LAYOUT_HOLES},
     {"cluster_6d.json", 1, 15, 16000, 3000, SATF_SCENE_LAYOUT_CLUMPED},
     {"hair_7a.json", 17, 51, 54000, 14000, SATF_SCENE_LAYOUT_COUNT},
+    {"hair_7b.json", 12, 60, 61000, 20000, SATF_SCENE_LAYOUT_COUNT},
+    {"hair_7c.json", 4, 60, 127000, 20000, SATF_SCENE_LAYOUT_COUNT},
+    {"hair_7d.json", 6, 60, 63000, 9000, SATF_SCENE_LAYOUT_COUNT},
     {"anim_8.json", 40, 80, 42000, 21000, SATF_SCENE_LAYOUT_COUNT},
 };
 #define N_SAMPLES (sizeof samples / sizeof samples[0])
