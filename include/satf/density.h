@@ -36,7 +36,11 @@ typedef struct satf_vdb_builder satf_vdb_builder;
  * transform is not linear), SATF_ERR_VERSION (newer file format),
  * SATF_ERR_CORRUPT (damaged or truncated), SATF_ERR_ARGUMENT (no such grid;
  * the message lists the grids the file holds). The file is read completely
- * here, never lazily, and a file cut short anywhere is rejected. */
+ * here, never lazily, and a file cut short anywhere is rejected. OpenVDB
+ * parses the file in a child process that hands the grid back to be checked
+ * and rebuilt, so damaged voxel data that crashes or hangs OpenVDB is
+ * SATF_ERR_CORRUPT ("PATH: damaged VDB file: the reader crashed (SIGSEGV)")
+ * instead of a crash of the caller. */
 satf_status satf_vdb_read(const char *path, const char *grid_name,
                           satf_vdb_grid **out, satf_error *err);
 
@@ -94,7 +98,10 @@ satf_status satf_vdb_builder_add_tube(satf_vdb_builder *b, const float p0[3],
                                       float mass_per_length, satf_error *err);
 
 /* Writes the density as a fog-volume FloatGrid named grid_name, through a
- * temporary file renamed into place. */
+ * temporary file renamed into place only when every write, the flush, fsync
+ * and close succeeded; otherwise SATF_ERR_IO with the reason (e.g. "No space
+ * left on device"), the temporary file removed and any file already at path
+ * left as it was. */
 satf_status satf_vdb_builder_write(const satf_vdb_builder *b, const char *path,
                                    const char *grid_name, satf_error *err);
 

@@ -17,11 +17,14 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 extern "C" {
 #include "satf/common.h"
 }
+#include "isolate.h"
 
 struct satf_vdb_grid {
   openvdb::FloatGrid::ConstPtr grid;
@@ -196,7 +199,11 @@ struct ByteReader {
     pos = to;
     return true;
   }
-  bool skip(int64_t n) { return n >= 0 && n <= size - pos && seek(pos + n); }
+  bool skip(int64_t n) {
+    if (n < 0 || n > size - pos)
+      return ok = false;
+    return seek(pos + n);
+  }
   uint32_t u32() {
     uint32_t v = 0;
     read(&v, sizeof v);
@@ -210,6 +217,19 @@ struct ByteReader {
   /* OpenVDB strings are a uint32 length followed by the bytes. */
   void skip_string() { skip(u32()); }
 };
+
+/* Skips a MetaMap (OpenVDB's MetaMap::readMeta): a count, then a name, a
+ * type name and a size-prefixed value per entry. Every length is checked
+ * against the file, so a damaged one cannot make OpenVDB allocate and fill
+ * gigabytes for a string. */
+void skip_meta_map(ByteReader &r) {
+  const uint32_t count = r.u32();
+  for (uint32_t i = 0; i < count && r.ok; ++i) {
+    r.skip_string(); /* name */
+    r.skip_string(); /* type */
+    r.skip(r.u32()); /* value */
+  }
+}
 
 /* Walks the VDB header and grid descriptors (the layout of OpenVDB's
  * Archive::readHeader, MetaMap::readMeta and GridDescriptor::read) and checks
@@ -230,12 +250,7 @@ satf_status check_vdb_layout(ByteReader &r, uint32_t version, const char *path,
   if (version >= 220 && version < 222)
     r.skip(1);                      /* file-wide compression flag */
   r.skip(version >= 218 ? 36 : 16); /* UUID, as text from 218 on */
-  const uint32_t meta_count = r.u32();
-  for (uint32_t i = 0; i < meta_count && r.ok; ++i) {
-    r.skip_string(); /* name */
-    r.skip_string(); /* type */
-    r.skip(r.u32()); /* value, size-prefixed */
-  }
+  skip_meta_map(r);
   const uint32_t grid_count = r.u32();
   for (uint32_t i = 0; i < grid_count && r.ok; ++i) {
     r.skip_string(); /* unique name */
@@ -253,6 +268,16 @@ satf_status check_vdb_layout(ByteReader &r, uint32_t version, const char *path,
           "the file has %lld (truncated or damaged)",
           path, i + 1, grid_count, static_cast<long long>(grid_pos),
           static_cast<long long>(end_pos), static_cast<long long>(r.size));
+    /* The grid's own metadata must end before its voxel data. */
+    r.seek(grid_pos);
+    if (version >= 222)
+      r.skip(4); /* per-grid compression flags */
+    skip_meta_map(r);
+    if (r.ok && r.pos > block_pos)
+      return satf_error_set(err, SATF_ERR_CORRUPT,
+                            "%s: the metadata of grid %u runs into its voxel "
+                            "data (damaged file)",
+                            path, i + 1);
     r.seek(end_pos);
   }
   if (!r.ok)
@@ -267,7 +292,7 @@ satf_status check_vdb_layout(ByteReader &r, uint32_t version, const char *path,
 /* Rejects files that are not VDB files, come from a newer OpenVDB or are
  * truncated before OpenVDB itself parses them, so those cases get precise
  * statuses and never reach OpenVDB's unchecked buffer reads. */
-satf_status check_vdb_file(const char *path, satf_error *err) {
+satf_status check_vdb_file(const char *path, int64_t *size, satf_error *err) {
   FILE *f = std::fopen(path, "rb");
   if (!f)
     return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
@@ -305,11 +330,12 @@ satf_status check_vdb_file(const char *path, satf_error *err) {
       st = check_vdb_layout(r, version, path, err);
   }
   std::fclose(f);
+  *size = r.size;
   return st;
 }
 
 satf_status read_grid(const char *path, const char *grid_name,
-                      satf_vdb_grid **out, satf_error *err) {
+                      openvdb::FloatGrid::Ptr *out, satf_error *err) {
   openvdb::io::File file(path);
   /* Delayed loading would read voxel data lazily from a memory map during
    * sampling, where a truncated file faults instead of failing here. */
@@ -333,10 +359,245 @@ satf_status read_grid(const char *path, const char *grid_name,
     return satf_error_set(err, SATF_ERR_FORMAT,
                           "%s: grid '%s' has a non-linear (frustum) transform",
                           path, grid_name);
-  *out = wrap_grid(grid);
-  if (!*out)
-    return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
+  *out = grid;
   return SATF_OK;
+}
+
+/* ---- Reading in a child process (isolate.h) ----------------------------
+ * OpenVDB 10 trusts the sizes inside compressed voxel data: about one
+ * single-byte change in a few hundred there overflows a heap buffer, which
+ * crashes the reader or silently corrupts the heap. Checking that data
+ * before OpenVDB would mean re-implementing its whole topology and
+ * compression parser, so the file is parsed in a child process instead, and
+ * the child sends the grid back as fixed-layout records that the parent
+ * checks field by field and builds its own tree from. */
+
+enum RecordTag { kTagHeader = 1, kTagTile = 2, kTagLeaf = 3 };
+using FloatLeaf = openvdb::FloatTree::LeafNodeType;
+using FloatUpper = openvdb::FloatTree::RootNodeType::ChildNodeType;
+using FloatLower = FloatUpper::ChildNodeType;
+
+struct HeaderRecord {
+  double matrix[16]; /* the index-to-world affine map, row-major */
+  float background;
+};
+struct TileRecord {
+  int32_t level, xyz[3]; /* level 1 = a tile of leaf size */
+  float value;
+  uint32_t active;
+};
+struct LeafRecord {
+  int32_t origin[3];
+  uint32_t pad;
+  uint64_t mask[FloatLeaf::NodeMaskType::WORD_COUNT];
+  float values[FloatLeaf::SIZE];
+};
+static_assert(sizeof(LeafRecord) <= SATF_ISOLATED_MAX_RECORD,
+              "a leaf must fit one record");
+static_assert(sizeof(FloatLeaf::NodeMaskType::Word) == sizeof(uint64_t),
+              "leaf masks are 64-bit words");
+
+/* Index coordinates of rebuilt nodes stay within this, far from overflow. */
+constexpr int32_t kMaxCoord = 1 << 30;
+
+struct ReadJob {
+  const char *path, *grid_name;
+};
+
+/* Sends every tile and every leaf of the grid: a full traversal, so a
+ * damaged node crashes the child rather than a later sampler. Serial code
+ * only (see isolate.c for why). */
+bool send_tree(const openvdb::FloatGrid &grid, int fd) {
+  HeaderRecord h{};
+  const openvdb::Mat4d m =
+      grid.transform().baseMap()->getAffineMap()->getMat4();
+  std::memcpy(h.matrix, m.asPointer(), sizeof h.matrix);
+  h.background = grid.background();
+  bool ok = satf_isolated_send(fd, kTagHeader, &h, sizeof h) == 0;
+  openvdb::FloatTree::ValueAllCIter tile = grid.tree().cbeginValueAll();
+  tile.setMaxDepth(openvdb::FloatTree::ValueAllCIter::LEAF_DEPTH - 1);
+  for (; ok && tile; ++tile) {
+    /* Every internal node holds thousands of inactive background tiles;
+     * the rebuilt tree gets those by itself. */
+    if (!tile.isValueOn() && *tile == h.background)
+      continue;
+    const openvdb::Coord c = tile.getCoord();
+    const TileRecord t{static_cast<int32_t>(tile.getLevel()),
+                       {c.x(), c.y(), c.z()},
+                       *tile,
+                       tile.isValueOn() ? 1u : 0u};
+    ok = satf_isolated_send(fd, kTagTile, &t, sizeof t) == 0;
+  }
+  LeafRecord r{};
+  for (openvdb::FloatTree::LeafCIter leaf = grid.tree().cbeginLeaf();
+       ok && leaf; ++leaf) {
+    const openvdb::Coord c = leaf->origin();
+    r.origin[0] = c.x(), r.origin[1] = c.y(), r.origin[2] = c.z();
+    for (openvdb::Index w = 0; w < FloatLeaf::NodeMaskType::WORD_COUNT; ++w)
+      r.mask[w] = leaf->getValueMask().getWord<uint64_t>(w);
+    for (openvdb::Index i = 0; i < FloatLeaf::SIZE; ++i)
+      r.values[i] = leaf->getValue(i);
+    ok = satf_isolated_send(fd, kTagLeaf, &r, sizeof r) == 0;
+  }
+  return ok;
+}
+
+/* The child's part of satf_vdb_read. */
+satf_status send_grid(void *ctx, int fd, satf_error *err) {
+  const ReadJob *job = static_cast<const ReadJob *>(ctx);
+  try {
+    openvdb::FloatGrid::Ptr grid;
+    satf_status st = read_grid(job->path, job->grid_name, &grid, err);
+    if (st != SATF_OK)
+      return st;
+    if (!send_tree(*grid, fd))
+      return satf_error_set(err, SATF_ERR_IO,
+                            "%s: cannot hand grid '%s' to the parent process",
+                            job->path, job->grid_name);
+    return SATF_OK;
+  } catch (const std::bad_alloc &) {
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "%s: out of memory reading grid '%s' (the file may "
+                          "be damaged)",
+                          job->path, job->grid_name);
+  } catch (const std::exception &e) {
+    return satf_error_set(err, SATF_ERR_CORRUPT, "%s: damaged VDB file: %s",
+                          job->path, e.what());
+  } catch (...) {
+    return satf_error_set(err, SATF_ERR_INTERNAL,
+                          "%s: unknown error reading grid '%s'", job->path,
+                          job->grid_name);
+  }
+}
+
+/* The parent's copy, built from the child's records. */
+struct GridReceiver {
+  const char *path, *grid_name;
+  openvdb::FloatGrid::Ptr grid;
+};
+
+bool coord_ok(const int32_t xyz[3], int32_t align) {
+  for (int a = 0; a < 3; ++a)
+    if (xyz[a] < -kMaxCoord || xyz[a] > kMaxCoord || xyz[a] % align != 0)
+      return false;
+  return true;
+}
+
+satf_status receive_header(GridReceiver *r, const HeaderRecord &h,
+                           satf_error *err) {
+  for (double x : h.matrix)
+    if (!std::isfinite(x))
+      return satf_error_set(err, SATF_ERR_CORRUPT,
+                            "%s: grid '%s' has a non-finite transform", r->path,
+                            r->grid_name);
+  if (!std::isfinite(h.background))
+    return satf_error_set(err, SATF_ERR_CORRUPT,
+                          "%s: grid '%s' has a non-finite background value",
+                          r->path, r->grid_name);
+  openvdb::Mat4d m;
+  std::memcpy(m.asPointer(), h.matrix, sizeof h.matrix);
+  /* Throws for a singular or non-affine matrix. */
+  openvdb::math::Transform::Ptr xform =
+      openvdb::math::Transform::createLinearTransform(m);
+  const double volume = xform->voxelVolume();
+  if (!(volume > 0.0) || !std::isfinite(volume))
+    return satf_error_set(err, SATF_ERR_CORRUPT,
+                          "%s: grid '%s' has voxels of volume %g", r->path,
+                          r->grid_name, volume);
+  r->grid = openvdb::FloatGrid::create(h.background);
+  r->grid->setTransform(xform);
+  r->grid->setName(r->grid_name);
+  r->grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+  return SATF_OK;
+}
+
+satf_status receive_tile(GridReceiver *r, const TileRecord &t,
+                         satf_error *err) {
+  /* A tile at level L spans one child of a level-L node. */
+  static const int32_t span[4] = {1, FloatLeaf::DIM, FloatLower::DIM,
+                                  FloatUpper::DIM};
+  if (t.level < 1 || t.level > 3 || !coord_ok(t.xyz, span[t.level]) ||
+      !std::isfinite(t.value) || t.active > 1)
+    return satf_error_set(err, SATF_ERR_CORRUPT,
+                          "%s: grid '%s' has a damaged tile (level %d at "
+                          "%d %d %d, value %g)",
+                          r->path, r->grid_name, t.level, t.xyz[0], t.xyz[1],
+                          t.xyz[2], static_cast<double>(t.value));
+  r->grid->tree().addTile(static_cast<openvdb::Index>(t.level),
+                          openvdb::Coord(t.xyz[0], t.xyz[1], t.xyz[2]), t.value,
+                          t.active != 0);
+  return SATF_OK;
+}
+
+satf_status receive_leaf(GridReceiver *r, const LeafRecord &l,
+                         satf_error *err) {
+  if (!coord_ok(l.origin, FloatLeaf::DIM))
+    return satf_error_set(err, SATF_ERR_CORRUPT,
+                          "%s: grid '%s' has a leaf at %d %d %d", r->path,
+                          r->grid_name, l.origin[0], l.origin[1], l.origin[2]);
+  for (openvdb::Index i = 0; i < FloatLeaf::SIZE; ++i) {
+    if (std::isfinite(l.values[i]))
+      continue;
+    const openvdb::Coord c =
+        FloatLeaf::offsetToLocalCoord(i) +
+        openvdb::Coord(l.origin[0], l.origin[1], l.origin[2]);
+    return satf_error_set(err, SATF_ERR_CORRUPT,
+                          "%s: grid '%s' holds a non-finite density at voxel "
+                          "%d %d %d (damaged file)",
+                          r->path, r->grid_name, c.x(), c.y(), c.z());
+  }
+  FloatLeaf *leaf = r->grid->tree().touchLeaf(
+      openvdb::Coord(l.origin[0], l.origin[1], l.origin[2]));
+  FloatLeaf::NodeMaskType mask;
+  for (openvdb::Index w = 0; w < FloatLeaf::NodeMaskType::WORD_COUNT; ++w)
+    mask.getWord<uint64_t>(w) = l.mask[w];
+  std::memcpy(leaf->buffer().data(), l.values, sizeof l.values);
+  leaf->setValueMask(mask);
+  return SATF_OK;
+}
+
+/* satf_isolated_recv_fn: one record from the child; a header comes first
+ * and once. */
+satf_status receive_record(void *ctx, int tag, const void *data, size_t size,
+                           satf_error *err) {
+  GridReceiver *r = static_cast<GridReceiver *>(ctx);
+  try {
+    if (tag == kTagHeader && !r->grid && size == sizeof(HeaderRecord)) {
+      HeaderRecord h;
+      std::memcpy(&h, data, sizeof h);
+      return receive_header(r, h, err);
+    }
+    if (tag == kTagTile && r->grid && size == sizeof(TileRecord)) {
+      TileRecord t;
+      std::memcpy(&t, data, sizeof t);
+      return receive_tile(r, t, err);
+    }
+    if (tag == kTagLeaf && r->grid && size == sizeof(LeafRecord)) {
+      static thread_local LeafRecord l;
+      std::memcpy(&l, data, sizeof l);
+      return receive_leaf(r, l, err);
+    }
+    return satf_error_set(err, SATF_ERR_INTERNAL,
+                          "%s: unexpected record %d of %zu bytes from the VDB "
+                          "reader",
+                          r->path, tag, size);
+  } catch (const std::exception &e) {
+    if (dynamic_cast<const openvdb::ArithmeticError *>(&e))
+      return satf_error_set(err, SATF_ERR_CORRUPT,
+                            "%s: grid '%s' has an invalid transform: %s",
+                            r->path, r->grid_name, e.what());
+    return fail_exception(err, r->path, e);
+  } catch (...) {
+    return satf_error_set(err, SATF_ERR_INTERNAL, "%s: unknown exception",
+                          r->path);
+  }
+}
+
+/* Time the child may take: generous for slow disks, yet a hang on a damaged
+ * file ends. */
+unsigned read_seconds(int64_t size) {
+  const int64_t s = 30 + size / (4 << 20);
+  return static_cast<unsigned>(std::min<int64_t>(s, 3600));
 }
 
 template <typename Accessor>
@@ -351,33 +612,138 @@ float sample_at(const openvdb::FloatGrid &grid, Accessor &acc,
   return openvdb::tools::BoxSampler::sample(acc, ip);
 }
 
-satf_status write_grid(openvdb::GridBase::Ptr grid, const char *path,
-                       satf_error *err) {
+/* A seekable output buffer over a file descriptor that keeps the first
+ * write or seek error: OpenVDB's io::File::write never checks its stream,
+ * so a full disk used to leave a truncated file that was renamed into place
+ * as if complete. Seekable because OpenVDB writes each grid's offsets back
+ * into its descriptor. */
+class FdWriteBuf : public std::streambuf {
+public:
+  explicit FdWriteBuf(int fd) : fd_(fd) { setp(buf_, buf_ + sizeof buf_); }
+  int error() const { return error_; }
+
+protected:
+  int_type overflow(int_type c) override {
+    if (drain() != 0)
+      return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return drain(); }
+  pos_type seekoff(off_type off, std::ios_base::seekdir dir,
+                   std::ios_base::openmode) override {
+    if (drain() != 0)
+      return pos_type(off_type(-1));
+    const int whence = dir == std::ios_base::beg   ? SEEK_SET
+                       : dir == std::ios_base::cur ? SEEK_CUR
+                                                   : SEEK_END;
+    const off_t at = lseek(fd_, static_cast<off_t>(off), whence);
+    if (at < 0) {
+      error_ = errno;
+      return pos_type(off_type(-1));
+    }
+    return pos_type(static_cast<off_type>(at));
+  }
+  pos_type seekpos(pos_type pos, std::ios_base::openmode which) override {
+    return seekoff(off_type(pos), std::ios_base::beg, which);
+  }
+
+private:
+  int drain() {
+    for (char *p = pbase(); !error_ && p < pptr();) {
+      const ssize_t n = ::write(fd_, p, static_cast<size_t>(pptr() - p));
+      if (n < 0 && errno == EINTR)
+        continue;
+      if (n <= 0)
+        error_ = n < 0 ? errno : EIO;
+      else
+        p += n;
+    }
+    setp(buf_, buf_ + sizeof buf_);
+    return error_ ? -1 : 0;
+  }
+
+  int fd_, error_ = 0;
+  char buf_[1 << 16];
+};
+
+/* Archive::write(std::ostream&, ...) is protected; io::File::write wraps it
+ * in an unchecked std::ofstream. */
+class CheckedArchive : public openvdb::io::Archive {
+public:
+  void write_to(std::ostream &os, const openvdb::GridCPtrVec &grids,
+                const openvdb::MetaMap &meta) const {
+    write(os, grids, /*seekable=*/true, meta);
+  }
+};
+
+/* Writes the grids to fd and checks every step: each write, the final
+ * flush, fsync (where a full disk may first show) and close. Returns 0 or
+ * the errno of the first failure; fd is closed either way. */
+int write_vdb_fd(int fd, const openvdb::GridCPtrVec &grids,
+                 const openvdb::MetaMap &meta) {
+  int e = 0;
+  {
+    FdWriteBuf buf(fd);
+    std::ostream os(&buf);
+    CheckedArchive().write_to(os, grids, meta);
+    os.flush();
+    e = buf.error() ? buf.error() : os ? 0 : EIO;
+  }
+  if (!e && fsync(fd) != 0 && errno != EINVAL && errno != EROFS)
+    e = errno; /* EINVAL, EROFS: the target cannot be synced, e.g. a pipe */
+  if (close(fd) != 0 && !e)
+    e = errno;
+  return e;
+}
+
+/* Writes grids to path through a temporary file renamed into place only
+ * when every byte reached the disk; on failure nothing is left behind. */
+satf_status write_grids(const openvdb::GridCPtrVec &grids,
+                        const openvdb::MetaMap &meta, const char *path,
+                        satf_error *err) {
   char tmp[4096];
   satf_status st = satf_temp_path(path, tmp, sizeof tmp, err);
   if (st != SATF_OK)
     return st;
+  const int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0)
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot create %s: %s", path,
+                          tmp, std::strerror(errno));
+  int e = 0;
   try {
-    openvdb::io::File file(tmp);
+    e = write_vdb_fd(fd, grids, meta);
+  } catch (const std::exception &ex) {
+    close(fd); /* write_vdb_fd closes it only when it returns */
+    unlink(tmp);
+    return fail_exception(err, path, ex);
+  }
+  if (e != 0) {
+    unlink(tmp);
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot write: %s", path,
+                          std::strerror(e));
+  }
+  return satf_commit_temp(tmp, path, err);
+}
+
+satf_status write_grid(openvdb::GridBase::Ptr grid, const char *path,
+                       satf_error *err) {
+  try {
     openvdb::GridCPtrVec grids;
     grids.push_back(grid);
     openvdb::MetaMap meta;
     meta.insertMeta("creator",
                     openvdb::StringMetadata("satf " SATF_VERSION_STRING));
-    file.write(grids, meta);
-    file.close();
+    return write_grids(grids, meta, path, err);
   } catch (const std::exception &e) {
-    std::remove(tmp);
-    if (dynamic_cast<const openvdb::IoError *>(&e))
-      return satf_error_set(err, SATF_ERR_IO, "%s: cannot write: %s", path,
-                            e.what());
     return fail_exception(err, path, e);
   } catch (...) {
-    std::remove(tmp);
     return satf_error_set(err, SATF_ERR_INTERNAL, "%s: unknown exception",
                           path);
   }
-  return satf_commit_temp(tmp, path, err);
 }
 
 } // namespace
@@ -391,25 +757,30 @@ satf_status satf_vdb_read(const char *path, const char *grid_name,
   if (!path || !grid_name || !out)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "satf_vdb_read: NULL path, grid name or output");
-  satf_status st = check_vdb_file(path, err);
+  int64_t size = 0;
+  satf_status st = check_vdb_file(path, &size, err);
   if (st != SATF_OK)
     return st;
   try {
+    /* Before the fork: the child must not run a one-time initialisation
+     * whose lock another thread might hold (isolate.c). */
     init_openvdb();
-    return read_grid(path, grid_name, out, err);
-  } catch (const std::bad_alloc &) {
-    return satf_error_set(err, SATF_ERR_NOMEM,
-                          "%s: out of memory reading grid '%s' (the file may "
-                          "be damaged)",
-                          path, grid_name);
   } catch (const std::exception &e) {
-    return satf_error_set(err, SATF_ERR_CORRUPT, "%s: damaged VDB file: %s",
-                          path, e.what());
-  } catch (...) {
-    return satf_error_set(err, SATF_ERR_INTERNAL,
-                          "%s: unknown error reading grid '%s'", path,
-                          grid_name);
+    return fail_exception(err, path, e);
   }
+  ReadJob job{path, grid_name};
+  GridReceiver rx{path, grid_name, nullptr};
+  st = satf_isolated_run(send_grid, &job, receive_record, &rx, path, "VDB file",
+                         read_seconds(size), err);
+  if (st != SATF_OK)
+    return st;
+  if (!rx.grid)
+    return satf_error_set(err, SATF_ERR_INTERNAL,
+                          "%s: the VDB reader sent no grid", path);
+  *out = wrap_grid(rx.grid);
+  if (!*out)
+    return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
+  return SATF_OK;
 }
 
 void satf_vdb_grid_destroy(satf_vdb_grid *g) { delete g; }
@@ -619,10 +990,6 @@ satf_status satf_vdb_write_mixed_test_file(const char *path, satf_error *err) {
   if (!path)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "satf_vdb_write_mixed_test_file: NULL path");
-  char tmp[4096];
-  satf_status st = satf_temp_path(path, tmp, sizeof tmp, err);
-  if (st != SATF_OK)
-    return st;
   try {
     init_openvdb();
     const openvdb::Coord origin(0, 0, 0);
@@ -637,18 +1004,13 @@ satf_status satf_vdb_write_mixed_test_file(const char *path, satf_error *err) {
     velocity->setName("velocity");
     velocity->tree().setValue(origin, openvdb::Vec3s(1.0f, 2.0f, 3.0f));
     openvdb::GridCPtrVec grids{density, ids, velocity};
-    openvdb::io::File file(tmp);
-    file.write(grids);
-    file.close();
+    return write_grids(grids, openvdb::MetaMap(), path, err);
   } catch (const std::exception &e) {
-    std::remove(tmp);
     return fail_exception(err, path, e);
   } catch (...) {
-    std::remove(tmp);
     return satf_error_set(err, SATF_ERR_INTERNAL, "%s: unknown exception",
                           path);
   }
-  return satf_commit_temp(tmp, path, err);
 }
 
 } /* extern "C" */
