@@ -251,6 +251,8 @@ int ply_read_prop(ply_cursor *c, const ply_property *p, double *out) {
 
 int ply_skip_element(ply_cursor *c, const ply_element *e) {
   double v;
+  if (e->n_props == 0)
+    return 0; /* records of nothing: no need to count up to 2^32 */
   for (uint64_t r = 0; r < e->count; r++)
     for (int p = 0; p < e->n_props; p++)
       if (ply_read_prop(c, &e->props[p], &v) != 0)
