@@ -128,8 +128,16 @@ int satf_isolated_send(int fd, int tag, const void *data, size_t size) {
              : -1;
 }
 
+/* Provided by the sanitizer runtimes only. libFuzzer registers a death
+ * callback that saves the current input as a crash of the fuzz target; a
+ * sanitizer error inside the child is the parser's, reported by the parent. */
+void __sanitizer_set_death_callback(void (*callback)(void))
+    __attribute__((weak));
+
 static _Noreturn void child_main(int fd, satf_isolated_fn fn, void *ctx,
                                  unsigned seconds) {
+  if (__sanitizer_set_death_callback)
+    __sanitizer_set_death_callback(NULL);
   /* Default actions for the fatal signals: a handler inherited from the
    * caller (a sanitizer's, or libFuzzer's, which would save the input as a
    * crash of the fuzz target) must not take the parser's crash for its own,

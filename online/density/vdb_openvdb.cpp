@@ -596,7 +596,7 @@ satf_status receive_record(void *ctx, int tag, const void *data, size_t size,
 /* Time the child may take: generous for slow disks, yet a hang on a damaged
  * file ends. */
 unsigned read_seconds(int64_t size) {
-  const int64_t s = 30 + size / (4 << 20);
+  const int64_t s = 10 + size / (4 << 20);
   return static_cast<unsigned>(std::min<int64_t>(s, 3600));
 }
 
