@@ -53,11 +53,19 @@ satf_status satf_temp_path(const char *path, char *tmp, size_t size,
 
 satf_status satf_commit_temp(const char *tmp, const char *path,
                              satf_error *err) {
+  /* Delayed allocation (ext4, XFS, NFS) can report a full disk or an I/O
+   * error only here: a file that did not reach the disk is never renamed
+   * into place. */
   int fd = open(tmp, O_RDONLY);
-  if (fd >= 0) {
-    fsync(fd);
-    close(fd);
+  if (fd < 0 || fsync(fd) != 0) {
+    int e = errno;
+    if (fd >= 0)
+      close(fd);
+    remove(tmp);
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot write: %s", path,
+                          strerror(e));
   }
+  close(fd);
   if (rename(tmp, path) != 0) {
     int e = errno;
     remove(tmp);
@@ -79,9 +87,13 @@ satf_status satf_write_file_atomic(const char *path, const void *data,
     return satf_error_set(err, SATF_ERR_IO, "%s: cannot create %s: %s", path,
                           tmp, strerror(errno));
   size_t put = fwrite(data, 1, size, f);
-  if (fclose(f) != 0 || put != size) {
+  int e = put != size ? errno : 0;
+  if (fclose(f) != 0 && !e)
+    e = errno;
+  if (e || put != size) {
     remove(tmp);
-    return satf_error_set(err, SATF_ERR_IO, "%s: write failed", path);
+    return satf_error_set(err, SATF_ERR_IO, "%s: write failed: %s", path,
+                          strerror(e ? e : EIO));
   }
   return satf_commit_temp(tmp, path, err);
 }
