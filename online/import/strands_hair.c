@@ -14,6 +14,7 @@
 #include "le_bytes.h"
 #include "satf/common.h"
 #include "satf/import.h"
+#include "strands_read.h"
 
 struct satf_strand_set {
   int n;
@@ -311,15 +312,7 @@ satf_status satf_hair_parse(const void *data, size_t size, const char *name,
 
 satf_status satf_hair_read(const char *path, satf_strand_set **out,
                            satf_error *err) {
-  *out = NULL;
-  void *data;
-  size_t size;
-  satf_status st =
-      satf_read_file(path, SATF_STRANDS_MAX_FILE_BYTES, &data, &size, err);
-  if (st == SATF_OK)
-    st = satf_hair_parse(data, size, path, out, err);
-  free(data);
-  return st;
+  return strands_read_file(path, satf_hair_parse, out, err);
 }
 
 satf_status satf_hair_write(const char *path, const satf_strand_set *s,

@@ -22,6 +22,7 @@
 #include "satf/common.h"
 #include "satf/import.h"
 #include "strands_ply.h"
+#include "strands_read.h"
 
 static const char *const COUNT_NAMES[] = {
     "vertex_count", "vertices", "num_vertices", "nverts",
@@ -228,13 +229,5 @@ satf_status satf_ply_parse(const void *data, size_t size, const char *name,
 
 satf_status satf_ply_read(const char *path, satf_strand_set **out,
                           satf_error *err) {
-  *out = NULL;
-  void *data;
-  size_t size;
-  satf_status st =
-      satf_read_file(path, SATF_STRANDS_MAX_FILE_BYTES, &data, &size, err);
-  if (st == SATF_OK)
-    st = satf_ply_parse(data, size, path, out, err);
-  free(data);
-  return st;
+  return strands_read_file(path, satf_ply_parse, out, err);
 }

@@ -13,6 +13,7 @@
 #include "le_bytes.h"
 #include "satf/common.h"
 #include "satf/import.h"
+#include "strands_read.h"
 
 /* Walks the records without allocating: every count checked against the
  * bytes left; *kept and *points count the strands of two or more points. */
@@ -120,13 +121,5 @@ satf_status satf_usc_parse(const void *data, size_t size, const char *name,
 
 satf_status satf_usc_read(const char *path, satf_strand_set **out,
                           satf_error *err) {
-  *out = NULL;
-  void *data;
-  size_t size;
-  satf_status st =
-      satf_read_file(path, SATF_STRANDS_MAX_FILE_BYTES, &data, &size, err);
-  if (st == SATF_OK)
-    st = satf_usc_parse(data, size, path, out, err);
-  free(data);
-  return st;
+  return strands_read_file(path, satf_usc_parse, out, err);
 }

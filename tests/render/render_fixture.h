@@ -7,9 +7,11 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "satf/db.h"
+#include "satf/gl.h"
 #include "satf/offline.h"
 #include "satf/render.h"
 #include "satf/scene.h"
@@ -35,6 +37,39 @@ static inline satf_db *fixture_db(void) {
     return NULL;
   }
   return db;
+}
+
+/* A headless GL context of w x h and the fixture database: what a cmocka
+ * group setup of a rendering test makes (free with fixture_gl_free). */
+typedef struct fixture_gl {
+  satf_gl_context *ctx;
+  satf_db *db;
+} fixture_gl;
+
+static inline fixture_gl *fixture_gl_create(int w, int h) {
+  fixture_gl *f = calloc(1, sizeof *f);
+  satf_error err;
+  if (!f)
+    return NULL;
+  if (satf_gl_context_create_headless(w, h, &f->ctx, &err) != SATF_OK) {
+    fprintf(stderr, "%s\n", err.message);
+    free(f);
+    return NULL;
+  }
+  if (!(f->db = fixture_db())) {
+    satf_gl_context_destroy(f->ctx);
+    free(f);
+    return NULL;
+  }
+  return f;
+}
+
+static inline void fixture_gl_free(fixture_gl *f) {
+  if (!f)
+    return;
+  satf_db_destroy(f->db);
+  satf_gl_context_destroy(f->ctx);
+  free(f);
 }
 
 static inline satf_scene *fixture_scene(const char *json) {

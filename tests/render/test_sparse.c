@@ -43,31 +43,15 @@ static const char *scene_format =
     " \"background\": [0, 0, 0], \"effects\": {\"self_shadow\": %s},"
     " \"image\": {\"width\": 96, \"height\": 128}}";
 
-typedef struct fixture {
-  satf_gl_context *ctx;
-  satf_db *db;
-} fixture;
+typedef fixture_gl fixture;
 
 static int setup(void **state) {
-  fixture *f = calloc(1, sizeof *f);
-  satf_error err;
-  if (!f)
-    return -1;
-  if (satf_gl_context_create_headless(W, H, &f->ctx, &err) != SATF_OK) {
-    fprintf(stderr, "%s\n", err.message);
-    return -1;
-  }
-  if (!(f->db = fixture_db()))
-    return -1;
-  *state = f;
-  return 0;
+  *state = fixture_gl_create(W, H);
+  return *state ? 0 : -1;
 }
 
 static int teardown(void **state) {
-  fixture *f = *state;
-  satf_db_destroy(f->db);
-  satf_gl_context_destroy(f->ctx);
-  free(f);
+  fixture_gl_free(*state);
   return 0;
 }
 
