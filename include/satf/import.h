@@ -435,6 +435,9 @@ typedef struct satf_import_options {
   const char *vdb;      /* also write the density grid here, or NULL */
   const char *database; /* named in the scene as given, or NULL */
   const char *mesh;     /* a head mesh, checked and named absolutely */
+  /* where the mesh goes: T(translate) R(axis, angle) S(scale), as a scene
+   * mesh's "transform" (identity by default) */
+  double mesh_translate[3], mesh_axis[3], mesh_angle_deg, mesh_scale[3];
   long clusters;        /* 0: chosen from the data */
   long follow;          /* TressFX followers per guide; -1: the file's */
   long control;         /* trajectory control points */
@@ -499,6 +502,9 @@ typedef struct satf_import_result {
   /* what the strands were multiplied by to fit the scene limits (1: not
    * rescaled; satf_import_run) */
   double scale;
+  /* 1 when --mesh was given and no strand root lies in or near the
+   * transformed mesh's bounds (the head is probably misplaced) */
+  int mesh_apart;
   /* seconds from the start to the end of each step, and peak memory */
   double t_read, t_cluster, t_fit, t_vdb0, t_vdb, t_end, peak_mb;
 } satf_import_result;

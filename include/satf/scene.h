@@ -244,6 +244,12 @@ satf_status satf_scene_create(const char *name, satf_scene **out,
 satf_status satf_scene_add_mesh(satf_scene *scene, const char *file,
                                 satf_error *err);
 
+/* m = T(translate) R(axis, angle_rad) S(scale), row-major, exactly as the
+ * parser composes an instance's or a mesh's "transform" (axis unit). */
+void satf_scene_matrix_trs(const double translate[3], const double axis[3],
+                           double angle_rad, const double scale[3],
+                           float m[16]);
+
 /* Normalizes v as the parser normalizes light directions and up vectors;
  * returns 0 (v unchanged) when v has no length. */
 int satf_scene_normalize(float v[3]);

@@ -12,6 +12,7 @@
 
 #include "satf/common.h"
 #include "satf/import.h"
+#include "satf/math.h"
 
 /* What the steps share. */
 typedef struct run {
@@ -25,6 +26,8 @@ typedef struct run {
   satf_import_macro macro;
   int have_macro;
   char mesh_path[PATH_MAX];
+  float mesh_m[16];             /* --mesh-transform */
+  float mesh_lo[3], mesh_hi[3]; /* the transformed mesh's bounds */
   char vdb_name[PATH_MAX];
 } run;
 
@@ -37,12 +40,44 @@ static double peak_rss_mb(void) {
   return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : 0.0;
 }
 
-/* The mesh is checked now, and named absolutely in the scene. */
+/* The bounds of the box lo..hi after the row-major transform m. */
+static void transformed_bounds(const float m[16], const float lo[3],
+                               const float hi[3], float out_lo[3],
+                               float out_hi[3]) {
+  for (int c = 0; c < 3; c++) {
+    out_lo[c] = INFINITY;
+    out_hi[c] = -INFINITY;
+  }
+  for (int k = 0; k < 8; k++) {
+    float p[3] = {k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1],
+                  k & 4 ? hi[2] : lo[2]};
+    for (int r = 0; r < 3; r++) {
+      float v = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] +
+                m[4 * r + 3];
+      out_lo[r] = fminf(out_lo[r], v);
+      out_hi[r] = fmaxf(out_hi[r], v);
+    }
+  }
+}
+
+/* The mesh is checked now, placed by --mesh-transform, and named
+ * absolutely in the scene. */
 static satf_status check_mesh(run *u, satf_error *err) {
+  const satf_import_options *o = u->o;
   satf_mesh *probe = NULL;
   satf_error why;
-  if (satf_mesh_read(u->o->mesh, &probe, &why) != SATF_OK)
+  if (satf_mesh_read(o->mesh, &probe, &why) != SATF_OK)
     return satf_error_set(err, why.status, "--mesh: %s", why.message);
+  double axis[3] = {o->mesh_axis[0], o->mesh_axis[1], o->mesh_axis[2]};
+  double len = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+  for (int c = 0; c < 3; c++)
+    axis[c] = len > 0.0 ? axis[c] / len : (c == 1);
+  satf_scene_matrix_trs(o->mesh_translate, axis,
+                        o->mesh_angle_deg * SATF_PI / 180.0, o->mesh_scale,
+                        u->mesh_m);
+  float lo[3], hi[3];
+  satf_mesh_bounds(probe, lo, hi);
+  transformed_bounds(u->mesh_m, lo, hi, u->mesh_lo, u->mesh_hi);
   satf_mesh_destroy(probe);
   if (!realpath(u->o->mesh, u->mesh_path))
     snprintf(u->mesh_path, sizeof u->mesh_path, "%s", u->o->mesh);
@@ -314,6 +349,9 @@ static satf_status build_scene(run *u, satf_scene **scene, satf_error *err) {
   if (st == SATF_OK && o->sequence)
     st = satf_import_sequence_keys(*scene, o, u->labels, u->r->n_strands,
                                    &u->fp, &u->macro, err);
+  if (st == SATF_OK && o->mesh && (*scene)->n_meshes > 0)
+    memcpy((*scene)->meshes[(*scene)->n_meshes - 1].m, u->mesh_m,
+           sizeof u->mesh_m);
   return st;
 }
 
@@ -359,6 +397,26 @@ static void tally(run *u) {
   r->bytes_shared = u->macro.bytes_shared;
 }
 
+/* Whether some strand root lies in the mesh's bounds grown by a tenth of
+ * their diagonal: a head and the hair on it always meet; a head far from
+ * every root was probably placed in other units or axes. */
+static int roots_meet_mesh(const run *u) {
+  float grow = 0.0f;
+  for (int c = 0; c < 3; c++)
+    grow += (u->mesh_hi[c] - u->mesh_lo[c]) * (u->mesh_hi[c] - u->mesh_lo[c]);
+  grow = 0.1f * sqrtf(grow);
+  for (int i = 0; i < satf_strand_set_count(u->all); i++) {
+    int n;
+    const float *p = satf_strand_set_strand(u->all, i, &n);
+    int in = 1;
+    for (int c = 0; c < 3; c++)
+      in &= p[c] >= u->mesh_lo[c] - grow && p[c] <= u->mesh_hi[c] + grow;
+    if (in)
+      return 1;
+  }
+  return 0;
+}
+
 static satf_status steps(run *u, satf_error *err) {
   satf_import_result *r = u->r;
   satf_status st = SATF_OK;
@@ -367,6 +425,8 @@ static satf_status steps(run *u, satf_error *err) {
       (st = fit_units(u, err)) != SATF_OK)
     return st;
   r->t_read = satf_now_seconds() - u->t0;
+  if (u->o->mesh)
+    r->mesh_apart = !roots_meet_mesh(u);
   if ((st = cluster(u, err)) != SATF_OK)
     return st;
   r->t_cluster = satf_now_seconds() - u->t0;
@@ -455,4 +515,9 @@ void satf_import_print_summary(FILE *out, const char *prog,
           r->t_end, r->t_read, r->t_cluster - r->t_read,
           r->t_fit - r->t_cluster, r->t_vdb - r->t_vdb0, r->t_end - r->t_vdb,
           r->peak_mb);
+  if (r->mesh_apart)
+    fprintf(out,
+            "%s: warning: no strand root meets the mesh %s (its bounds "
+            "after --mesh-transform); place it with --mesh-transform\n",
+            prog, o->mesh);
 }

@@ -17,6 +17,8 @@ satf_import_options satf_import_options_default(void) {
   o.control = 8;
   o.macro_tol = 0.05;
   o.seed = 1;
+  o.mesh_axis[1] = 1.0;
+  o.mesh_scale[0] = o.mesh_scale[1] = o.mesh_scale[2] = 1.0;
   return o;
 }
 

@@ -103,3 +103,9 @@ void satf_scene_bounds(const satf_scene *scene, float lo[3], float hi[3]) {
     for (int k = 0; k < 3; k++)
       lo[k] = hi[k] = 0.0f;
 }
+
+void satf_scene_matrix_trs(const double translate[3], const double axis[3],
+                           double angle_rad, const double scale[3],
+                           float m[16]) {
+  scene_matrix_trs(translate, axis, angle_rad, scale, m);
+}

@@ -3,7 +3,9 @@
  * density (SATF sec. 3.1-3.3), optionally with a world-space OpenVDB
  * density grid. The import itself is satf_import_run (satf/import.h); this
  * reads the command line. */
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "satf/common.h"
@@ -49,6 +51,9 @@ static void usage(FILE *out) {
       "                         cluster length (default 0.05; 0 = off)\n"
       "  --database PATH        HRIR database to name in the scene\n"
       "  --mesh PATH            opaque head mesh (OBJ/PLY) for the scene\n"
+      "  --mesh-transform T     where the mesh goes, e.g. 'scale=0.2;\n"
+      "                         rotate=1,0,0,-90;translate=0,-2,0' (scaled,\n"
+      "                         rotated about the axis by degrees, moved)\n"
       "  --frames A-B           INPUT is a per-frame pattern "
       "(frame_%%04d.hair):\n"
       "                         frame A defines the clusters, every frame is\n"
@@ -77,6 +82,55 @@ static int parse_frames(const char *val, satf_import_options *o) {
 
 /* One option and its value; 0 when handled, 2 on an error, -1 when it is
  * not an option with a value. */
+/* "NAME=a,b,..." with exactly n finite numbers into v; 0 on success. */
+static int parse_numbers(const char *text, int n, double *v) {
+  for (int k = 0; k < n; k++) {
+    char *end = NULL;
+    v[k] = strtod(text, &end);
+    if (end == text || !isfinite(v[k]))
+      return -1;
+    text = end;
+    if (*text == (k + 1 < n ? ',' : '\0') || (k + 1 == n && *text == ';'))
+      text++;
+    else
+      return -1;
+  }
+  return 0;
+}
+
+/* --mesh-transform "translate=X,Y,Z;rotate=AX,AY,AZ,DEG;scale=S|SX,SY,SZ",
+ * parts in any order, each at most once; composed as a scene mesh's
+ * "transform" (scale, then rotate, then translate). */
+static int parse_mesh_transform(const char *text, satf_import_options *o) {
+  char buf[512];
+  snprintf(buf, sizeof buf, "%s", text);
+  int ok = strlen(text) < sizeof buf && *text;
+  for (char *part = strtok(buf, ";"); part && ok; part = strtok(NULL, ";")) {
+    double v[4];
+    if (!strncmp(part, "translate=", 10) && !parse_numbers(part + 10, 3, v))
+      memcpy(o->mesh_translate, v, sizeof o->mesh_translate);
+    else if (!strncmp(part, "rotate=", 7) && !parse_numbers(part + 7, 4, v) &&
+             v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0.0) {
+      memcpy(o->mesh_axis, v, sizeof o->mesh_axis);
+      o->mesh_angle_deg = v[3];
+    } else if (!strncmp(part, "scale=", 6) && !parse_numbers(part + 6, 1, v) &&
+               v[0] > 0.0)
+      o->mesh_scale[0] = o->mesh_scale[1] = o->mesh_scale[2] = v[0];
+    else if (!strncmp(part, "scale=", 6) && !parse_numbers(part + 6, 3, v) &&
+             v[0] > 0.0 && v[1] > 0.0 && v[2] > 0.0)
+      memcpy(o->mesh_scale, v, sizeof o->mesh_scale);
+    else
+      ok = 0;
+  }
+  if (!ok)
+    fprintf(stderr,
+            "%s: --mesh-transform: expected translate=X,Y,Z;rotate=AX,AY,AZ,"
+            "DEG;scale=S (any of them, positive scale, non-zero axis), got "
+            "'%s'\n",
+            PROG, text);
+  return ok ? 0 : 2;
+}
+
 static int value_option(satf_cli_args *it, satf_import_options *o) {
   const char *val;
   if (satf_cli_is(it, "-o", "--output"))
@@ -85,6 +139,8 @@ static int value_option(satf_cli_args *it, satf_import_options *o) {
     return satf_cli_value(it, &o->vdb) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--mesh"))
     return satf_cli_value(it, &o->mesh) ? 2 : 0;
+  if (satf_cli_is(it, NULL, "--mesh-transform"))
+    return satf_cli_value(it, &val) ? 2 : parse_mesh_transform(val, o);
   if (satf_cli_is(it, NULL, "--database"))
     return satf_cli_value(it, &o->database) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--clusters"))
