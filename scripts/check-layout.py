@@ -36,16 +36,16 @@ INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 
 def allowed(lib):
     """Public headers lib may include: its own and everything below."""
-    seen, todo = set(), [lib]
-    while todo:
-        cur = todo.pop()
+    seen, pending = set(), [lib]
+    while pending:
+        cur = pending.pop()
         own, uses = LIBS[cur]
         for h in own | uses:
             if h not in seen:
                 seen.add(h)
                 owner = PUBLIC_OWNER.get(h)
                 if owner and owner != cur:
-                    todo.append(owner)
+                    pending.append(owner)
     return seen
 
 

@@ -13,6 +13,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* A path under the test's scratch directory ($SATF_TEST_TMP or /tmp). */
 static inline const char *test_path(char *buf, size_t size, const char *name) {
@@ -46,6 +47,29 @@ static inline void test_write_file(const char *path, const void *data,
   assert_non_null(f);
   assert_int_equal(fwrite(data, 1, size, f), size);
   assert_int_equal(fclose(f), 0);
+}
+
+/* Feeds a fuzz entry point every truncation of a valid file and 4000
+ * copies with 1-3 flipped bits (a fixed LCG, so every run is the same);
+ * the entry point aborts on a silent failure or a broken result. */
+static inline void test_replay_mutations(int (*one)(const uint8_t *, size_t),
+                                         const unsigned char *b, size_t size) {
+  for (size_t n = 0; n <= size; n++)
+    one(b, n);
+  unsigned char *c = malloc(size);
+  assert_non_null(c);
+  uint32_t x = 12345;
+  for (int k = 0; k < 4000; k++) {
+    memcpy(c, b, size);
+    for (int f = 0; f < 1 + k % 3; f++) {
+      x = x * 1664525u + 1013904223u;
+      size_t at = (x >> 8) % size;
+      x = x * 1664525u + 1013904223u;
+      c[at] ^= (unsigned char)(1u << (x >> 29));
+    }
+    one(c, size);
+  }
+  free(c);
 }
 
 /* assert_near(a, b, tol): |a - b| <= tol, printing the expression. */

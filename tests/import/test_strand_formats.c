@@ -298,40 +298,19 @@ static void detection(void **state) {
                       "USC-HairSalon .data");
 }
 
-/* Every truncation and many byte flips of valid files go through the fuzz
- * entry points (which abort on a silent failure or a broken set). */
-static void replay(int (*one)(const uint8_t *, size_t), const unsigned char *b,
-                   size_t size) {
-  for (size_t n = 0; n <= size; n++)
-    one(b, n);
-  unsigned char *c = malloc(size);
-  uint32_t x = 12345;
-  for (int k = 0; k < 4000; k++) {
-    memcpy(c, b, size);
-    for (int f = 0; f < 1 + k % 3; f++) {
-      x = x * 1664525u + 1013904223u;
-      size_t at = (x >> 8) % size;
-      x = x * 1664525u + 1013904223u;
-      c[at] ^= (unsigned char)(1u << (x >> 29));
-    }
-    one(c, size);
-  }
-  free(c);
-}
-
 static void fuzz_replays(void **state) {
   (void)state;
   size_t len;
   char *a = ascii_counts(&len);
-  replay(fuzz_ply_one, (unsigned char *)a, len);
+  test_replay_mutations(fuzz_ply_one, (unsigned char *)a, len);
   free(a);
   for (int be = 0; be < 2; be++) {
     unsigned char *b = binary_ply(be, &len);
-    replay(fuzz_ply_one, b, len);
+    test_replay_mutations(fuzz_ply_one, b, len);
     free(b);
   }
   unsigned char *d = usc_data(&len);
-  replay(fuzz_data_one, d, len);
+  test_replay_mutations(fuzz_data_one, d, len);
   free(d);
 }
 

@@ -376,35 +376,14 @@ static void concat_sets(void **state) {
   satf_strand_set_destroy(c);
 }
 
-/* Every truncation and many byte flips of valid files go through the fuzz
- * entry points (which abort on a silent failure or a broken set). */
-static void replay(int (*one)(const uint8_t *, size_t), unsigned char *b,
-                   size_t size) {
-  for (size_t n = 0; n <= size; n++)
-    one(b, n);
-  unsigned char *c = malloc(size);
-  uint32_t x = 12345;
-  for (int k = 0; k < 4000; k++) {
-    memcpy(c, b, size);
-    for (int f = 0; f < 1 + k % 3; f++) {
-      x = x * 1664525u + 1013904223u;
-      size_t at = (x >> 8) % size;
-      x = x * 1664525u + 1013904223u;
-      c[at] ^= (unsigned char)(1u << (x >> 29));
-    }
-    one(c, size);
-  }
-  free(c);
-}
-
 static void fuzz_replays(void **state) {
   (void)state;
   size_t size;
   unsigned char *b = valid_hair(&size);
-  replay(fuzz_hair_one, b, size);
+  test_replay_mutations(fuzz_hair_one, b, size);
   free(b);
   b = valid_tfx3(&size);
-  replay(fuzz_tfx_one, b, size);
+  test_replay_mutations(fuzz_tfx_one, b, size);
   free(b);
   char path[512];
   satf_strand_set *s = small_set();
@@ -413,7 +392,7 @@ static void fuzz_replays(void **state) {
   assert_int_equal(satf_hair_write(path, s, &err), SATF_OK);
   satf_strand_set_destroy(s);
   b = test_read_file(path, &size);
-  replay(fuzz_hair_one, b, size);
+  test_replay_mutations(fuzz_hair_one, b, size);
   free(b);
 }
 
