@@ -1,0 +1,60 @@
+/* metrics.h - satf-compare's image-fidelity measures: soft coverage IoU,
+ * mean alpha error, exposure-normalised luminance SSIM, mean luminance
+ * ratio and chroma angle between a reference frame and a test frame of the
+ * same camera. Pure functions of two in-memory RGBA images (linear colour,
+ * premultiplied by alpha, as satf-render writes EXRs), so the tool and the
+ * unit tests compute exactly the same numbers.
+ *
+ * The definitions follow ../shared/tools/fidelity.py term by term, so that
+ *   satf-compare REFERENCE.exr TEST.exr   and
+ *   fidelity.py TEST.exr REFERENCE.exr    (its satf frame first)
+ * print the same figures. */
+#ifndef SATF_TOOLS_COMPARE_METRICS_H
+#define SATF_TOOLS_COMPARE_METRICS_H
+
+#include "satf/satf.h"
+
+/* A pixel counts as covered when its alpha is above this (fidelity.py's
+ * silhouette threshold: keeps faint anti-aliasing and noise out of the
+ * averages). */
+#define COMPARE_COVERED 0.05
+/* SSIM window: a (2r+1)^2 = 7x7 box, edges clamped (fidelity.py's box()). */
+#define COMPARE_SSIM_RADIUS 3
+
+/* Linear RGBA planes, width * height floats each, row-major; colour
+ * premultiplied by alpha. name (a file name) is quoted in messages. */
+typedef struct compare_image {
+  const char *name;
+  int width, height;
+  const float *r, *g, *b, *a;
+} compare_image;
+
+typedef struct compare_result {
+  double iou;         /* sum min(alpha) / sum max(alpha) */
+  double alpha_error; /* mean |alpha_ref - alpha_test| over the union */
+  double ssim;        /* luminance SSIM over the union's bounding box */
+  double lum_ratio;   /* mean lum test / mean lum ref over the union; NaN
+                         when the union is empty */
+  double chroma_deg;  /* angle between the summed colours where both cover */
+  long long union_px; /* pixels either image covers */
+  long long both_px;  /* pixels both images cover */
+  int box[4];         /* the union's bounding box x0, y0, x1, y1
+                         (inclusive); all -1 when the union is empty */
+  double exposure;    /* factor that scaled the test luminance for SSIM */
+  double white;       /* luminance mapped to 1 for SSIM (99.5th percentile
+                         of the reference inside the union) */
+} compare_result;
+
+/* Rec. 709 / sRGB luminance of linear RGB. */
+double compare_luminance(double r, double g, double b);
+
+/* Checks that every value of img is finite (a NaN would silently poison
+ * every average): "NAME: pixel (X, Y) channel C is not finite". */
+satf_status compare_check_finite(const compare_image *img, satf_error *err);
+
+/* Measures test against ref. Images of different sizes are refused
+ * (SATF_ERR_ARGUMENT, "sizes differ: REF is WxH, TEST is WxH"). */
+satf_status compare_measure(const compare_image *ref, const compare_image *test,
+                            compare_result *out, satf_error *err);
+
+#endif
