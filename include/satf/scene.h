@@ -206,7 +206,11 @@ typedef struct satf_scene {
   satf_scene_light *lights;
   float background[3];
   char *database; /* resolved path, NULL when absent */
-  int n_meshes;   /* opaque meshes, 0 when absent */
+  /* The scene's strands as a cyHair .hair file (the importer writes them in
+   * scene coordinates beside the scene): resolved against the scene file's
+   * directory, NULL when absent. */
+  char *strands_file;
+  int n_meshes; /* opaque meshes, 0 when absent */
   satf_scene_mesh *meshes;
   satf_scene_image image;
   /* Warnings (unknown keys); read them with satf_scene_warning*. */

@@ -35,6 +35,7 @@ void satf_scene_destroy(satf_scene *scene) {
     free(scene->warnings[i]);
   free(scene->warnings);
   free(scene->database);
+  free(scene->strands_file);
   free(scene->description);
   free(scene->name);
   free(scene);

@@ -216,6 +216,7 @@ int satf_scene_equal(const satf_scene *a, const satf_scene *b) {
     return a == b;
   if (!strings_equal(a->description, b->description) ||
       !strings_equal(a->database, b->database) ||
+      !strings_equal(a->strands_file, b->strands_file) ||
       a->n_macro_clusters != b->n_macro_clusters ||
       a->n_lights != b->n_lights ||
       !materials_equal(&a->material, &b->material) ||

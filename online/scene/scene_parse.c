@@ -433,9 +433,9 @@ static satf_status parse_meshes(scene_ctx *ctx, const cJSON *root,
 satf_status scene_parse_root(scene_ctx *ctx, const cJSON *root,
                              const char *base_dir) {
   static const char *const keys[] = {
-      "description", "macro_clusters", "material",   "effects",
-      "camera",      "lights",         "background", "database",
-      "image",       "animation",      "meshes",     NULL};
+      "description", "macro_clusters", "material", "effects", "camera",
+      "lights",      "background",     "database", "image",   "animation",
+      "meshes",      "strands",        NULL};
   satf_scene *scene = ctx->scene;
   if (!cJSON_IsObject(root))
     return scene_fail(ctx, SATF_ERR_FORMAT, "expected an object, got %s",
@@ -454,6 +454,8 @@ satf_status scene_parse_root(scene_ctx *ctx, const cJSON *root,
                          scene->background)) != SATF_OK ||
       (s = scene_key_path(ctx, root, "database", 0, base_dir,
                           &scene->database)) != SATF_OK ||
+      (s = scene_key_path(ctx, root, "strands", 0, base_dir,
+                          &scene->strands_file)) != SATF_OK ||
       (s = parse_meshes(ctx, root, base_dir)) != SATF_OK)
     return s;
   return parse_image(ctx, root, &scene->image);

@@ -85,6 +85,7 @@ static satf_scene *copy_static(const satf_scene *from) {
   to->name = copy_string(from->name, &failed);
   to->description = copy_string(from->description, &failed);
   to->database = copy_string(from->database, &failed);
+  to->strands_file = copy_string(from->strands_file, &failed);
   to->lights = copy_bytes(
       from->lights, (size_t)from->n_lights * sizeof *from->lights, &failed);
   to->n_lights = to->lights ? from->n_lights : 0;

@@ -480,6 +480,8 @@ static cJSON *root(writer *w, const satf_scene *scene) {
     add(w, o, "animation", animation(w, scene->animation));
   if (scene->database)
     add_path(w, o, "database", scene->database);
+  if (scene->strands_file)
+    add_path(w, o, "strands", scene->strands_file);
   if (scene->n_meshes > 0)
     add(w, o, "meshes", meshes(w, scene));
   add(w, o, "image", image(w, &scene->image));

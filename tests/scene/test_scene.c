@@ -168,6 +168,7 @@ static void test_defaults(void **state) {
   assert_int_equal(scene->image.width, 640);
   assert_int_equal(scene->image.height, 480);
   assert_null(scene->database);
+  assert_null(scene->strands_file);
   assert_null(scene->description);
   assert_true(scene->background[0] == 0.1f && scene->background[2] == 0.12f);
 
@@ -458,6 +459,8 @@ static const bad_case bad_cases[] = {
      "background: expected an array of 3 numbers, got 2 entries"},
     {SCENE_WITH(", \"database\": 5"), SATF_ERR_FORMAT,
      "database: expected a string, got a number"},
+    {SCENE_WITH(", \"strands\": [\"a.hair\"]"), SATF_ERR_FORMAT,
+     "strands: expected a string, got an array"},
     {SCENE_WITH(", \"image\": {\"width\": 0}"), SATF_ERR_ARGUMENT,
      "image.width: 0 is out of range [1, 16384]"},
     {SCENE_WITH(", \"image\": {\"height\": 1e9}"), SATF_ERR_ARGUMENT,
@@ -589,9 +592,10 @@ static void test_relative_paths(void **state) {
       "[[0,0,0],[0,1,0]],"
       " \"a\": 1, \"density\": {\"type\": \"vdb\", \"file\": "
       "\"/abs/d.vdb\"}}}],"
-      " \"database\": \"../db/h.exr\"}";
+      " \"database\": \"../db/h.exr\", \"strands\": \"hair/s.hair\"}";
   satf_scene *scene = parse_ok(json, "/data/scenes/x.json");
   assert_string_equal(scene->database, "/data/scenes/../db/h.exr");
+  assert_string_equal(scene->strands_file, "/data/scenes/hair/s.hair");
   assert_string_equal(scene->macro_clusters[0].prototype.density.vdb_file,
                       "/data/scenes/vol/c.vdb");
   assert_string_equal(scene->macro_clusters[0].prototype.density.vdb_grid,

@@ -89,7 +89,7 @@ static void test_samples_round_trip(void **state) {
 static const char KEYED[] =
     "{\"description\": \"all of it\", \"animation\": {\"fps\": 12.5, "
     "\"frames\": [-2, 30]},"
-    " \"database\": \"sub/db.exr\","
+    " \"database\": \"sub/db.exr\", \"strands\": \"hair.strands.hair\","
     " \"meshes\": [{\"file\": \"/abs/head.obj\", \"color\": [0.2, 0.3, 0.4],"
     "   \"transform\": {\"translate\": [1, 2, 3], \"scale\": 2}}],"
     " \"camera\": {\"target\": [0, 0.5, 0], \"up\": [0.1, 1, 0.2],"
@@ -136,6 +136,7 @@ static void test_every_key_round_trips(void **state) {
   assert_int_equal(satf_scene_to_json(scene, "/some/dir", &text, &err),
                    SATF_OK);
   assert_non_null(strstr(text, "\"sub/db.exr\""));
+  assert_non_null(strstr(text, "\"strands\":\t\"hair.strands.hair\""));
   assert_non_null(strstr(text, "\"hair.vdb\""));
   assert_non_null(strstr(text, "\"/abs/head.obj\""));
   if (satf_scene_parse(text, strlen(text), name, &again, &err) != SATF_OK)
@@ -197,6 +198,10 @@ static void test_built_scene(void **state) {
   snprintf(mesh, sizeof mesh, "%s", path);
   strcpy(strrchr(mesh, '/') + 1, "head.obj");
   assert_int_equal(satf_scene_add_mesh(scene, mesh, &err), SATF_OK);
+  /* The strands beside it too: "strands": "built.strands.hair". */
+  scene->strands_file = malloc(strlen(path) + 32);
+  strcpy(scene->strands_file, path);
+  strcpy(strrchr(scene->strands_file, '/') + 1, "built.strands.hair");
   assert_int_equal(satf_scene_set_animation(scene, 24.0, 1, 3, &err), SATF_OK);
   assert_int_equal(
       satf_scene_add_prototype_key(scene, 0, 1, traj, NULL, NULL, NULL, &err),
@@ -214,6 +219,7 @@ static void test_built_scene(void **state) {
   memcpy(text, bytes, size);
   free(bytes);
   assert_non_null(strstr(text, "\"file\":\t\"head.obj\""));
+  assert_non_null(strstr(text, "\"strands\":\t\"built.strands.hair\""));
   free(text);
   if (satf_scene_load(path, &again, &err) != SATF_OK)
     fail_msg("%s", err.message);
