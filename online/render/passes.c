@@ -99,8 +99,8 @@ static void draw_clusters(const satf_renderer *r, GLuint prog,
 }
 
 /* The opaque meshes with `prog` (per-mesh model and normal matrices). */
-static void draw_meshes(const satf_renderer *r, GLuint prog,
-                        const float viewproj[16]) {
+void draw_meshes(const satf_renderer *r, GLuint prog,
+                 const float viewproj[16]) {
   glUseProgram(prog);
   set_mat4(prog, "u_viewproj", viewproj);
   GLint model = glGetUniformLocation(prog, "u_model");
@@ -161,8 +161,7 @@ void passes_dom(satf_renderer *r) {
 }
 
 /* Material, effects and lights of a shading program. */
-static void set_shading_uniforms(const satf_renderer *r, GLuint p,
-                                 satf_aov aov) {
+void set_shading_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
   const satf_scene_material *m = &r->scene->material;
   glUseProgram(p);
   set_light_uniforms(r, p);
@@ -188,8 +187,8 @@ static void set_shading_uniforms(const satf_renderer *r, GLuint p,
 /* Clears the frame to transparent black (every pass is premultiplied over
  * it; the background is composited by whoever shows the image) and draws
  * the opaque meshes, leaving their depth for the hair to test against. */
-static void begin_frame(const satf_renderer *r, satf_aov aov,
-                        const float viewproj[16]) {
+void begin_frame(const satf_renderer *r, satf_aov aov,
+                 const float viewproj[16]) {
   satf_gl_target_bind(r->out);
   glClearColor(0, 0, 0, 0);
   glClearDepth(1.0);

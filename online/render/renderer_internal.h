@@ -81,6 +81,7 @@ struct satf_renderer {
   int slots;       /* fragments kept per pixel */
   satf_gl_target *out, *dom_depth, *dom_opacity;
   float light_viewproj[16], dom_slab;
+  struct baseline *baseline; /* the --no-satf path's state (baseline.c) */
 };
 
 /* The scene's name for messages. */
@@ -152,5 +153,23 @@ satf_status passes_ordered(satf_renderer *r, satf_aov aov,
                            const float viewproj[16], satf_error *err);
 /* A triangle covering the viewport, drawn with the bound program. */
 void passes_fullscreen(const satf_renderer *r);
+/* What other drawing paths share with the clusters' passes: the opaque
+ * meshes with `prog`; the material, lights, effects and deep opacity map
+ * of a shading program; clearing the frame and drawing the lit meshes. */
+void draw_meshes(const satf_renderer *r, GLuint prog, const float viewproj[16]);
+void set_shading_uniforms(const satf_renderer *r, GLuint p, satf_aov aov);
+void begin_frame(const satf_renderer *r, satf_aov aov,
+                 const float viewproj[16]);
+
+/* ---- baseline.c: the --no-satf path (Scheuermann 2004, paper 002) ----- */
+
+/* A frame of paper 002's method in SATF's place (effects.satf off): no
+ * database; with refresh 0 the deep opacity map is reused. */
+satf_status baseline_frame(satf_renderer *r, satf_aov aov, int refresh,
+                           satf_frame_timing *timing, satf_error *err);
+void baseline_release(satf_renderer *r);
+/* Ambient occlusion of layer k (0 innermost) of `layers` whose texture has
+ * mean alpha `mean_alpha`. */
+float baseline_layer_occlusion(float mean_alpha, int k, int layers);
 
 #endif

@@ -22,6 +22,13 @@ extern const char *const satf_glsl_mesh_vs;    /* opaque meshes */
 extern const char *const satf_glsl_mesh_fs;
 extern const char *const satf_glsl_empty_fs;    /* depth only */
 extern const char *const satf_glsl_dom_mesh_fs; /* meshes in the DOM */
+/* Scheuermann 2004 (paper 002), the --no-satf baseline: layer patches, its
+ * pixel shader, and its diffuse and noise terms alone (no #version), for
+ * tests: float scheuermann_diffuse(vec3 n, vec3 l);
+ * float scheuermann_noise_mask(float noise, float strength). */
+extern const char *const satf_glsl_baseline_vs;
+extern const char *const satf_glsl_baseline_fs;
+extern const char *const satf_glsl_baseline_lighting;
 
 /* Fragments (one per cluster a pixel's ray meets) kept by the resolve. */
 #define SATF_MAX_FRAGMENTS 64

@@ -11,7 +11,7 @@ void main() {
   /* drawn for the outermost shell only: the innermost layer's s-map sum
    * plus its own alpha is the alpha of every layer at this (u, t) */
   vec4 m = fetch_map(v_uv.x, v_uv.y, 0);
-  float a = u_satf != 0 ? m.b + m.g : reflectance_alpha(m).y * float(u_layers);
+  float a = m.b + m.g;
   float d0 = texelFetch(u_dom_depth, ivec2(gl_FragCoord.xy), 0).r;
   float s = max(gl_FragCoord.z - d0, 0.0) / u_dom_slab;
   int slab = int(min(s, 3.0));

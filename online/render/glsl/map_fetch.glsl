@@ -3,8 +3,6 @@
  * HSV is SATF eq. 7. Included by the layer programs' fragment shaders. */
 uniform sampler2DArray u_maps;
 uniform int u_st;
-uniform int u_satf;
-uniform float u_plain_opacity;
 uniform int u_map_width;  /* texels around the cluster */
 vec4 fetch_map(float u_turns, float t, int layer) {
   float ts = clamp(t, 0.0, 1.0) * float(u_st);
@@ -14,9 +12,6 @@ vec4 fetch_map(float u_turns, float t, int layer) {
   vec4 b = texelFetch(u_maps, ivec3(x, 2 * i + 1, layer), 0);
   return mix(a, b, ts - float(i));
 }
-/* SATF maps give reflectance and alpha; the plain mode (paper 002) has
- * unit reflectance and an opacity from the mean density alone */
-vec2 reflectance_alpha(vec4 m) {
-  if (u_satf != 0) return m.rg;
-  return vec2(1.0, 1.0 - exp(-u_plain_opacity * m.a));
-}
+/* SATF maps give reflectance and alpha (the --no-satf baseline has its
+ * own shaders: baseline_fs.glsl) */
+vec2 reflectance_alpha(vec4 m) { return m.rg; }
