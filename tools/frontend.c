@@ -57,11 +57,13 @@ void satf_frontend_free(satf_frontend *fe) {
 }
 
 const char *const satf_frontend_effect_help =
-    "  --no-satf            plain Kajiya-Kay with shifted highlights (paper "
-    "002,\n"
-    "                       Fig. 4a)\n"
+    "  --no-satf            Fig. 4a's baseline, Scheuermann 2004 (paper 002):\n"
+    "                       shell layers as textured patches, wrapped\n"
+    "                       diffuse, two shifted highlights, ambient\n"
+    "                       occlusion, depth-sorted passes; no database\n"
     "  --no-secondary       no secondary highlight (Fig. 4b)\n"
-    "  --no-self-shadow     no s-map self-shadowing (Fig. 4c)\n"
+    "  --no-self-shadow     no s-map self-shadowing (Fig. 4c); with\n"
+    "                       --no-satf, no ambient occlusion\n"
     "  --no-cluster-shadows no deep-opacity shadows between clusters\n"
     "  --composite MODE     exact: every fragment of a pixel sorted by depth;\n"
     "                       ordered: clusters far to near, shells back to\n"
