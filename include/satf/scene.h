@@ -267,12 +267,9 @@ satf_status satf_scene_to_json(const satf_scene *scene, const char *base_dir,
                                char **json, satf_error *err);
 
 /* satf_scene_to_json into path, through a temporary file renamed into
- * place. Every path is written relative to path's directory (with "../"
- * steps when the file lies elsewhere; the directories canonical, a file's
- * own name kept), so a folder holding the scene and its files can move as
- * a whole; a path that shares no directory below the root with it (e.g.
- * /usr/share/...) or whose directory does not exist is written absolute.
- * Loading the file finds the same files. */
+ * place; paths are written relative to path's directory when under it,
+ * and a relative path that is not is made absolute, so loading the file
+ * finds the same files. */
 satf_status satf_scene_write(const satf_scene *scene, const char *path,
                              satf_error *err);
 
