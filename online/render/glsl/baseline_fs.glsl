@@ -68,6 +68,9 @@ out vec4 o_color;
 layout(early_fragment_tests) in;
 void main() {
   vec4 h = texture(u_hair, v_uv);
+  /* between strands (what it drops changes a pixel by < 1/512): nothing
+   * to light; returns, not discards */
+  if (h.a < 1.0 / 512.0) { o_color = vec4(0.0); return; }
   /* the patch normal as the vertices carry it, on both faces: paper 002's
    * shader model 2.0 pixel shaders could not tell the faces apart */
   vec3 n = normalize(v_normal), t = normalize(v_tangent);
