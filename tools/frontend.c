@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "satf/common.h"
@@ -51,10 +52,96 @@ void satf_frontend_apply(satf_renderer *r, const satf_scene_effects *off,
 }
 
 void satf_frontend_free(satf_frontend *fe) {
+  satf_strand_set_destroy(fe->strands);
   satf_db_destroy(fe->db);
   satf_scene_destroy(fe->scene);
   memset(fe, 0, sizeof *fe);
 }
+
+satf_status satf_frontend_load_strands(const char *prog, satf_frontend *fe) {
+  satf_error err;
+  satf_error_clear(&err);
+  satf_status st;
+  if (!fe->scene->strands_file)
+    st = satf_error_set(&err, SATF_ERR_ARGUMENT,
+                        "%s: --strands: the scene has no source strands (no "
+                        "\"strands\" key naming a .hair file; satf-import "
+                        "writes one beside the scenes it makes)",
+                        fe->scene->name ? fe->scene->name : "scene");
+  else
+    st = satf_hair_read(fe->scene->strands_file, &fe->strands, &err);
+  if (st != SATF_OK)
+    fprintf(stderr, "%s: %s\n", prog, err.message);
+  return st;
+}
+
+satf_status satf_frontend_apply_strands(satf_renderer *r,
+                                        const satf_frontend *fe,
+                                        satf_error *err) {
+  const satf_strand_set *s = fe->strands;
+  if (!s)
+    return SATF_OK;
+  int n = satf_strand_set_count(s);
+  size_t np = satf_strand_set_point_count(s);
+  int thick = n > 0 && satf_strand_set_thickness(s, 0) != NULL;
+  /* the renderer takes plain arrays (it does not depend on satf_import) */
+  int *counts = malloc((size_t)(n > 0 ? n : 1) * sizeof(int));
+  float *xyz = malloc((np > 0 ? np : 1) * 3 * sizeof(float));
+  float *width = malloc((np > 0 ? np : 1) * sizeof(float));
+  if (!counts || !xyz || !width) {
+    free(counts);
+    free(xyz);
+    free(width);
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  size_t at = 0;
+  for (int i = 0; i < n; i++) {
+    const float *p = satf_strand_set_strand(s, i, &counts[i]);
+    const float *t = satf_strand_set_thickness(s, i);
+    memcpy(xyz + 3 * at, p, 3 * (size_t)counts[i] * sizeof(float));
+    for (int j = 0; j < counts[i]; j++)
+      width[at + (size_t)j] = fe->strand_width > 0.0f ? fe->strand_width
+                              : thick && t            ? t[j]
+                                                      : 0.0f;
+    at += (size_t)counts[i];
+  }
+  /* without a thickness the importer's default diameter would be a guess:
+   * the renderer is asked for the file's, or --strand-width's */
+  int have = fe->strand_width > 0.0f || thick;
+  satf_status st = satf_renderer_set_strands(r, n, counts, xyz,
+                                             have ? width : NULL, 0.0f, err);
+  if (st != SATF_OK) {
+    satf_error why = *err; /* the message is rewritten from a copy */
+    st = satf_error_set(err, st, "%s: %s%s", fe->scene->strands_file,
+                        why.message, have ? "" : " (give --strand-width)");
+  }
+  free(counts);
+  free(xyz);
+  free(width);
+  return st;
+}
+
+int satf_frontend_strand_flag(satf_cli_args *it, int *on, float *width) {
+  if (satf_cli_is(it, NULL, "--strands")) {
+    *on = 1;
+    return 1;
+  }
+  if (!satf_cli_is(it, NULL, "--strand-width"))
+    return 0;
+  double w = 0.0;
+  if (satf_cli_value_double(it, 1e-9, 1e9, &w))
+    return -1;
+  *width = (float)w;
+  return 1;
+}
+
+const char *const satf_frontend_strand_help =
+    "  --strands            draw the scene's source strands (its \"strands\"\n"
+    "                       .hair file) instead of the clusters: the\n"
+    "                       reference the clusters approximate, same lights,\n"
+    "                       material, shading and shadows (slow)\n"
+    "  --strand-width W     with --strands: every strand W scene units wide\n"
+    "                       (default: the file's thickness)\n";
 
 const char *const satf_frontend_effect_help =
     "  --no-satf            Fig. 4a's baseline, Scheuermann 2004 (paper 002):\n"

@@ -204,6 +204,25 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
 satf_status satf_renderer_set_scene(satf_renderer *r, const satf_scene *scene,
                                     int *rebuilt, satf_error *err);
 
+/* The strand reference path: with strands set, frames draw these strands
+ * (world space) instead of the clusters, as anti-aliased camera-facing
+ * ribbons of their own width (a strand thinner than a pixel is drawn a
+ * pixel wide with its coverage as alpha), lit by the same lights,
+ * material and shading model (SATF eq. 9-11), shadowed by a deep opacity
+ * map built from the strands, over the same opaque meshes: the image the
+ * clusters approximate. Segments are sorted far to near each frame, so it
+ * is slow next to the clusters. Strand i has counts[i] >= 2 points, taken
+ * in order from xyz (3 floats each); thickness (a diameter per point, in
+ * scene units) may be NULL, and then every point is default_width wide.
+ * n_strands = 0 goes back to the clusters. The strands stay through
+ * satf_renderer_set_scene. */
+satf_status satf_renderer_set_strands(satf_renderer *r, int n_strands,
+                                      const int *counts, const float *xyz,
+                                      const float *thickness,
+                                      float default_width, satf_error *err);
+/* Strands drawn instead of the clusters (0: the cluster path). */
+int satf_renderer_strand_count(const satf_renderer *r);
+
 /* Writes every shell layer mesh of every prototype (OpenMesh, by the
  * extension of `path`: .obj or .ply) as PATH-m<macro>-l<layer>.EXT; sets
  * *written to the number of files. */

@@ -213,7 +213,7 @@ void begin_frame(const satf_renderer *r, satf_aov aov,
 }
 
 /* Hair tests against the meshes' depth without writing it. */
-static void hair_depth_test(int on) {
+void hair_depth_test(int on) {
   if (on) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);

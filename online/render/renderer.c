@@ -80,6 +80,7 @@ satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
 void satf_renderer_destroy(satf_renderer *r) {
   if (!r)
     return;
+  strands_release(r);
   baseline_release(r);
   hierarchy_release(r);
   resources_release(r);
@@ -159,6 +160,8 @@ static satf_status composite(satf_renderer *r, satf_aov aov,
  * previous frame are reused (the AOV passes of one image). */
 static satf_status render_frame(satf_renderer *r, satf_aov aov, int refresh,
                                 satf_frame_timing *timing, satf_error *err) {
+  if (r->strands) /* the strand reference path (strands.c) */
+    return strands_render_frame(r, aov, refresh, timing, err);
   if (!r->effects.satf) /* Fig. 4(a): paper 002, no database (baseline.c) */
     return baseline_frame(r, aov, refresh, timing, err);
   satf_frame_timing t;

@@ -3,7 +3,8 @@
  * each: renderer.c the public API (create, destroy, scene switches,
  * frames, images), hierarchy.c the prototypes and instances, resources.c
  * the GL programs, targets and meshes, frame.c the per-frame CPU work
- * (look-ups, maps, transforms) and passes.c the GPU passes. Names here
+ * (look-ups, maps, transforms) and passes.c the GPU passes; strands.c
+ * draws the source strands instead (the reference path). Names here
  * carry the owning file's name instead of the public satf_ prefix. */
 #ifndef SATF_RENDERER_INTERNAL_H
 #define SATF_RENDERER_INTERNAL_H
@@ -47,6 +48,9 @@ typedef struct inst {
   GLuint tex;
 } inst;
 
+/* The strand reference path's strands and programs (strands.c). */
+typedef struct strands_gpu strands_gpu;
+
 /* An opaque scene mesh on the GPU. */
 typedef struct mesh_gpu {
   GLuint vao, vbo, ibo;
@@ -82,6 +86,7 @@ struct satf_renderer {
   satf_gl_target *out, *dom_depth, *dom_opacity;
   float light_viewproj[16], dom_slab;
   struct baseline *baseline; /* the --no-satf path's state (baseline.c) */
+  strands_gpu *strands; /* strand reference mode (strands.c); NULL: clusters */
 };
 
 /* The scene's name for messages. */
@@ -115,6 +120,10 @@ satf_status resources_alloc_lists(satf_renderer *r, int slots, satf_error *err);
 /* r->keys_tex for r->slots keys per pixel, unless it exists. */
 satf_status resources_alloc_keys(satf_renderer *r, satf_error *err);
 void resources_release(satf_renderer *r);
+/* One program, its fragment shader given SATF_MAX_LIGHTS and
+ * SATF_MAX_FRAGMENTS (and `extra`) after its #version line. */
+satf_status build_program(const char *label, const char *vs, const char *fs,
+                          const char *extra, GLuint *out, satf_error *err);
 
 /* ---- frame.c: per-frame CPU work (Table 1: I, C, M) ------------------- */
 
@@ -153,13 +162,24 @@ satf_status passes_ordered(satf_renderer *r, satf_aov aov,
                            const float viewproj[16], satf_error *err);
 /* A triangle covering the viewport, drawn with the bound program. */
 void passes_fullscreen(const satf_renderer *r);
-/* What other drawing paths share with the clusters' passes: the opaque
- * meshes with `prog`; the material, lights, effects and deep opacity map
- * of a shading program; clearing the frame and drawing the lit meshes. */
+/* What other drawing paths (baseline.c, strands.c) share with the
+ * clusters' passes: the opaque meshes with `prog`; the material, lights,
+ * effects and deep opacity map of a shading program; clearing the frame
+ * and drawing the lit meshes; hair tested against the meshes' depth
+ * without writing it. */
 void draw_meshes(const satf_renderer *r, GLuint prog, const float viewproj[16]);
 void set_shading_uniforms(const satf_renderer *r, GLuint p, satf_aov aov);
 void begin_frame(const satf_renderer *r, satf_aov aov,
                  const float viewproj[16]);
+void hair_depth_test(int on);
+
+/* ---- strands.c: the strand reference path ----------------------------- */
+
+/* A frame of the strands (satf_renderer_set_strands) in the clusters'
+ * place; with refresh 0 the deep opacity map is reused. */
+satf_status strands_render_frame(satf_renderer *r, satf_aov aov, int refresh,
+                                 satf_frame_timing *timing, satf_error *err);
+void strands_release(satf_renderer *r);
 
 /* ---- baseline.c: the --no-satf path (Scheuermann 2004, paper 002) ----- */
 

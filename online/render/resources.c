@@ -28,9 +28,8 @@ static char *with_defines(const char *src, const char *lines) {
 
 /* Compiles one program. Its fragment shader's arrays are sized by the C
  * limits, defined after its #version line with `extra` (glsl/). */
-static satf_status build_program(const char *label, const char *vs,
-                                 const char *fs, const char *extra, GLuint *out,
-                                 satf_error *err) {
+satf_status build_program(const char *label, const char *vs, const char *fs,
+                          const char *extra, GLuint *out, satf_error *err) {
   char defines[256];
   snprintf(defines, sizeof defines,
            "#define SATF_MAX_LIGHTS %d\n#define SATF_MAX_FRAGMENTS %d\n%s",

@@ -22,6 +22,10 @@ extern const char *const satf_glsl_mesh_vs;    /* opaque meshes */
 extern const char *const satf_glsl_mesh_fs;
 extern const char *const satf_glsl_empty_fs;    /* depth only */
 extern const char *const satf_glsl_dom_mesh_fs; /* meshes in the DOM */
+/* the strand reference path (strands.c) */
+extern const char *const satf_glsl_strand_vs;     /* segments as ribbons */
+extern const char *const satf_glsl_strand_fs;     /* eq. 9-11, coverage */
+extern const char *const satf_glsl_strand_dom_fs; /* strands in the DOM */
 /* Scheuermann 2004 (paper 002), the --no-satf baseline: layer patches, its
  * pixel shader, and its diffuse and noise terms alone (no #version), for
  * tests: float scheuermann_diffuse(vec3 n, vec3 l);

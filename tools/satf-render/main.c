@@ -45,16 +45,17 @@ static void usage(FILE *out) {
       "                       animation, if the scene has one) and print\n"
       "                       the paper's Table 1 row (ms per stage, FPS)\n"
       "  --threads N          CPU threads for the map stage (0 = all)\n"
-      "%s"
+      "%s%s"
       "  -q, --quiet          no summary\n"
       "  -h, --help           this help\n",
-      PROG, satf_frontend_effect_help);
+      PROG, satf_frontend_effect_help, satf_frontend_strand_help);
 }
 
 typedef struct options {
   const char *scene_path, *db_path, *exr, *png, *mesh_path, *frames, *sheet;
   long w, h, bench, threads;
-  int resume, aov, quiet, composite, bg_in_exr;
+  int resume, aov, quiet, composite, bg_in_exr, strands;
+  float strand_width;
   satf_scene_effects off;
 } options;
 
@@ -78,6 +79,7 @@ static const char **path_option(satf_cli_args *it, options *o) {
 /* Parses one argument into o; returns -1 after printing an error. */
 static int parse_one(satf_cli_args *it, options *o) {
   const char **path = path_option(it, o), *val;
+  int strand;
   if (path)
     return satf_cli_value(it, path);
   if (satf_cli_is(it, NULL, "--size"))
@@ -105,6 +107,9 @@ static int parse_one(satf_cli_args *it, options *o) {
     o->quiet = 1;
   else if (satf_frontend_effect_flag(it->arg, &o->off))
     return 0;
+  else if ((strand = satf_frontend_strand_flag(it, &o->strands,
+                                               &o->strand_width)) != 0)
+    return strand < 0 ? -1 : 0;
   else if (!satf_cli_positional(it)) {
     satf_cli_unknown(it);
     return -1;
@@ -262,6 +267,7 @@ static satf_status run(options *o, const satf_frontend *fe, satf_error *err) {
   if (st == SATF_OK) {
     satf_frontend_apply(r, &o->off, o->composite);
     satf_renderer_stats(r, &stats);
+    st = satf_frontend_apply_strands(r, fe, err);
   }
   if (st == SATF_OK && o->frames)
     st = render_frames(o, r, fe->scene, err);
@@ -285,6 +291,11 @@ int main(int argc, char **argv) {
   if (satf_frontend_load(PROG, o.scene_path, o.db_path, &o.w, &o.h, &fe) !=
       SATF_OK)
     return 1;
+  fe.strand_width = o.strand_width;
+  if (o.strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) {
+    satf_frontend_free(&fe);
+    return 1;
+  }
   satf_error err;
   satf_error_clear(&err);
   rc = 0;

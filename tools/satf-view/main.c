@@ -34,14 +34,16 @@ static void usage(FILE *out) {
       "  --screenshot PATH    render --frames frames, save the window's\n"
       "                       last frame as PATH (.png or .exr), and exit\n"
       "  --frames N           frames before --screenshot (default 3)\n"
-      "%s"
+      "%s%s"
       "  -h, --help           this help\n",
-      PROG, satf_frontend_effect_help);
+      PROG, satf_frontend_effect_help, satf_frontend_strand_help);
 }
 
 typedef struct options {
   const char *scene_path, *db_path;
   long w, h;
+  int strands;
+  float strand_width;
   viewer_opts view;
 } options;
 
@@ -68,6 +70,9 @@ static int parse_one(satf_cli_args *it, options *o) {
   }
   if (satf_frontend_effect_flag(it->arg, &o->view.off))
     return 0;
+  int strand = satf_frontend_strand_flag(it, &o->strands, &o->strand_width);
+  if (strand != 0)
+    return strand < 0 ? -1 : 0;
   if (!satf_cli_positional(it)) {
     satf_cli_unknown(it);
     return -1;
@@ -113,6 +118,11 @@ int main(int argc, char **argv) {
   if (satf_frontend_load(PROG, o.scene_path, o.db_path, &o.w, &o.h, &fe) !=
       SATF_OK)
     return 1;
+  fe.strand_width = o.strand_width;
+  if (o.strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) {
+    satf_frontend_free(&fe);
+    return 1;
+  }
   o.view.width = (int)o.w;
   o.view.height = (int)o.h;
   satf_error err;

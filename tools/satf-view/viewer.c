@@ -229,6 +229,8 @@ static satf_status viewer_init(viewer *v, satf_gl_window *win,
   if (st != SATF_OK)
     return st;
   satf_frontend_apply(v->r, &o->off, o->composite);
+  if ((st = satf_frontend_apply_strands(v->r, fe, err)) != SATF_OK)
+    return st;
   v->home = *satf_renderer_camera(v->r);
   reset_view(v);
   aim_light_angles(v);

@@ -1,0 +1,24 @@
+#version 430 core
+/* strand_dom_fs.glsl - the deep opacity map built from the strands
+ * (strands.c; Yuksel & Keyser 2008, as dom_fs.glsl does for clusters):
+ * with u_depth_only the first hair's depth (fragments that cover nothing
+ * write none), then each strand fragment's coverage added into the slab
+ * its depth falls in, the units of dom_fs.glsl (summed alpha ~ optical
+ * depth). */
+#include "strand_cover.glsl"
+noperspective in float v_across;
+noperspective in float v_width;
+uniform sampler2D u_dom_depth;
+uniform float u_dom_slab;
+uniform int u_depth_only;
+out vec4 o_opacity;
+void main() {
+  float cover = strand_coverage(v_across, v_width);
+  if (cover <= 0.0) discard;
+  if (u_depth_only != 0) { o_opacity = vec4(0.0); return; }
+  float d0 = texelFetch(u_dom_depth, ivec2(gl_FragCoord.xy), 0).r;
+  float s = max(gl_FragCoord.z - d0, 0.0) / u_dom_slab;
+  vec4 o = vec4(0.0);
+  o[int(min(s, 3.0))] = cover;
+  o_opacity = o;
+}

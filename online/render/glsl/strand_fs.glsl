@@ -1,0 +1,82 @@
+#version 430 core
+/* strand_fs.glsl - the strand reference path's shading: each strand
+ * fragment lit as the cluster path lights hair (glsl/shade_fs.glsl): SATF
+ * eq. 9-11 (Kajiya-Kay diffuse and the two shifted highlights of
+ * lighting.glsl) with the scene's material and lights, the key light
+ * attenuated by the deep opacity map (here built from the strands
+ * themselves, strands.c), the secondary highlight's noise per strand.
+ * The strand is opaque where it covers: alpha is its coverage of the
+ * pixel (strand_cover.glsl), written premultiplied for "over" blending of
+ * segments drawn far to near. The renderer defines SATF_MAX_LIGHTS. */
+#include "lighting.glsl"
+#include "strand_cover.glsl"
+in vec3 v_world;
+in vec3 v_tangent;
+in float v_t;
+flat in uint v_strand;
+noperspective in float v_across;
+noperspective in float v_width;
+uniform vec3 u_eye;
+uniform int u_nlights;
+uniform vec4 u_light_vec[SATF_MAX_LIGHTS]; /* world; w: 0 direction, 1 position */
+uniform vec3 u_light_color[SATF_MAX_LIGHTS];
+uniform float u_kdif, u_kspe1, u_kspe2, u_exp1, u_exp2, u_shift1, u_shift2;
+uniform vec3 u_fdif, u_fspe1, u_fspe2;
+uniform float u_noise;
+uniform int u_secondary, u_cluster_shadow;
+uniform sampler2D u_dom_depth;
+uniform sampler2D u_dom_opacity;
+uniform mat4 u_light_viewproj;
+uniform float u_dom_slab;
+uniform float u_kcluster;
+uniform int u_aov; /* 0 beauty, 1 diffuse, 2 specI, 3 specII, 4 shadow, 5 alpha */
+out vec4 o_color;
+#include "dom_lookup.glsl"
+/* shade_fs.glsl's noise hash; here one column per strand, varying slowly
+ * along the strand's t as there along the cluster's */
+float hash(uint x) {
+  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return float(x >> 8) * (1.0 / 16777216.0);
+}
+float strand_noise(uint strand, float t) {
+  float y = clamp(t, 0.0, 1.0) * 6.0, row = floor(y);
+  uint r = uint(row);
+  return mix(hash(strand * 8u + r), hash(strand * 8u + r + 1u), y - row);
+}
+void main() {
+  float cover = strand_coverage(v_across, v_width);
+  if (cover < 1.0 / 1024.0) discard;
+  vec3 t = normalize(v_tangent), v = normalize(u_eye - v_world);
+  /* the highlight shift's normal (SATF eq. 10-11): the ribbon's, facing
+   * the eye. The cluster path shifts along the cluster normal facing the
+   * viewer (outward at the front, inward at the back, shade_fs.glsl);
+   * a strand's own facing normal is that direction without needing a
+   * cluster, and it is defined for every strand. */
+  vec3 n = v - dot(v, t) * t;
+  float nl = length(n);
+  n = nl > 1e-6 ? n / nl : vec3(0.0);
+  vec3 t1 = shifted(t, n, u_shift1), t2 = shifted(t, n, -u_shift2);
+  float dom = u_cluster_shadow != 0 ? cluster_transmittance(v_world) : 1.0;
+  vec3 dif = vec3(0.0), s1 = vec3(0.0), s2 = vec3(0.0);
+  for (int k = 0; k < u_nlights; k++) {
+    vec3 dl = u_light_vec[k].xyz - u_light_vec[k].w * v_world;
+    vec3 l = normalize(dl);
+    /* point lights fall off as 1 / d^2 (samples/README.md) */
+    float fall = u_light_vec[k].w > 0.0 ? 1.0 / max(dot(dl, dl), 1e-6) : 1.0;
+    vec3 c = u_light_color[k] * fall * (k == 0 ? dom : 1.0);
+    dif += c * u_kdif * kk_diffuse(t, l) * u_fdif;     /* SATF eq. 9 */
+    s1 += c * u_kspe1 * kk_specular(t1, l, v, u_exp1) * u_fspe1; /* eq. 10 */
+    if (u_secondary != 0)                              /* eq. 11 */
+      s2 += c * u_kspe2 * kk_specular(t2, l, v, u_exp2) * u_fspe2;
+  }
+  s2 *= mix(1.0, 2.0 * strand_noise(v_strand, v_t), u_noise);
+  vec3 y;
+  if (u_aov == 1) y = dif;
+  else if (u_aov == 2) y = s1;
+  else if (u_aov == 3) y = s2;
+  else if (u_aov == 4) y = vec3(dom);
+  else if (u_aov == 5) y = vec3(1.0);
+  else y = dif + s1 + s2;
+  o_color = vec4(y * cover, cover);
+}

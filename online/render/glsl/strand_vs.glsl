@@ -1,0 +1,55 @@
+#version 430 core
+/* strand_vs.glsl - the strand reference path (strands.c): each segment of
+ * a strand is a camera-facing quad, expanded here in screen space. Its
+ * half-width is half the strand's projected width plus half a pixel, the
+ * reach of the analytic edge filter (strand_cover.glsl): a strand thinner
+ * than a pixel is drawn a pixel wide and its alpha is its true coverage,
+ * so thin hair is anti-aliased, not aliased lines. Every point of a
+ * strand is two vertices (even index: the -side, odd: the +side); the
+ * quads meeting at a point share them, so a strand has no gaps or
+ * overlaps at its joints. */
+layout(location = 0) in vec4 a_pos;     /* world x, y, z; width (diameter) */
+layout(location = 1) in vec3 a_tangent; /* the strand's direction here */
+layout(location = 2) in float a_t;      /* arc length from the root / length */
+layout(location = 3) in uint a_strand;
+uniform mat4 u_viewproj;
+uniform vec2 u_viewport;  /* pixels */
+uniform float u_px_scale; /* pixels per scene unit at clip w = 1 */
+out vec3 v_world;
+out vec3 v_tangent;
+out float v_t;
+flat out uint v_strand;
+noperspective out float v_across; /* pixels from the strand's centre line */
+noperspective out float v_width;  /* the strand's true width, pixels */
+
+vec2 to_pixels(vec4 c) { return c.xy / c.w * 0.5 * u_viewport; }
+
+void main() {
+  float side = (gl_VertexID & 1) != 0 ? 1.0 : -1.0;
+  vec4 c = u_viewproj * vec4(a_pos.xyz, 1.0);
+  vec4 ca = u_viewproj * vec4(a_pos.xyz - 0.5 * a_tangent, 1.0);
+  vec4 cb = u_viewproj * vec4(a_pos.xyz + 0.5 * a_tangent, 1.0);
+  v_world = a_pos.xyz;
+  v_tangent = a_tangent;
+  v_t = a_t;
+  v_strand = a_strand;
+  if (min(c.w, min(ca.w, cb.w)) <= 1e-6) {
+    /* behind the eye: outside the clip volume, so the quad is dropped */
+    gl_Position = vec4(0.0, 0.0, -2.0, 1.0);
+    v_across = v_width = 0.0;
+    return;
+  }
+  vec2 dir = to_pixels(cb) - to_pixels(ca);
+  float len = length(dir);
+  /* a strand seen end-on has no screen direction: any side will do */
+  dir = len > 1e-4 ? dir / len : vec2(1.0, 0.0);
+  vec2 across = vec2(-dir.y, dir.x);
+  float width = a_pos.w * u_px_scale / c.w;
+  /* every pixel centre the filter reaches (distance < width/2 + 1/2),
+   * with a little room so none is lost to the edge rule */
+  float half_px = 0.5 * width + 0.55;
+  c.xy += across * side * half_px * 2.0 / u_viewport * c.w;
+  v_across = side * half_px;
+  v_width = width;
+  gl_Position = c;
+}

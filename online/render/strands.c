@@ -1,0 +1,414 @@
+/* strands.c - owns the strand reference path (satf_renderer_set_strands):
+ * the scene's source strands drawn as anti-aliased camera-facing ribbons
+ * of their own width (glsl/strand_vs.glsl), under the cluster path's
+ * lights, material and shading model (glsl/strand_fs.glsl with
+ * lighting.glsl), with the opaque meshes drawn and shadowed as there and
+ * a deep opacity map built from the strands themselves
+ * (glsl/strand_dom_fs.glsl). Transparency is painter's order: every frame
+ * the segments are sorted far to near on the CPU and blended with
+ * premultiplied "over", which is exact for thin segments (one cannot be
+ * both in front of and behind another). Slow next to the clusters, but
+ * what they approximate: the two images differ only by the clusters. */
+#include "renderer_internal.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "satf/common.h"
+#include "satf/math.h"
+#include "shaders.h"
+
+#define MAX_STRANDS (1 << 30)
+
+/* A vertex: each point of a strand is two, its -side and +side
+ * (glsl/strand_vs.glsl). */
+typedef struct strand_vertex {
+  float pos[4];     /* x, y, z, width */
+  float tangent[3]; /* central difference of the neighbouring points */
+  float t;          /* arc length from the root over the strand's length */
+  uint32_t strand;
+} strand_vertex;
+
+struct strands_gpu {
+  int nstrands;
+  size_t npoints, nsegs;
+  float *points;   /* x, y, z, width per point (CPU copy, for sorting) */
+  uint32_t *first; /* per segment: the index of its first point */
+  uint32_t *keys, *order, *tmp_keys, *tmp_order; /* sort scratch */
+  uint32_t *indices; /* 6 per segment, in the sorted order */
+  GLuint vao, vbo, ibo;
+  GLuint prog_shade, prog_dom;
+};
+
+static void free_data(strands_gpu *s) {
+  free(s->points);
+  free(s->first);
+  free(s->keys);
+  free(s->order);
+  free(s->tmp_keys);
+  free(s->tmp_order);
+  free(s->indices);
+}
+
+void strands_release(satf_renderer *r) {
+  strands_gpu *s = r->strands;
+  if (!s)
+    return;
+  GLuint bufs[2] = {s->vbo, s->ibo};
+  glDeleteBuffers(2, bufs);
+  if (s->vao)
+    glDeleteVertexArrays(1, &s->vao);
+  if (s->prog_shade)
+    glDeleteProgram(s->prog_shade);
+  if (s->prog_dom)
+    glDeleteProgram(s->prog_dom);
+  free_data(s);
+  free(s);
+  r->strands = NULL;
+}
+
+/* Checks the caller's arrays; sets *points to the point total. */
+static satf_status check_input(int n, const int *counts, const float *xyz,
+                               const float *thickness, float default_width,
+                               size_t *points, satf_error *err) {
+  if (n < 0 || n >= MAX_STRANDS)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "strands: %d strands (0 to %d)", n, MAX_STRANDS - 1);
+  if (n > 0 && !thickness && !(default_width > 0.0f && isfinite(default_width)))
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "strands: no thickness and a default width of %g "
+                          "(must be positive)",
+                          (double)default_width);
+  size_t total = 0;
+  for (int i = 0; i < n; i++) {
+    if (counts[i] < 2 || counts[i] > 65536)
+      return satf_error_set(err, SATF_ERR_ARGUMENT,
+                            "strands: strand %d has %d points (2 to 65536)", i,
+                            counts[i]);
+    total += (size_t)counts[i];
+  }
+  if (total >= (size_t)UINT32_MAX / 8)
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "strands: %zu points", total);
+  for (size_t k = 0; k < 3 * total; k++)
+    if (!isfinite(xyz[k]))
+      return satf_error_set(err, SATF_ERR_ARGUMENT,
+                            "strands: point %zu is not finite", k / 3);
+  for (size_t k = 0; thickness && k < total; k++)
+    if (!(thickness[k] >= 0.0f && isfinite(thickness[k])))
+      return satf_error_set(err, SATF_ERR_ARGUMENT,
+                            "strands: point %zu has thickness %g", k,
+                            (double)thickness[k]);
+  *points = total;
+  return SATF_OK;
+}
+
+static float dist3(const float a[3], const float b[3]) {
+  float d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+  return sqrtf(satf_dot3f(d, d));
+}
+
+/* The vertices (two per point) and the segments' first points. */
+static void fill_vertices(strands_gpu *s, const int *counts, strand_vertex *v) {
+  size_t at = 0, seg = 0;
+  for (int i = 0; i < s->nstrands; i++) {
+    const float *p = s->points + 4 * at;
+    int n = counts[i];
+    float len = 0.0f, run = 0.0f;
+    for (int j = 1; j < n; j++)
+      len += dist3(p + 4 * j, p + 4 * j - 4);
+    for (int j = 0; j < n; j++) {
+      if (j > 0) {
+        run += dist3(p + 4 * j, p + 4 * j - 4);
+        s->first[seg++] = (uint32_t)(at + (size_t)j - 1);
+      }
+      /* the direction between the neighbours, the end segment's at the
+       * ends: both quads at a point see the same */
+      const float *a = p + 4 * (j > 0 ? j - 1 : j);
+      const float *b = p + 4 * (j < n - 1 ? j + 1 : j);
+      strand_vertex x;
+      memcpy(x.pos, p + 4 * j, sizeof x.pos);
+      for (int c = 0; c < 3; c++)
+        x.tangent[c] = b[c] - a[c];
+      x.t = len > 0.0f ? run / len : 0.0f;
+      x.strand = (uint32_t)i;
+      v[2 * (at + (size_t)j)] = x;
+      v[2 * (at + (size_t)j) + 1] = x;
+    }
+    at += (size_t)n;
+  }
+}
+
+/* The vertex buffer (static) and the index buffer (written each frame,
+ * segments far to near). */
+static satf_status upload(strands_gpu *s, const int *counts, satf_error *err) {
+  size_t bytes = 2 * s->npoints * sizeof(strand_vertex);
+  strand_vertex *v = malloc(bytes);
+  if (!v)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  fill_vertices(s, counts, v);
+  glGenVertexArrays(1, &s->vao);
+  glGenBuffers(1, &s->vbo);
+  glGenBuffers(1, &s->ibo);
+  glBindVertexArray(s->vao);
+  glBindBuffer(GL_ARRAY_BUFFER, s->vbo);
+  glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)bytes, v, GL_STATIC_DRAW);
+  free(v);
+  GLsizei stride = (GLsizei)sizeof(strand_vertex);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, stride,
+                        (void *)offsetof(strand_vertex, pos));
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                        (void *)offsetof(strand_vertex, tangent));
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, stride,
+                        (void *)offsetof(strand_vertex, t));
+  glEnableVertexAttribArray(3);
+  glVertexAttribIPointer(3, 1, GL_UNSIGNED_INT, stride,
+                         (void *)offsetof(strand_vertex, strand));
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, s->ibo);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+               (GLsizeiptr)(6 * s->nsegs * sizeof(uint32_t)), NULL,
+               GL_STREAM_DRAW);
+  glBindVertexArray(0);
+  return satf_gl_check("strand buffers", err);
+}
+
+static satf_status build_strand_programs(strands_gpu *s, satf_error *err) {
+  satf_status st = build_program("strands", satf_glsl_strand_vs,
+                                 satf_glsl_strand_fs, "", &s->prog_shade, err);
+  if (st == SATF_OK)
+    st = build_program("strands (opacity map)", satf_glsl_strand_vs,
+                       satf_glsl_strand_dom_fs, "", &s->prog_dom, err);
+  return st;
+}
+
+/* Grows the renderer's bounds (camera clip planes, the light's map) by
+ * the strands. */
+static void grow_bounds(satf_renderer *r, const strands_gpu *s) {
+  for (size_t k = 0; k < s->npoints; k++)
+    for (int a = 0; a < 3; a++) {
+      float v = s->points[4 * k + (size_t)a], h = 0.5f * s->points[4 * k + 3];
+      r->lo[a] = v - h < r->lo[a] ? v - h : r->lo[a];
+      r->hi[a] = v + h > r->hi[a] ? v + h : r->hi[a];
+    }
+}
+
+satf_status satf_renderer_set_strands(satf_renderer *r, int n_strands,
+                                      const int *counts, const float *xyz,
+                                      const float *thickness,
+                                      float default_width, satf_error *err) {
+  size_t total = 0;
+  satf_status st = check_input(n_strands, counts, xyz, thickness, default_width,
+                               &total, err);
+  if (st != SATF_OK)
+    return st;
+  strands_release(r);
+  if (n_strands == 0)
+    return SATF_OK;
+  strands_gpu *s = calloc(1, sizeof *s);
+  if (!s)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  s->nstrands = n_strands;
+  s->npoints = total;
+  s->nsegs = total - (size_t)n_strands;
+  s->points = malloc(total * 4 * sizeof(float));
+  s->first = malloc(s->nsegs * sizeof(uint32_t));
+  s->keys = malloc(s->nsegs * sizeof(uint32_t));
+  s->order = malloc(s->nsegs * sizeof(uint32_t));
+  s->tmp_keys = malloc(s->nsegs * sizeof(uint32_t));
+  s->tmp_order = malloc(s->nsegs * sizeof(uint32_t));
+  s->indices = malloc(6 * s->nsegs * sizeof(uint32_t));
+  if (!s->points || !s->first || !s->keys || !s->order || !s->tmp_keys ||
+      !s->tmp_order || !s->indices) {
+    free_data(s);
+    free(s);
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  for (size_t k = 0; k < total; k++) {
+    memcpy(s->points + 4 * k, xyz + 3 * k, 3 * sizeof(float));
+    s->points[4 * k + 3] = thickness ? thickness[k] : default_width;
+  }
+  r->strands = s;
+  st = upload(s, counts, err);
+  if (st == SATF_OK)
+    st = build_strand_programs(s, err);
+  if (st != SATF_OK) {
+    strands_release(r);
+    return st;
+  }
+  grow_bounds(r, s);
+  return SATF_OK;
+}
+
+int satf_renderer_strand_count(const satf_renderer *r) {
+  return r->strands ? r->strands->nstrands : 0;
+}
+
+/* Segments far to near from the eye: an LSD radix sort (four byte passes)
+ * of their midpoints' squared distances, whose float bits order as the
+ * values do (they are >= 0); ties keep the strands' order. */
+static void sort_far_to_near(strands_gpu *s, const float eye[3]) {
+  size_t n = s->nsegs;
+  for (size_t i = 0; i < n; i++) {
+    const float *a = s->points + 4 * (size_t)s->first[i], *b = a + 4;
+    float d2 = 0.0f;
+    for (int c = 0; c < 3; c++) {
+      float d = 0.5f * (a[c] + b[c]) - eye[c];
+      d2 += d * d;
+    }
+    uint32_t bits;
+    memcpy(&bits, &d2, sizeof bits);
+    s->keys[i] = ~bits; /* far first */
+    s->order[i] = s->first[i];
+  }
+  uint32_t *k0 = s->keys, *o0 = s->order, *k1 = s->tmp_keys, *o1 = s->tmp_order;
+  for (int shift = 0; shift < 32; shift += 8) {
+    size_t count[257] = {0};
+    for (size_t i = 0; i < n; i++)
+      count[((k0[i] >> shift) & 255u) + 1]++;
+    for (int b = 0; b < 256; b++)
+      count[b + 1] += count[b];
+    for (size_t i = 0; i < n; i++) {
+      size_t at = count[(k0[i] >> shift) & 255u]++;
+      k1[at] = k0[i];
+      o1[at] = o0[i];
+    }
+    uint32_t *t = k0;
+    k0 = k1;
+    k1 = t;
+    t = o0;
+    o0 = o1;
+    o1 = t;
+  }
+  /* four passes: the sorted arrays are back in keys/order; each segment
+   * is two triangles of its points' side vertices */
+  for (size_t i = 0; i < n; i++) {
+    uint32_t a = 2 * s->order[i], *q = s->indices + 6 * i;
+    q[0] = a;
+    q[1] = a + 2;
+    q[2] = a + 3;
+    q[3] = a;
+    q[4] = a + 3;
+    q[5] = a + 1;
+  }
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, s->ibo);
+  glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0,
+                  (GLsizeiptr)(6 * n * sizeof(uint32_t)), s->indices);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+}
+
+/* The vertex shader's view uniforms of `prog` for a w x h target. */
+static void bind_strands(GLuint prog, const float viewproj[16], int w, int h) {
+  glUseProgram(prog);
+  glUniformMatrix4fv(glGetUniformLocation(prog, "u_viewproj"), 1, GL_TRUE,
+                     viewproj);
+  glUniform2f(glGetUniformLocation(prog, "u_viewport"), (float)w, (float)h);
+  /* pixels per unit at clip w = 1: the projection's y scale (row 1 of a
+   * look-at view is the unit up vector) times half the height */
+  float sy = sqrtf(viewproj[4] * viewproj[4] + viewproj[5] * viewproj[5] +
+                   viewproj[6] * viewproj[6]);
+  glUniform1f(glGetUniformLocation(prog, "u_px_scale"), sy * 0.5f * (float)h);
+}
+
+static void draw_segments(const strands_gpu *s) {
+  glBindVertexArray(s->vao);
+  glDrawElements(GL_TRIANGLES, (GLsizei)(6 * s->nsegs), GL_UNSIGNED_INT, NULL);
+  glBindVertexArray(0);
+}
+
+/* The deep opacity map of passes_dom with the strands in the clusters'
+ * place: the first hair's depth from the strand segments and the meshes,
+ * then each segment's coverage summed into the slab it falls in. */
+static void strands_dom(satf_renderer *r) {
+  strands_gpu *s = r->strands;
+  frame_light_view(r);
+  satf_gl_target_bind(r->dom_depth);
+  glClearColor(0, 0, 0, 0);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  bind_strands(s->prog_dom, r->light_viewproj, DOM_SIZE, DOM_SIZE);
+  glUniform1i(glGetUniformLocation(s->prog_dom, "u_depth_only"), 1);
+  draw_segments(s);
+  draw_meshes(r, r->prog_mesh_depth, r->light_viewproj);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDisable(GL_DEPTH_TEST);
+
+  satf_gl_target_bind(r->dom_opacity);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE);
+  bind_strands(s->prog_dom, r->light_viewproj, DOM_SIZE, DOM_SIZE);
+  glUniform1i(glGetUniformLocation(s->prog_dom, "u_depth_only"), 0);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
+  glUniform1i(glGetUniformLocation(s->prog_dom, "u_dom_depth"), 1);
+  glUniform1f(glGetUniformLocation(s->prog_dom, "u_dom_slab"), r->dom_slab);
+  draw_segments(s);
+  if (r->nmeshes > 0) {
+    glUseProgram(r->prog_mesh_dom);
+    glUniform1i(glGetUniformLocation(r->prog_mesh_dom, "u_dom_depth"), 1);
+    glUniform1f(glGetUniformLocation(r->prog_mesh_dom, "u_dom_slab"),
+                r->dom_slab);
+    draw_meshes(r, r->prog_mesh_dom, r->light_viewproj);
+  }
+  glDisable(GL_BLEND);
+}
+
+/* The meshes as the cluster path draws them, then the segments far to
+ * near over them (tested against their depth, "over" blended). */
+static void strands_composite(satf_renderer *r, satf_aov aov,
+                              const float viewproj[16]) {
+  strands_gpu *s = r->strands;
+  begin_frame(r, aov, viewproj);
+  hair_depth_test(r->nmeshes > 0);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
+  GLuint p = s->prog_shade;
+  set_shading_uniforms(r, p, aov);
+  float vec[4 * SATF_SCENE_MAX_LIGHTS];
+  for (int k = 0; k < r->nlights; k++)
+    frame_light_vector(&r->lights[k], vec + 4 * k);
+  glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
+  glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
+  bind_strands(p, viewproj, r->width, r->height);
+  draw_segments(s);
+  glDisable(GL_BLEND);
+  hair_depth_test(0);
+}
+
+satf_status strands_render_frame(satf_renderer *r, satf_aov aov, int refresh,
+                                 satf_frame_timing *timing, satf_error *err) {
+  strands_gpu *s = r->strands;
+  satf_frame_timing t;
+  memset(&t, 0, sizeof t);
+  double t0 = satf_now_seconds();
+  /* the opacity map's passes add or keep the nearest, in any order */
+  sort_far_to_near(s, r->camera.position);
+  double t1 = satf_now_seconds();
+  if (refresh && r->effects.cluster_shadows)
+    strands_dom(r);
+  glFinish();
+  double t2 = satf_now_seconds();
+  float viewproj[16];
+  frame_camera(r, viewproj);
+  strands_composite(r, aov, viewproj);
+  glFinish();
+  double t3 = satf_now_seconds();
+  /* Table 1's stages: sorting the segments stands for I, the strands'
+   * opacity map for S, their shading for L; there are no maps (C, M) */
+  t.index_ms = 1e3 * (t1 - t0);
+  t.shadow_ms = 1e3 * (t2 - t1);
+  t.lighting_ms = 1e3 * (t3 - t2);
+  t.total_ms = 1e3 * (t3 - t0);
+  if (timing)
+    *timing = t;
+  r->stats.overflow_pixels = 0;
+  return satf_gl_check("strand frame", err);
+}
