@@ -241,6 +241,26 @@ typedef struct satf_import_fit_params {
 
 satf_import_fit_params satf_import_fit_params_default(void);
 
+/* How well one fitted cylinder follows its member strands, the measures
+ * the adaptive refinement (import_refine.c) holds to a tolerance. Each
+ * [3] is p50, p90 and max over the member points (scene units).
+ * trajectory: distance of a point to T(t) at its closest t. surface:
+ * distance of a point to the envelope along its ray from the trajectory
+ * in the cross-section, |r - r / v| (exact for a round section); outside:
+ * the same for points outside the envelope, 0 inside. area_per_strand:
+ * mean envelope area pi A B over t per member strand (how much empty
+ * volume the cluster adds: the envelope inflated to hold diverging strands
+ * shows here). diameter: twice the mean larger half-axis; aspect: trajectory
+ * length over diameter (below 1 a cluster renders as a ring). */
+typedef struct satf_import_fit_measures {
+  float trajectory[3];
+  float surface[3];
+  float outside[3];
+  float area_per_strand;
+  float diameter;
+  float aspect;
+} satf_import_fit_measures;
+
 /* One cluster's generalized cylinder (SATF eq. 1-2) and how well it fits. */
 typedef struct satf_import_fit {
   int n_ctrl;
@@ -255,6 +275,9 @@ typedef struct satf_import_fit {
   size_t inside;       /* points inside the envelope (v <= 1) */
   double distance_sum; /* sum of point-to-trajectory distances */
   float length;        /* arc length of the trajectory */
+  /* how well the cylinder follows its strands (satf_import_fit_cluster):
+   * p50, p90 and max over the member points */
+  satf_import_fit_measures measures;
   /* density estimates (filled by satf_import_estimate_density) */
   float strand_width; /* diameter, in units of the cluster radius */
   float radius;       /* sqrt(mean a * mean b), scene units */
@@ -306,6 +329,95 @@ void satf_import_projection_free(satf_import_projection *p);
  * not reach t. */
 int satf_import_projection_at(const satf_import_projection *p, int i, float t,
                               float xy[2]);
+
+/* ---- Adaptive clustering (import_refine.c) ----------------------------- */
+
+/* The user's knob: how closely clusters follow their strands. */
+typedef enum satf_import_quality {
+  SATF_IMPORT_QUALITY_DEFAULT = 0, /* what zeroed options mean */
+  SATF_IMPORT_QUALITY_DRAFT,
+  SATF_IMPORT_QUALITY_HIGH
+} satf_import_quality;
+
+/* When a fitted cluster is good enough (satf_import_fit_measures): the p90
+ * point-to-trajectory and point-to-surface distances at most `tolerance`,
+ * the envelope area per member strand at most area_ratio x spacing^2 (a
+ * cluster holding diverging or sparse strands is mostly empty), and
+ * length / diameter at least min_aspect (a cluster shorter than it is wide
+ * renders as a ring). A cluster that fails is first given more trajectory
+ * control points (up to max_ctrl) when its trajectory is what fails, else
+ * split in two by 2-means on its strands' shapes, until every cluster
+ * passes, holds one strand, or max_clusters is reached (the worst split
+ * first). */
+typedef struct satf_import_refine_params {
+  float tolerance;  /* scene units, > 0 */
+  float spacing;    /* the strands' root spacing, scene units, >= 0 */
+  float area_ratio; /* 0: no area limit */
+  float min_aspect; /* 0: no aspect limit */
+  int initial;      /* k-means clusters to start from, >= 1 */
+  int max_clusters; /* 1..SATF_IMPORT_MAX_CLUSTERS */
+  int max_ctrl;     /* n_ctrl..64 */
+  int threads;      /* 0 = all cores */
+} satf_import_refine_params;
+
+/* The parameters of quality q for the strands s: tolerance a fraction of
+ * the hairstyle's bounding-box diagonal (draft 4%, default 2%, high 1%)
+ * unless tolerance > 0 gives it in scene units or tolerance < 0 gives the
+ * fraction (-tolerance). */
+satf_import_refine_params
+satf_import_refine_params_for(const satf_strand_set *s, satf_import_quality q,
+                              double tolerance);
+
+/* How much of a tolerance a fit uses: the largest of its measures over its
+ * limit (<= 1: it passes). */
+float satf_import_fit_score(const satf_import_fit *fit,
+                            const satf_import_refine_params *rp);
+
+/* Clusters the strands adaptively: k-means with rp->initial clusters (seed
+ * from cp), then fit, check and split as satf_import_refine_params says.
+ * labels (one per strand) and *n_clusters receive the result; *fits a
+ * malloc'ed array of *n_clusters fits, density estimated (as
+ * satf_import_fit_all leaves them): free each and the array. Deterministic
+ * whatever the thread count. */
+satf_status satf_import_refine(const satf_strand_set *s,
+                               const satf_import_cluster_params *cp,
+                               const satf_import_refine_params *rp,
+                               const satf_import_fit_params *fp, int *labels,
+                               int *n_clusters, satf_import_fit **fits,
+                               satf_import_progress_fn progress,
+                               void *progress_ctx, satf_error *err);
+
+/* ---- The fit report (import_report.c) ---------------------------------- */
+
+/* The clusters' fit measures summarised: for each measure the p50, p90 and
+ * max over clusters of the clusters' own p90 (area and aspect: of their
+ * value), the worst cluster of each, and the clusters that break the
+ * limits. */
+typedef struct satf_import_fit_stats {
+  int clusters;
+  float trajectory[3], surface[3], outside[3]; /* over clusters' p90 */
+  float area_per_strand[3];
+  float aspect[3]; /* p50, p10 and min: low is bad */
+  int worst_trajectory, worst_aspect;
+  int rings;       /* clusters shorter than their diameter */
+  int over;        /* clusters over the tolerance (when one was given) */
+  int single;      /* clusters of one strand */
+  float tolerance; /* 0: none */
+} satf_import_fit_stats;
+
+void satf_import_fit_stats_compute(const satf_import_fit *fits, int n,
+                                   const satf_import_refine_params *rp,
+                                   satf_import_fit_stats *out);
+/* The report lines of the summary (indented to match it); warns about
+ * clusters shorter than their diameter. */
+void satf_import_fit_stats_print(FILE *out, const char *prog,
+                                 const satf_import_fit_stats *st);
+/* One line per cluster (strands, length, diameter, aspect, area per strand,
+ * p50/p90/max of the trajectory, surface and outside distances) as
+ * tab-separated text with a header, written atomically to path. */
+satf_status satf_import_write_fit_report(const char *path,
+                                         const satf_import_fit *fits, int n,
+                                         satf_error *err);
 
 /* ---- Density (import_density.c) --------------------------------------- */
 
@@ -438,12 +550,17 @@ typedef struct satf_import_options {
   /* where the mesh goes: T(translate) R(axis, angle) S(scale), as a scene
    * mesh's "transform" (identity by default) */
   double mesh_translate[3], mesh_axis[3], mesh_angle_deg, mesh_scale[3];
-  long clusters;        /* 0: chosen from the data */
-  long follow;          /* TressFX followers per guide; -1: the file's */
-  long control;         /* trajectory control points */
-  long threads;         /* 0: all cores */
-  double voxel;         /* VDB voxel size; 0: from the clusters */
-  double follow_radius; /* < 0: the guides' mean root spacing */
+  long clusters; /* 0: chosen from the data */
+  /* adaptive clustering (clusters == 0): the quality and a tolerance in
+   * scene units (> 0) or as a fraction of the hair's diagonal (< 0: -f) */
+  satf_import_quality quality;
+  double tolerance;
+  const char *fit_report; /* per-cluster fit measures written here, or NULL */
+  long follow;            /* TressFX followers per guide; -1: the file's */
+  long control;           /* trajectory control points */
+  long threads;           /* 0: all cores */
+  double voxel;           /* VDB voxel size; 0: from the clusters */
+  double follow_radius;   /* < 0: the guides' mean root spacing */
   double tip_separation;
   double macro_tol; /* 0: no macro-clusters */
   uint64_t seed;
@@ -493,10 +610,11 @@ typedef struct satf_import_result {
   float rms; /* k-means RMS */
   int n_macro;
   size_t bytes_separate, bytes_shared;
-  size_t points, inside; /* strand points, and inside their envelope */
-  double distance_sum;   /* of points to their trajectory */
-  double width_sum;      /* of the clusters' strand widths */
-  int gradient;          /* clusters of layout "gradient" */
+  size_t points, inside;     /* strand points, and inside their envelope */
+  satf_import_fit_stats fit; /* the fit report (import_report.c) */
+  double distance_sum;       /* of points to their trajectory */
+  double width_sum;          /* of the clusters' strand widths */
+  int gradient;              /* clusters of layout "gradient" */
   float voxel;
   double vdb_mass;
   /* what the strands were multiplied by to fit the scene limits (1: not

@@ -259,13 +259,13 @@ static int solve(double *m, double *rhs, int n, int k) {
 
 /* The n basis functions of the clamped uniform B-spline at t. */
 static void basis(int n, double t, double *w) {
-  float unit[64];
-  memset(unit, 0, sizeof unit);
-  for (int j = 0; j < n; j++) {
-    unit[j] = 1.0f;
-    satf_bspline_eval(unit, n, 1, t, w + j, NULL, NULL);
-    unit[j] = 0.0f;
-  }
+  /* one evaluation of n control points of dimension n whose control point
+   * j is the j-th unit vector: component j of the value is basis j */
+  float unit[64 * 64];
+  memset(unit, 0, (size_t)n * n * sizeof(float));
+  for (int j = 0; j < n; j++)
+    unit[j * n + j] = 1.0f;
+  satf_bspline_eval(unit, n, n, t, w, NULL, NULL);
 }
 
 /* Greville abscissa of control value j: where a clamped B-spline whose
@@ -643,10 +643,71 @@ static satf_status scale_envelope(const float *txy, size_t np,
   return SATF_OK;
 }
 
+/* p50, p90 and max of v[0..n) (sorted in place). */
+static void percentiles(float *v, size_t n, float out[3]) {
+  if (n == 0) {
+    out[0] = out[1] = out[2] = 0.0f;
+    return;
+  }
+  qsort(v, n, sizeof(float), cmp_float);
+  out[0] = v[(n - 1) / 2];
+  out[1] = v[(size_t)floor(0.9 * (double)(n - 1) + 0.5)];
+  out[2] = v[n - 1];
+}
+
+/* The fit measures (satf_import_fit_measures) of the finished envelope:
+ * offsets rot in the ellipse's axes, dist the points' distances to T(t). */
+static satf_status fit_measures(const float *rot, const float *dist, size_t np,
+                                int n_strands, satf_import_fit *f,
+                                satf_error *err) {
+  satf_import_fit_measures *m = &f->measures;
+  float *surf = malloc((np ? np : 1) * sizeof(float));
+  float *out = malloc((np ? np : 1) * sizeof(float));
+  float *tr = malloc((np ? np : 1) * sizeof(float));
+  if (!surf || !out || !tr) {
+    free(surf);
+    free(out);
+    free(tr);
+    return satf_error_set(err, SATF_ERR_NOMEM, "fit: out of memory");
+  }
+  for (size_t k = 0; k < np; k++) {
+    double t = rot[3 * k];
+    double x = rot[3 * k + 1], y = rot[3 * k + 2];
+    double a = spline1(f->a, f->n_radius, t), b = spline1(f->b, f->n_radius, t);
+    double r = sqrt(x * x + y * y);
+    double v = sqrt((x / a) * (x / a) + (y / b) * (y / b));
+    /* the envelope along the point's ray lies at r / v; at the trajectory
+     * itself (r = 0) the nearest envelope point is the minor half-axis */
+    double edge = v > 1e-12 ? r / v : fmin(a, b);
+    surf[k] = (float)fabs(r - edge);
+    out[k] = (float)(r > edge ? r - edge : 0.0);
+    tr[k] = dist[k];
+  }
+  percentiles(surf, np, m->surface);
+  percentiles(out, np, m->outside);
+  percentiles(tr, np, m->trajectory);
+  free(surf);
+  free(out);
+  free(tr);
+  /* area and diameter over 32 evenly spaced t */
+  double area = 0.0, big = 0.0;
+  for (int k = 0; k < 32; k++) {
+    double t = (k + 0.5) / 32.0;
+    double a = spline1(f->a, f->n_radius, t), b = spline1(f->b, f->n_radius, t);
+    area += SATF_PI * a * b;
+    big += a > b ? a : b;
+  }
+  m->area_per_strand = (float)(area / 32.0 / (n_strands > 0 ? n_strands : 1));
+  m->diameter = (float)(2.0 * big / 32.0);
+  m->aspect = m->diameter > 0.0f ? f->length / m->diameter : 0.0f;
+  return SATF_OK;
+}
+
 /* The cross-section of a fit whose trajectory is known: theta(t) from the
  * raw offsets, then A(t), B(t) in the ellipse's axes, scaled for
  * coverage. The spread stays in the untwisted frame (satf/import.h). */
 static satf_status fit_section(const satf_import_projection *raw,
+                               const float *dist,
                                const satf_import_fit_params *p,
                                satf_import_fit *out, satf_error *err) {
   size_t np = raw->offset[raw->n_strands];
@@ -669,6 +730,8 @@ static satf_status fit_section(const satf_import_projection *raw,
   fit_axes(m, p->n_radius, 1e-3f * out->length, out->a, out->b);
   free(m);
   satf_status st = scale_envelope(rot, np, p, out, err);
+  if (st == SATF_OK)
+    st = fit_measures(rot, dist, np, raw->n_strands, out, err);
   free(rot);
   return st;
 }
@@ -748,7 +811,7 @@ satf_status satf_import_fit_cluster(const satf_strand_set *s,
   }
   satf_cluster_destroy(cl);
   if (st == SATF_OK)
-    st = fit_section(&raw, p, out, err);
+    st = fit_section(&raw, dist, p, out, err);
   if (st == SATF_OK) {
     size_t np = raw.offset[n_members];
     double dsum = 0.0, ma = 0.0, mb = 0.0;

@@ -23,6 +23,7 @@ typedef struct run {
   int *labels;
   satf_import_fit *fits;
   satf_import_fit_params fp;
+  satf_import_refine_params rp; /* adaptive clustering (o->clusters == 0) */
   satf_import_macro macro;
   int have_macro;
   char mesh_path[PATH_MAX];
@@ -202,11 +203,28 @@ static satf_status cluster(run *u, satf_error *err) {
   cp.threads = (int)o->threads;
   u->labels = malloc((size_t)u->r->n_strands * sizeof(int));
   satf_progress bar;
+  satf_status st;
+  if (o->clusters == 0 && u->labels) { /* adaptive: fitted as it goes */
+    u->fp = satf_import_fit_params_default();
+    u->fp.n_ctrl = (int)o->control;
+    u->fp.samples = u->fp.n_ctrl * 4 > 32 ? u->fp.n_ctrl * 4 : 32;
+    u->fp.min_radius = 0.5f * satf_strand_set_root_spacing(u->all);
+    u->rp = satf_import_refine_params_for(u->all, o->quality, o->tolerance);
+    u->rp.threads = (int)o->threads;
+    if (u->rp.max_ctrl < u->fp.n_ctrl)
+      u->rp.max_ctrl = u->fp.n_ctrl;
+    satf_progress_begin(&bar, stderr, "clustering", "clusters fit", 1,
+                        o->quiet);
+    st =
+        satf_import_refine(u->all, &cp, &u->rp, &u->fp, u->labels,
+                           &u->r->n_clusters, &u->fits, progress_cb, &bar, err);
+    satf_progress_end(&bar);
+    return st;
+  }
   satf_progress_begin(&bar, stderr, "clustering", "iterations", 1, o->quiet);
-  satf_status st =
-      u->labels ? satf_import_kmeans(u->all, &cp, u->labels, &u->r->n_clusters,
-                                     &u->r->rms, progress_cb, &bar, err)
-                : satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  st = u->labels ? satf_import_kmeans(u->all, &cp, u->labels, &u->r->n_clusters,
+                                      &u->r->rms, progress_cb, &bar, err)
+                 : satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   satf_progress_end(&bar);
   return st;
 }
@@ -214,6 +232,8 @@ static satf_status cluster(run *u, satf_error *err) {
 static satf_status fit(run *u, satf_error *err) {
   const satf_import_options *o = u->o;
   int n = u->r->n_clusters;
+  if (u->fits) /* the adaptive clustering fitted them */
+    return SATF_OK;
   u->fits = calloc((size_t)n, sizeof *u->fits);
   u->fp = satf_import_fit_params_default();
   u->fp.n_ctrl = (int)o->control;
@@ -392,6 +412,8 @@ static void tally(run *u) {
     r->width_sum += u->fits[c].strand_width;
     r->gradient += u->fits[c].layout == SATF_SCENE_LAYOUT_GRADIENT;
   }
+  satf_import_fit_stats_compute(u->fits, r->n_clusters,
+                                u->o->clusters == 0 ? &u->rp : NULL, &r->fit);
   r->n_macro = u->macro.n_macro;
   r->bytes_separate = u->macro.bytes_separate;
   r->bytes_shared = u->macro.bytes_shared;
@@ -433,6 +455,10 @@ static satf_status steps(run *u, satf_error *err) {
   if ((st = fit(u, err)) != SATF_OK)
     return st;
   r->t_fit = satf_now_seconds() - u->t0;
+  if (u->o->fit_report &&
+      (st = satf_import_write_fit_report(u->o->fit_report, u->fits,
+                                         r->n_clusters, err)) != SATF_OK)
+    return st;
   if ((st = satf_import_find_macro(u->fits, r->n_clusters,
                                    (float)u->o->macro_tol, &u->macro, err)) !=
       SATF_OK)
@@ -483,20 +509,24 @@ void satf_import_print_summary(FILE *out, const char *prog,
   fprintf(out, "%s: %s\n", prog, o->output);
   fprintf(out, "  strands          %d (%zu points, from %d file%s)\n",
           r->n_strands, r->n_points, o->n_inputs, o->n_inputs > 1 ? "s" : "");
-  fprintf(out, "  clusters         %d (%s; k-means RMS %.4g)\n", r->n_clusters,
-          o->clusters ? "as asked" : "chosen from the data", r->rms);
+  if (o->clusters)
+    fprintf(out, "  clusters         %d (as asked; k-means RMS %.4g)\n",
+            r->n_clusters, r->rms);
+  else
+    fprintf(out,
+            "  clusters         %d (adaptive, --quality %s: split until each "
+            "fits its strands)\n",
+            r->n_clusters,
+            o->quality == SATF_IMPORT_QUALITY_DRAFT  ? "draft"
+            : o->quality == SATF_IMPORT_QUALITY_HIGH ? "high"
+                                                     : "default");
   fprintf(out,
           "  macro-clusters   %d (tolerance %g): %s -> %s of cluster "
           "parameters\n",
           r->n_macro, o->macro_tol,
           satf_format_bytes((double)r->bytes_separate, b1, sizeof b1),
           satf_format_bytes((double)r->bytes_shared, b2, sizeof b2));
-  fprintf(out,
-          "  fit quality      %.1f%% of strand points inside their "
-          "cluster's envelope;\n"
-          "                   mean distance to the trajectory %.4g\n",
-          r->points ? 100.0 * (double)r->inside / (double)r->points : 0.0,
-          r->points ? r->distance_sum / (double)r->points : 0.0);
+  satf_import_fit_stats_print(out, prog, &r->fit);
   fprintf(out,
           "  density          mean strand width %.3g cluster radii; %d of "
           "%d clusters \"gradient\", the rest \"uniform\"\n",

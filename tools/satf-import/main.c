@@ -31,6 +31,14 @@ static void usage(FILE *out) {
       "  -o, --output PATH      scene file to write (required)\n"
       "  --clusters N           cluster count (default: chosen from the "
       "data)\n"
+      "  --quality Q            draft, default or high: how closely the\n"
+      "                         adaptive clusters follow their strands (the\n"
+      "                         tolerance is 4%%, 2%% or 1%% of the hair's\n"
+      "                         diagonal; tens to thousands of clusters)\n"
+      "  --tolerance X          that tolerance in scene units, or X%% of the\n"
+      "                         diagonal: p90 distance of strand points to\n"
+      "                         their cluster's trajectory and envelope\n"
+      "  --fit-report PATH      write every cluster's fit measures (TSV)\n"
       "  --vdb PATH             also write the density as an OpenVDB "
       "FloatGrid\n"
       "                         \"density\" and make the scene use it\n"
@@ -147,6 +155,35 @@ static int value_option(satf_cli_args *it, satf_import_options *o) {
     return satf_cli_value_int(it, 1, SATF_IMPORT_MAX_CLUSTERS, &o->clusters)
                ? 2
                : 0;
+  if (satf_cli_is(it, NULL, "--quality")) {
+    if (satf_cli_value(it, &val))
+      return 2;
+    if (!strcmp(val, "draft") || !strcmp(val, "default") ||
+        !strcmp(val, "high")) {
+      o->quality = val[0] == 'd' && val[1] == 'r' ? SATF_IMPORT_QUALITY_DRAFT
+                   : val[0] == 'h'                ? SATF_IMPORT_QUALITY_HIGH
+                                                  : SATF_IMPORT_QUALITY_DEFAULT;
+      return 0;
+    }
+    fprintf(stderr, "%s: --quality '%s': draft, default or high\n", PROG, val);
+    return 2;
+  }
+  if (satf_cli_is(it, NULL, "--tolerance")) {
+    if (satf_cli_value(it, &val))
+      return 2;
+    size_t len = strlen(val);
+    int pct = len > 0 && val[len - 1] == '%';
+    char num[64];
+    snprintf(num, sizeof num, "%.*s", (int)(pct ? len - 1 : len), val);
+    if (satf_cli_double(PROG, "--tolerance", num, pct ? 1e-4 : 1e-9,
+                        pct ? 100.0 : 1e6, &o->tolerance))
+      return 2;
+    if (pct)
+      o->tolerance = -o->tolerance / 100.0; /* a fraction of the diagonal */
+    return 0;
+  }
+  if (satf_cli_is(it, NULL, "--fit-report"))
+    return satf_cli_value(it, &o->fit_report) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--follow"))
     return satf_cli_value_int(it, 0, SATF_STRANDS_MAX_FOLLOW, &o->follow) ? 2
                                                                           : 0;
