@@ -1,0 +1,370 @@
+/* test_cluster_fit.c - the adaptive clustering (import_refine.c) and its fit
+ * measures (satf_import_fit_measures, import_report.c) on strand sets made
+ * here: a straight bundle, curls, a fur patch of 4-point strands on a
+ * sphere and a sparse set. Each asserts what the issue asks of the
+ * clusters: the tolerance met by p90 distances, fur clusters at least as
+ * long as they are wide (never rings), counts growing with the quality,
+ * and a fixed cluster count on fur reported as rings. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "satf/common.h"
+#include "satf/import.h"
+#include "test_util.h"
+
+#define PI 3.14159265358979
+
+typedef struct built {
+  int n;
+  int *counts;
+  float *pts;
+} built;
+
+static satf_strand_set *make_set(built *b) {
+  satf_strand_set *s = NULL;
+  satf_error err;
+  assert_int_equal(
+      satf_strand_set_create(b->n, b->counts, b->pts, NULL, &s, &err), SATF_OK);
+  free(b->counts);
+  free(b->pts);
+  return s;
+}
+
+static void alloc_built(built *b, int n, int m) {
+  b->n = n;
+  b->counts = malloc((size_t)n * sizeof(int));
+  b->pts = malloc((size_t)n * m * 3 * sizeof(float));
+  assert_non_null(b->counts);
+  assert_non_null(b->pts);
+  for (int i = 0; i < n; i++)
+    b->counts[i] = m;
+}
+
+/* n parallel strands of m points, roots in a disk of radius r, length len
+ * along -y. */
+static satf_strand_set *straight_bundle(int n, int m, float r, float len) {
+  built b;
+  alloc_built(&b, n, m);
+  satf_rng rng;
+  satf_rng_seed(&rng, 7, 1);
+  for (int i = 0; i < n; i++) {
+    double rr = r * sqrt(satf_rng_uniform(&rng)),
+           ph = 2 * PI * satf_rng_uniform(&rng);
+    for (int k = 0; k < m; k++) {
+      float *p = b.pts + ((size_t)i * m + k) * 3;
+      p[0] = (float)(rr * cos(ph));
+      p[1] = -len * (float)k / (float)(m - 1);
+      p[2] = (float)(rr * sin(ph));
+    }
+  }
+  return make_set(&b);
+}
+
+/* n curls: helices of radius hr, `turns` turns over length len, each about
+ * its own axis (roots on a line spaced `gap` apart), m points each. */
+static satf_strand_set *curls(int n, int m, float hr, float turns, float len,
+                              float gap) {
+  built b;
+  alloc_built(&b, n, m);
+  for (int i = 0; i < n; i++) {
+    double ph0 = 0.7 * i;
+    for (int k = 0; k < m; k++) {
+      double f = (double)k / (m - 1), ph = ph0 + 2 * PI * turns * f;
+      float *p = b.pts + ((size_t)i * m + k) * 3;
+      p[0] = (float)(gap * i + hr * cos(ph));
+      p[1] = (float)(-len * f);
+      p[2] = (float)(hr * sin(ph));
+    }
+  }
+  return make_set(&b);
+}
+
+/* Fur: n strands of 4 points on the upper half of a sphere of radius R,
+ * each leaving the surface at a low angle along a combed direction
+ * (towards -y, tangent to the sphere), length len +- 20%. */
+static satf_strand_set *fur(int n, float R, float len) {
+  built b;
+  alloc_built(&b, n, 4);
+  satf_rng rng;
+  satf_rng_seed(&rng, 11, 2);
+  for (int i = 0; i < n; i++) {
+    double z = satf_rng_uniform(&rng) * 0.9,
+           ph = 2 * PI * satf_rng_uniform(&rng);
+    double rr = sqrt(1 - z * z);
+    double nrm[3] = {rr * cos(ph), z, rr * sin(ph)};
+    /* tangent: -y projected onto the tangent plane */
+    double t[3] = {-nrm[1] * nrm[0], -1 + nrm[1] * nrm[1], -nrm[1] * nrm[2]};
+    double tl = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    if (tl < 1e-6) {
+      t[0] = 1;
+      t[1] = t[2] = 0;
+      tl = 1;
+    }
+    double l = len * (0.8 + 0.4 * satf_rng_uniform(&rng));
+    for (int k = 0; k < 4; k++) {
+      double f = k / 3.0;
+      float *p = b.pts + ((size_t)i * 4 + k) * 3;
+      for (int c = 0; c < 3; c++) /* lies along t, lifts by 30% of l */
+        p[c] = (float)(R * nrm[c] + l * f * (t[c] / tl) + 0.3 * l * f * nrm[c]);
+    }
+  }
+  return make_set(&b);
+}
+
+/* Sparse: n strands of 5..20 points, roots spread over a 30 x 30 square,
+ * each a gentle arc in its own direction. */
+static satf_strand_set *sparse(int n) {
+  built b;
+  b.n = n;
+  b.counts = malloc((size_t)n * sizeof(int));
+  b.pts = malloc((size_t)n * 21 * 3 * sizeof(float));
+  assert_non_null(b.counts);
+  assert_non_null(b.pts);
+  satf_rng rng;
+  satf_rng_seed(&rng, 5, 3);
+  size_t at = 0;
+  for (int i = 0; i < n; i++) {
+    int m = 5 + (int)satf_rng_below(&rng, 16);
+    b.counts[i] = m;
+    double x0 = 30 * satf_rng_uniform(&rng), z0 = 30 * satf_rng_uniform(&rng);
+    double dir = 2 * PI * satf_rng_uniform(&rng);
+    for (int k = 0; k < m; k++, at++) {
+      double s = 1.5 * k;
+      b.pts[3 * at] = (float)(x0 + s * cos(dir));
+      b.pts[3 * at + 1] = (float)(-0.02 * s * s);
+      b.pts[3 * at + 2] = (float)(z0 + s * sin(dir));
+    }
+  }
+  return make_set(&b);
+}
+
+typedef struct outcome {
+  int n;
+  satf_import_fit *fits;
+  satf_import_refine_params rp;
+  satf_import_fit_stats st;
+} outcome;
+
+static void refine(const satf_strand_set *s, satf_import_quality q,
+                   outcome *o) {
+  satf_import_cluster_params cp = satf_import_cluster_params_default();
+  satf_import_fit_params fp = satf_import_fit_params_default();
+  fp.min_radius = 0.5f * satf_strand_set_root_spacing(s);
+  o->rp = satf_import_refine_params_for(s, q, 0.0);
+  o->rp.threads = 2;
+  int *labels = malloc((size_t)satf_strand_set_count(s) * sizeof(int));
+  assert_non_null(labels);
+  satf_error err;
+  assert_int_equal(satf_import_refine(s, &cp, &o->rp, &fp, labels, &o->n,
+                                      &o->fits, NULL, NULL, &err),
+                   SATF_OK);
+  /* every strand in a cluster, every cluster used */
+  int *used = calloc((size_t)o->n, sizeof(int));
+  assert_non_null(used);
+  for (int i = 0; i < satf_strand_set_count(s); i++) {
+    assert_true(labels[i] >= 0 && labels[i] < o->n);
+    used[labels[i]]++;
+  }
+  for (int c = 0; c < o->n; c++) {
+    assert_int_equal(used[c], o->fits[c].strands);
+    assert_true(used[c] > 0);
+  }
+  free(used);
+  free(labels);
+  satf_import_fit_stats_compute(o->fits, o->n, &o->rp, &o->st);
+}
+
+static void outcome_free(outcome *o) {
+  for (int c = 0; c < o->n; c++)
+    satf_import_fit_free(&o->fits[c]);
+  free(o->fits);
+}
+
+/* Every cluster of more than one strand meets the tolerance. */
+static void assert_all_pass(const outcome *o) {
+  for (int c = 0; c < o->n; c++) {
+    if (o->fits[c].strands < 2)
+      continue;
+    const satf_import_fit_measures *m = &o->fits[c].measures;
+    assert_true(m->trajectory[1] <= o->rp.tolerance);
+    assert_true(m->surface[1] <= o->rp.tolerance);
+    assert_true(m->aspect >= o->rp.min_aspect);
+    assert_true(satf_import_fit_score(&o->fits[c], &o->rp) <= 1.0f);
+  }
+}
+
+static void test_straight_bundle(void **state) {
+  (void)state;
+  /* 300 strands in a disk of radius 1.5, 40 long: one tube does; the
+   * tolerance (2% of a ~40 diagonal = 0.8) is under the disk's radius, so
+   * a few clusters, not hundreds */
+  satf_strand_set *s = straight_bundle(300, 16, 1.5f, 40.0f);
+  outcome o;
+  refine(s, SATF_IMPORT_QUALITY_DEFAULT, &o);
+  assert_true(o.n >= 2 && o.n <= 40);
+  assert_all_pass(&o);
+  /* straight strands: the trajectory is within the bundle, the envelope
+   * holds almost every point (outside by nothing at p90) */
+  for (int c = 0; c < o.n; c++) {
+    assert_true(o.fits[c].measures.outside[1] <= 1e-3f);
+    assert_true(o.fits[c].measures.aspect > 5.0f);
+  }
+  assert_int_equal(o.st.rings, 0);
+  outcome_free(&o);
+  satf_strand_set_destroy(s);
+}
+
+static void test_curls(void **state) {
+  (void)state;
+  /* 40 curls of radius 1.2, 4 turns over 30, side by side 0.5 apart: the
+   * trajectory must wind with them (more control points) or the p90
+   * distance would be the curl radius */
+  satf_strand_set *s = curls(40, 96, 1.2f, 4.0f, 30.0f, 0.5f);
+  outcome o;
+  refine(s, SATF_IMPORT_QUALITY_HIGH, &o);
+  assert_all_pass(&o);
+  int wound = 0;
+  for (int c = 0; c < o.n; c++) {
+    wound += o.fits[c].n_ctrl > 8;
+    /* a straight axis would leave the points ~1.2 away */
+    assert_true(o.fits[c].measures.trajectory[1] < 0.8f);
+  }
+  assert_true(wound > 0);
+  outcome_free(&o);
+  satf_strand_set_destroy(s);
+}
+
+static void test_fur_patch(void **state) {
+  (void)state;
+  /* 6000 strands of 4 points, length ~0.8, on a sphere of radius 10 */
+  satf_strand_set *s = fur(6000, 10.0f, 0.8f);
+  outcome o;
+  refine(s, SATF_IMPORT_QUALITY_DEFAULT, &o);
+  /* no ring: every cluster at least as long as it is wide */
+  assert_int_equal(o.st.rings, 0);
+  for (int c = 0; c < o.n; c++)
+    assert_true(o.fits[c].measures.aspect >= 1.0f);
+  assert_all_pass(&o);
+  /* the upper sphere is ~560 units^2; patches no wider than ~0.8 need
+   * hundreds of clusters */
+  assert_true(o.n >= 200);
+  outcome_free(&o);
+  satf_strand_set_destroy(s);
+}
+
+static void test_fur_fixed_count_is_rings(void **state) {
+  (void)state;
+  /* the measures can fail: 16 k-means clusters over fur are wide discs
+   * of short strands, which the report must call rings */
+  satf_strand_set *s = fur(3000, 10.0f, 0.8f);
+  satf_import_cluster_params cp = satf_import_cluster_params_default();
+  cp.clusters = 16;
+  int *labels = malloc(3000 * sizeof(int)), k = 0;
+  assert_non_null(labels);
+  satf_error err;
+  assert_int_equal(
+      satf_import_kmeans(s, &cp, labels, &k, NULL, NULL, NULL, &err), SATF_OK);
+  satf_import_fit *fits = calloc((size_t)k, sizeof *fits);
+  assert_non_null(fits);
+  satf_import_fit_params fp = satf_import_fit_params_default();
+  assert_int_equal(
+      satf_import_fit_all(s, labels, k, &fp, 2, fits, NULL, NULL, &err),
+      SATF_OK);
+  satf_import_fit_stats st;
+  satf_import_refine_params rp =
+      satf_import_refine_params_for(s, SATF_IMPORT_QUALITY_DEFAULT, 0.0);
+  satf_import_fit_stats_compute(fits, k, &rp, &st);
+  assert_int_equal(st.rings, k);
+  assert_int_equal(st.over, k);
+  assert_true(st.aspect[2] < 0.5f);
+  for (int c = 0; c < k; c++)
+    satf_import_fit_free(&fits[c]);
+  free(fits);
+  free(labels);
+  satf_strand_set_destroy(s);
+}
+
+static void test_sparse(void **state) {
+  (void)state;
+  /* 60 strands far apart (roots ~4 apart, going their own ways): the
+   * clusters hold one or a few strands and stay thin */
+  satf_strand_set *s = sparse(60);
+  outcome o;
+  refine(s, SATF_IMPORT_QUALITY_DEFAULT, &o);
+  assert_true(o.n >= 30);
+  for (int c = 0; c < o.n; c++) {
+    const satf_import_fit_measures *m = &o.fits[c].measures;
+    assert_true(m->area_per_strand <=
+                o.rp.area_ratio * o.rp.spacing * o.rp.spacing);
+    assert_true(m->diameter <= 2.0f * o.rp.spacing + 2.0f * o.rp.tolerance);
+  }
+  assert_all_pass(&o);
+  outcome_free(&o);
+  satf_strand_set_destroy(s);
+}
+
+static void test_quality_grows_counts(void **state) {
+  (void)state;
+  satf_strand_set *s = straight_bundle(2000, 12, 4.0f, 30.0f);
+  outcome d, m, h;
+  refine(s, SATF_IMPORT_QUALITY_DRAFT, &d);
+  refine(s, SATF_IMPORT_QUALITY_DEFAULT, &m);
+  refine(s, SATF_IMPORT_QUALITY_HIGH, &h);
+  assert_true(d.n < m.n);
+  assert_true(m.n < h.n);
+  /* and the worst p90 distance shrinks with them */
+  assert_true(h.st.trajectory[2] < m.st.trajectory[2]);
+  assert_true(m.st.trajectory[2] < d.st.trajectory[2]);
+  outcome_free(&d);
+  outcome_free(&m);
+  outcome_free(&h);
+  satf_strand_set_destroy(s);
+}
+
+static void test_report_file(void **state) {
+  (void)state;
+  satf_strand_set *s = straight_bundle(100, 8, 1.0f, 10.0f);
+  outcome o;
+  refine(s, SATF_IMPORT_QUALITY_DRAFT, &o);
+  char path[512];
+  test_path(path, sizeof path, "cluster-fit-report.tsv");
+  satf_error err;
+  assert_int_equal(satf_import_write_fit_report(path, o.fits, o.n, &err),
+                   SATF_OK);
+  size_t size;
+  unsigned char *text = test_read_file(path, &size);
+  int lines = 0;
+  for (size_t i = 0; i < size; i++)
+    lines += text[i] == '\n';
+  assert_int_equal(lines, o.n + 1);
+  assert_non_null(strstr((const char *)text, "traj_p90"));
+  free(text);
+  /* an unwritable path is an error naming it */
+  assert_int_not_equal(
+      satf_import_write_fit_report("/nonexistent-dir/r.tsv", o.fits, o.n, &err),
+      SATF_OK);
+  assert_non_null(strstr(err.message, "/nonexistent-dir/r.tsv"));
+  outcome_free(&o);
+  satf_strand_set_destroy(s);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_straight_bundle),
+      cmocka_unit_test(test_curls),
+      cmocka_unit_test(test_fur_patch),
+      cmocka_unit_test(test_fur_fixed_count_is_rings),
+      cmocka_unit_test(test_sparse),
+      cmocka_unit_test(test_quality_grows_counts),
+      cmocka_unit_test(test_report_file),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
