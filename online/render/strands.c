@@ -361,13 +361,16 @@ static void strands_dom(satf_renderer *r) {
   glDisable(GL_BLEND);
 }
 
-/* The meshes as the cluster path draws them, then the segments far to
- * near over them (tested against their depth, "over" blended). */
+/* The meshes as the cluster path draws them; then the fragments strands
+ * cover whole, with the depth test and writes of opaque surfaces (exact
+ * visibility among overlapping wide strands, which painter's order per
+ * segment gets wrong where long ribbons cross at nearly the same depth);
+ * then the partly covered fragments, segments far to near, "over" blended
+ * and tested against all that depth. */
 static void strands_composite(satf_renderer *r, satf_aov aov,
                               const float viewproj[16]) {
   strands_gpu *s = r->strands;
   begin_frame(r, aov, viewproj);
-  hair_depth_test(r->nmeshes > 0);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
   GLuint p = s->prog_shade;
@@ -378,6 +381,13 @@ static void strands_composite(satf_renderer *r, satf_aov aov,
   glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
   glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
   bind_strands(p, viewproj, r->width, r->height);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glUniform1i(glGetUniformLocation(p, "u_whole"), 1);
+  draw_segments(s);
+  hair_depth_test(1);
+  glUniform1i(glGetUniformLocation(p, "u_whole"), 0);
   draw_segments(s);
   glDisable(GL_BLEND);
   hair_depth_test(0);

@@ -68,6 +68,9 @@ static float x_of_column(double col) {
 
 typedef struct strand_spec {
   float x, z, width; /* a vertical strand from y = -3 to 3 */
+  /* or, with horizontal set, one segment from (-5, y0, z) to (5, y0, -z) */
+  int horizontal;
+  float y0;
 } strand_spec;
 
 /* Renders the strands (with AOVs when aovs); the caller destroys it. */
@@ -80,16 +83,16 @@ static satf_image *render_strands(const fixture *f, const strand_spec *spec,
   if (satf_renderer_create(scene, f->db, W, H, 0, &r, &err) != SATF_OK)
     fail_msg("%s", err.message);
   satf_renderer_effects(r)->cluster_shadows = shadows;
-  int counts[8];
+  int counts[8], at = 0;
   float xyz[8 * POINTS * 3], width[8 * POINTS];
   for (int i = 0; i < n; i++) {
-    counts[i] = POINTS;
-    for (int j = 0; j < POINTS; j++) {
-      float *p = xyz + 3 * (POINTS * i + j);
-      p[0] = spec[i].x;
-      p[1] = -3.0f + 6.0f * (float)j / (POINTS - 1);
-      p[2] = spec[i].z;
-      width[POINTS * i + j] = spec[i].width;
+    counts[i] = spec[i].horizontal ? 2 : POINTS;
+    for (int j = 0; j < counts[i]; j++, at++) {
+      float *p = xyz + 3 * at, f = (float)j / (float)(counts[i] - 1);
+      p[0] = spec[i].horizontal ? -5.0f + 10.0f * f : spec[i].x;
+      p[1] = spec[i].horizontal ? spec[i].y0 : -3.0f + 6.0f * f;
+      p[2] = spec[i].horizontal ? spec[i].z * (1.0f - 2.0f * f) : spec[i].z;
+      width[at] = spec[i].width;
     }
   }
   if (satf_renderer_set_strands(r, n, counts, xyz, width, 0.0f, &err) !=
@@ -123,8 +126,8 @@ static double row_sum(const satf_image *img, int row, int c0, int c1) {
  * across each is its width in pixels. */
 static void test_coverage_follows_strands(void **state) {
   double ppu = px_per_unit();
-  strand_spec s[2] = {{x_of_column(40.5), 0.0f, (float)(3.0 / ppu)},
-                      {x_of_column(90.5), 0.0f, (float)(1.5 / ppu)}};
+  strand_spec s[2] = {{x_of_column(40.5), 0.0f, (float)(3.0 / ppu), 0, 0.0f},
+                      {x_of_column(90.5), 0.0f, (float)(1.5 / ppu), 0, 0.0f}};
   satf_image *img = render_strands(*state, s, 2, 0, 1);
   /* the strands span y in [-3, 3]: rows 48 -+ 3 ppu (26.9 px) */
   int rows[3] = {30, 48, 66};
@@ -166,8 +169,8 @@ static void test_coverage_follows_strands(void **state) {
  * quarter pixel wide, 0.25. */
 static void test_subpixel_alpha_is_coverage(void **state) {
   double ppu = px_per_unit();
-  strand_spec s[2] = {{x_of_column(64.5), 0.0f, (float)(0.5 / ppu)},
-                      {x_of_column(100.5), 0.0f, (float)(0.25 / ppu)}};
+  strand_spec s[2] = {{x_of_column(64.5), 0.0f, (float)(0.5 / ppu), 0, 0.0f},
+                      {x_of_column(100.5), 0.0f, (float)(0.25 / ppu), 0, 0.0f}};
   satf_image *img = render_strands(*state, s, 2, 0, 1);
   for (int row = 30; row <= 66; row += 6) {
     printf("row %d: half-pixel strand alpha %.3f (neighbours %.3f %.3f), "
@@ -201,8 +204,8 @@ static double strand_luma(const satf_image *img, int col) {
 static void test_strands_shadow_strands(void **state) {
   double ppu = px_per_unit();
   float w = (float)(3.0 / ppu); /* 0.33 units: over a DOM texel */
-  strand_spec both[2] = {{x_of_column(64.5), 0.0f, w},
-                         {x_of_column(64.5) + 2.0f, 0.0f, 2.0f * w}};
+  strand_spec both[2] = {{x_of_column(64.5), 0.0f, w, 0, 0.0f},
+                         {x_of_column(64.5) + 2.0f, 0.0f, 2.0f * w, 0, 0.0f}};
   satf_image *shadowed = render_strands(*state, both, 2, 0, 1);
   satf_image *alone = render_strands(*state, both, 1, 0, 1);
   satf_image *no_dom = render_strands(*state, both, 2, 0, 0);
@@ -222,10 +225,47 @@ static void test_strands_shadow_strands(void **state) {
   satf_image_destroy(no_dom);
 }
 
+/* Luminance of a pixel's colour per unit alpha. */
+static double pixel_luma(const satf_image *img, int col, int row) {
+  double a = at(img, "A", col, row);
+  return (0.2126 * at(img, "R", col, row) + 0.7152 * at(img, "G", col, row) +
+          0.0722 * at(img, "B", col, row)) /
+         (a > 0.0 ? a : 1.0);
+}
+
+/* Wide strands hide each other pixel by pixel, not segment by segment: a
+ * horizontal strand, one segment tilted in depth (z from 2 at x = -5 to -2
+ * at x = 5, its centre at z = 0), crosses a vertical one at x = -2.5,
+ * z = 0.5, where it is in front (z = 1). Ordered by segment centres alone
+ * the vertical strand's segments (centres at z = 0.5) would be drawn over
+ * it. The light
+ * comes from +x: the horizontal strand, along it, is dark (Kajiya-Kay
+ * diffuse goes as the sine between tangent and light), the vertical one
+ * bright, so the crossing shows which is on top. */
+static void test_wide_strands_occlude_per_pixel(void **state) {
+  double ppu = px_per_unit();
+  float w = (float)(4.0 / ppu);
+  strand_spec s[2] = {{0.0f, 2.0f, w, 1, (float)(0.5 / ppu)},
+                      {-2.5f, 0.5f, w, 0, 0.0f}};
+  satf_image *img = render_strands(*state, s, 2, 0, 0);
+  /* the vertical strand's column: x = -2.5 at distance 19.5 */
+  int col = (int)floor(0.5 * W - 2.5 * ppu * DIST / 19.5);
+  double cross = pixel_luma(img, col, 47);
+  double horiz = pixel_luma(img, col - 8, 47);
+  double vert = pixel_luma(img, col, 30);
+  printf("column %d: crossing %.4f, horizontal strand %.4f, vertical %.4f\n",
+         col, cross, horiz, vert);
+  assert_true(at(img, "A", col, 47) > 0.95f);
+  assert_true(vert > 2.0 * horiz);
+  assert_near(cross, horiz, 0.25 * horiz);
+  satf_image_destroy(img);
+}
+
 /* AOVs in strand mode: alpha.Y is the coverage, the light AOVs add up to
  * the beauty pass. */
 static void test_strand_aovs(void **state) {
-  strand_spec s[1] = {{x_of_column(64.5), 0.0f, (float)(3.0 / px_per_unit())}};
+  strand_spec s[1] = {
+      {x_of_column(64.5), 0.0f, (float)(3.0 / px_per_unit()), 0, 0.0f}};
   satf_image *img = render_strands(*state, s, 1, 1, 1);
   for (int row = 30; row <= 66; row += 12) {
     assert_near(at(img, "alpha.Y", 64, row), at(img, "A", 64, row), 0.01);
@@ -271,6 +311,7 @@ int main(void) {
       cmocka_unit_test(test_coverage_follows_strands),
       cmocka_unit_test(test_subpixel_alpha_is_coverage),
       cmocka_unit_test(test_strands_shadow_strands),
+      cmocka_unit_test(test_wide_strands_occlude_per_pixel),
       cmocka_unit_test(test_strand_aovs),
       cmocka_unit_test(test_bad_strands),
   };

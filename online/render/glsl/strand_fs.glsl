@@ -6,8 +6,12 @@
  * attenuated by the deep opacity map (here built from the strands
  * themselves, strands.c), the secondary highlight's noise per strand.
  * The strand is opaque where it covers: alpha is its coverage of the
- * pixel (strand_cover.glsl), written premultiplied for "over" blending of
- * segments drawn far to near. The renderer defines SATF_MAX_LIGHTS. */
+ * pixel (strand_cover.glsl), written premultiplied. Drawn twice
+ * (strands.c): first the fragments a strand covers whole, depth-tested
+ * and written, so overlapping wide strands hide each other pixel by pixel;
+ * then the partly covered ones (edges, strands thinner than a pixel),
+ * tested against that depth and blended "over" with the segments drawn
+ * far to near. The renderer defines SATF_MAX_LIGHTS. */
 #include "lighting.glsl"
 #include "strand_cover.glsl"
 in vec3 v_world;
@@ -30,6 +34,7 @@ uniform mat4 u_light_viewproj;
 uniform float u_dom_slab;
 uniform float u_kcluster;
 uniform int u_aov; /* 0 beauty, 1 diffuse, 2 specI, 3 specII, 4 shadow, 5 alpha */
+uniform int u_whole; /* 1: only whole coverage, 0: only partial */
 out vec4 o_color;
 #include "dom_lookup.glsl"
 /* shade_fs.glsl's noise hash; here one column per strand, varying slowly
@@ -47,6 +52,10 @@ float strand_noise(uint strand, float t) {
 void main() {
   float cover = strand_coverage(v_across, v_width);
   if (cover < 1.0 / 1024.0) discard;
+  /* whole: the same test in both passes, so each fragment is drawn once */
+  bool whole = cover >= 1.0 - 1.0 / 1024.0;
+  if (whole != (u_whole != 0)) discard;
+  if (whole) cover = 1.0;
   vec3 t = normalize(v_tangent), v = normalize(u_eye - v_world);
   /* the highlight shift's normal (SATF eq. 10-11): the ribbon's, facing
    * the eye. The cluster path shifts along the cluster normal facing the
