@@ -736,6 +736,77 @@ static satf_status fit_section(const satf_import_projection *raw,
   return st;
 }
 
+/* Fur: short, nearly straight strands whose roots spread along the way
+ * they lie (a patch of a pelt). The mean strand is one strand long while
+ * the patch is wider than that, so the cluster would be a disc shorter
+ * than its diameter: a ring. Instead the axis runs the length of the
+ * patch along the strands' direction, from the first roots to the last
+ * tips: the m points of `mean` are replaced by the means of every member
+ * point binned by its position along that direction (a tuft lying along
+ * the surface, tapering where few strands remain). Only when the points
+ * reach at least 1.25 times as far along the direction as the mean strand
+ * is long, and the mean strand is straight (chord over length > 0.8). */
+static void tuft_axis(const satf_strand_set *s, const int *members, int n,
+                      int m, double *mean) {
+  double dir[3], len = 0.0, chord = 0.0;
+  for (int c = 0; c < 3; c++)
+    dir[c] = mean[3 * (m - 1) + c] - mean[c];
+  for (int k = 1; k < m; k++) {
+    double d2 = 0.0;
+    for (int c = 0; c < 3; c++)
+      d2 += (mean[3 * k + c] - mean[3 * k - 3 + c]) *
+            (mean[3 * k + c] - mean[3 * k - 3 + c]);
+    len += sqrt(d2);
+  }
+  chord = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+  if (n < 2 || !(chord > 0.8 * len) || !(chord > 0.0))
+    return;
+  for (int c = 0; c < 3; c++)
+    dir[c] /= chord;
+  double lo = INFINITY, hi = -INFINITY;
+  for (int i = 0; i < n; i++) {
+    int np;
+    const float *q = satf_strand_set_strand(s, members[i], &np);
+    for (int k = 0; k < np; k++) {
+      double u =
+          q[3 * k] * dir[0] + q[3 * k + 1] * dir[1] + q[3 * k + 2] * dir[2];
+      lo = u < lo ? u : lo;
+      hi = u > hi ? u : hi;
+    }
+  }
+  if (!(hi - lo >= 1.25 * len))
+    return;
+  double *sum = calloc(4 * (size_t)m, sizeof(double));
+  if (!sum)
+    return;
+  for (int i = 0; i < n; i++) {
+    int np;
+    const float *q = satf_strand_set_strand(s, members[i], &np);
+    for (int k = 0; k < np; k++) {
+      double u =
+          q[3 * k] * dir[0] + q[3 * k + 1] * dir[1] + q[3 * k + 2] * dir[2];
+      int b = (int)((u - lo) / (hi - lo) * m);
+      b = b < 0 ? 0 : b >= m ? m - 1 : b;
+      for (int c = 0; c < 3; c++)
+        sum[4 * b + c] += q[3 * k + c];
+      sum[4 * b + 3] += 1.0;
+    }
+  }
+  int used = 0;
+  for (int b = 0; b < m; b++)
+    if (sum[4 * b + 3] > 0.0) {
+      for (int c = 0; c < 3; c++)
+        mean[3 * used + c] = sum[4 * b + c] / sum[4 * b + 3];
+      used++;
+    }
+  /* fewer points than bins: repeat the last, which the least-squares fit
+   * weighs as one more sample at the end */
+  for (int k = used; k < m && used > 0; k++)
+    for (int c = 0; c < 3; c++)
+      mean[3 * k + c] = mean[3 * (used - 1) + c];
+  free(sum);
+}
+
 /* The least-squares cubic B-spline through the members' mean strand, each
  * strand resampled to p->samples points. */
 static satf_status fit_mean_trajectory(const satf_strand_set *s,
@@ -758,6 +829,7 @@ static satf_status fit_mean_trajectory(const satf_strand_set *s,
   for (int k = 0; k < 3 * m; k++)
     mean[k] /= n_members;
   free(buf);
+  tuft_axis(s, members, n_members, m, mean);
   int bad = fit_trajectory(mean, m, p->n_ctrl, traj);
   free(mean);
   if (bad)

@@ -4,7 +4,7 @@
  * sphere and a sparse set. Each asserts what the issue asks of the
  * clusters: the tolerance met by p90 distances, fur clusters at least as
  * long as they are wide (never rings), counts growing with the quality,
- * and a fixed cluster count on fur reported as rings. */
+ * and a row of short strands side by side reported as a ring. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -253,42 +253,62 @@ static void test_fur_patch(void **state) {
   for (int c = 0; c < o.n; c++)
     assert_true(o.fits[c].measures.aspect >= 1.0f);
   assert_all_pass(&o);
-  /* the upper sphere is ~560 units^2; patches no wider than ~0.8 need
-   * hundreds of clusters */
-  assert_true(o.n >= 200);
+  /* the clusters are tufts lying along the strands: their axes run from
+   * the first roots to the last tips, longer than one strand (~0.85) */
+  assert_true(o.n >= 8);
+  float *len = malloc((size_t)o.n * sizeof(float));
+  assert_non_null(len);
+  for (int c = 0; c < o.n; c++)
+    len[c] = o.fits[c].length;
+  int longer = 0;
+  for (int c = 0; c < o.n; c++)
+    longer += len[c] > 1.25f * 0.85f;
+  assert_true(longer * 2 > o.n);
+  free(len);
   outcome_free(&o);
   satf_strand_set_destroy(s);
 }
 
-static void test_fur_fixed_count_is_rings(void **state) {
+static void test_row_is_a_ring(void **state) {
   (void)state;
-  /* the measures can fail: 16 k-means clusters over fur are wide discs
-   * of short strands, which the report must call rings */
-  satf_strand_set *s = fur(3000, 10.0f, 0.8f);
-  satf_import_cluster_params cp = satf_import_cluster_params_default();
-  cp.clusters = 16;
-  int *labels = malloc(3000 * sizeof(int)), k = 0;
-  assert_non_null(labels);
+  /* the measures can fail: a row of 200 short strands side by side across
+   * their direction (roots on a line 10 long, strands 1 long) is one
+   * cluster ten times wider than long, which the report must call a ring
+   * and the tolerance must reject */
+  built b;
+  alloc_built(&b, 200, 4);
+  for (int i = 0; i < 200; i++)
+    for (int k = 0; k < 4; k++) {
+      float *p = b.pts + ((size_t)i * 4 + k) * 3;
+      p[0] = 10.0f * (float)i / 199.0f;
+      p[1] = 0.05f * (float)(i % 3);
+      p[2] = (float)k / 3.0f;
+    }
+  satf_strand_set *s = make_set(&b);
+  int members[200];
+  for (int i = 0; i < 200; i++)
+    members[i] = i;
+  satf_import_fit fit;
   satf_error err;
-  assert_int_equal(
-      satf_import_kmeans(s, &cp, labels, &k, NULL, NULL, NULL, &err), SATF_OK);
-  satf_import_fit *fits = calloc((size_t)k, sizeof *fits);
-  assert_non_null(fits);
   satf_import_fit_params fp = satf_import_fit_params_default();
-  assert_int_equal(
-      satf_import_fit_all(s, labels, k, &fp, 2, fits, NULL, NULL, &err),
-      SATF_OK);
-  satf_import_fit_stats st;
+  assert_int_equal(satf_import_fit_cluster(s, members, 200, &fp, &fit, &err),
+                   SATF_OK);
+  assert_true(fit.measures.aspect < 0.3f);
+  assert_true(fit.measures.diameter > 5.0f);
   satf_import_refine_params rp =
-      satf_import_refine_params_for(s, SATF_IMPORT_QUALITY_DEFAULT, 0.0);
-  satf_import_fit_stats_compute(fits, k, &rp, &st);
-  assert_int_equal(st.rings, k);
-  assert_int_equal(st.over, k);
-  assert_true(st.aspect[2] < 0.5f);
-  for (int c = 0; c < k; c++)
-    satf_import_fit_free(&fits[c]);
-  free(fits);
-  free(labels);
+      satf_import_refine_params_for(s, SATF_IMPORT_QUALITY_DRAFT, 0.0);
+  satf_import_fit_stats st;
+  satf_import_fit_stats_compute(&fit, 1, &rp, &st);
+  assert_int_equal(st.rings, 1);
+  assert_int_equal(st.over, 1);
+  assert_true(satf_import_fit_score(&fit, &rp) > 3.0f);
+  satf_import_fit_free(&fit);
+  /* and the adaptive clustering cuts it into pieces no wider than long */
+  outcome o;
+  refine(s, SATF_IMPORT_QUALITY_DRAFT, &o);
+  assert_true(o.n >= 8);
+  assert_int_equal(o.st.rings, 0);
+  outcome_free(&o);
   satf_strand_set_destroy(s);
 }
 
@@ -361,7 +381,7 @@ int main(void) {
       cmocka_unit_test(test_straight_bundle),
       cmocka_unit_test(test_curls),
       cmocka_unit_test(test_fur_patch),
-      cmocka_unit_test(test_fur_fixed_count_is_rings),
+      cmocka_unit_test(test_row_is_a_ring),
       cmocka_unit_test(test_sparse),
       cmocka_unit_test(test_quality_grows_counts),
       cmocka_unit_test(test_report_file),
