@@ -301,17 +301,36 @@ static void sort_far_to_near(strands_gpu *s, const float eye[3]) {
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
 }
 
+/* Pixels per scene unit at clip w = 1 for a target h pixels high: the
+ * projection's y scale (row 1 of a look-at view is the unit up vector)
+ * times half the height. */
+static float px_scale(const float viewproj[16], int h) {
+  return sqrtf(viewproj[4] * viewproj[4] + viewproj[5] * viewproj[5] +
+               viewproj[6] * viewproj[6]) *
+         0.5f * (float)h;
+}
+
+/* Whether some point of a strand in front of the eye is at least a pixel
+ * wide there: otherwise no fragment is covered whole. */
+static int any_wide(const strands_gpu *s, const float viewproj[16], int h) {
+  float k = px_scale(viewproj, h);
+  for (size_t i = 0; i < s->npoints; i++) {
+    const float *p = s->points + 4 * i;
+    float w = viewproj[12] * p[0] + viewproj[13] * p[1] + viewproj[14] * p[2] +
+              viewproj[15];
+    if (w > 0.0f && p[3] * k >= 0.999f * w)
+      return 1;
+  }
+  return 0;
+}
+
 /* The vertex shader's view uniforms of `prog` for a w x h target. */
 static void bind_strands(GLuint prog, const float viewproj[16], int w, int h) {
   glUseProgram(prog);
   glUniformMatrix4fv(glGetUniformLocation(prog, "u_viewproj"), 1, GL_TRUE,
                      viewproj);
   glUniform2f(glGetUniformLocation(prog, "u_viewport"), (float)w, (float)h);
-  /* pixels per unit at clip w = 1: the projection's y scale (row 1 of a
-   * look-at view is the unit up vector) times half the height */
-  float sy = sqrtf(viewproj[4] * viewproj[4] + viewproj[5] * viewproj[5] +
-                   viewproj[6] * viewproj[6]);
-  glUniform1f(glGetUniformLocation(prog, "u_px_scale"), sy * 0.5f * (float)h);
+  glUniform1f(glGetUniformLocation(prog, "u_px_scale"), px_scale(viewproj, h));
 }
 
 static void draw_segments(const strands_gpu *s) {
@@ -381,11 +400,13 @@ static void strands_composite(satf_renderer *r, satf_aov aov,
   glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
   glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
   bind_strands(p, viewproj, r->width, r->height);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glUniform1i(glGetUniformLocation(p, "u_whole"), 1);
-  draw_segments(s);
+  if (any_wide(s, viewproj, r->height)) { /* hair thinner than a pixel: no */
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glUniform1i(glGetUniformLocation(p, "u_whole"), 1);
+    draw_segments(s);
+  }
   hair_depth_test(1);
   glUniform1i(glGetUniformLocation(p, "u_whole"), 0);
   draw_segments(s);
