@@ -175,6 +175,11 @@ satf_scene_effects *satf_renderer_effects(satf_renderer *r);
 satf_scene_light *satf_renderer_light(satf_renderer *r, int index);
 int satf_renderer_light_count(const satf_renderer *r);
 void satf_renderer_set_composite(satf_renderer *r, satf_composite mode);
+/* Anti-aliasing: each frame drawn `samples` times (clamped to [1,
+ * SATF_SCENE_MAX_SAMPLES]) with the camera jittered inside the pixel and
+ * averaged; starts as the scene's image.samples. */
+void satf_renderer_set_samples(satf_renderer *r, int samples);
+int satf_renderer_samples(const satf_renderer *r);
 satf_composite satf_renderer_composite(const satf_renderer *r);
 
 /* Renders one frame of `aov` into the renderer's RGBA16F target. */

@@ -50,6 +50,7 @@ extern "C" {
 #define SATF_SCENE_MAX_CLUMPS 16        /* clumps or holes per cluster */
 #define SATF_SCENE_MAX_COORD 1e6        /* |coordinate| in scene units */
 #define SATF_SCENE_MAX_IMAGE 16384      /* pixels per side */
+#define SATF_SCENE_MAX_SAMPLES 64       /* anti-aliasing samples per pixel */
 #define SATF_SCENE_MAX_FILE_BYTES (64u << 20)
 #define SATF_SCENE_MAX_FRAME 10000000 /* |frame| in the animation range */
 #define SATF_SCENE_MAX_FPS 1000.0
@@ -189,6 +190,7 @@ typedef struct satf_scene_mesh {
 
 typedef struct satf_scene_image {
   int width, height;
+  int samples; /* jittered samples per pixel, [1, SATF_SCENE_MAX_SAMPLES] */
 } satf_scene_image;
 
 /* Keyframes of an animated scene: opaque, read through the functions below. */
@@ -267,9 +269,12 @@ satf_status satf_scene_to_json(const satf_scene *scene, const char *base_dir,
                                char **json, satf_error *err);
 
 /* satf_scene_to_json into path, through a temporary file renamed into
- * place; paths are written relative to path's directory when under it,
- * and a relative path that is not is made absolute, so loading the file
- * finds the same files. */
+ * place. Every path is written relative to path's directory (with "../"
+ * steps when the file lies elsewhere; the directories canonical, a file's
+ * own name kept), so a folder holding the scene and its files can move as
+ * a whole; a path that shares no directory below the root with it (e.g.
+ * /usr/share/...) or whose directory does not exist is written absolute.
+ * Loading the file finds the same files. */
 satf_status satf_scene_write(const satf_scene *scene, const char *path,
                              satf_error *err);
 

@@ -198,6 +198,14 @@ void frame_camera(const satf_renderer *r, float viewproj[16]) {
   satf_mat4_look_at(cam->position, cam->target, cam->up, view);
   satf_mat4_perspective(cam->fov_y, (float)r->width / (float)r->height, n, f,
                         proj);
+  /* the anti-aliasing sample's sub-pixel offset (samples.c), as a shift of
+   * normalised device coordinates: x_ndc += 2 dx / width */
+  float dx = 2.0f * r->jitter[0] / (float)r->width;
+  float dy = 2.0f * r->jitter[1] / (float)r->height;
+  for (int k = 0; k < 4; k++) {
+    proj[k] += dx * proj[12 + k];
+    proj[4 + k] += dy * proj[12 + k];
+  }
   satf_mat4_mul(proj, view, viewproj);
 }
 

@@ -241,7 +241,24 @@ static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
                           "%s: an instance transform of macro cluster %d is "
                           "singular",
                           scene_name(r->scene), in->proto);
+  /* Shading measures Kajiya-Kay angles (SATF eq. 9-11) and the records'
+   * azimuths (eq. 5) in the prototype's frame, which only rotations,
+   * mirrors and uniform scale preserve: refuse the rest rather than draw
+   * wrong highlights and wrong records. */
+  float len[3];
+  if (satf_mat4_similarity_error(in->m, len) > 1e-3f)
+    return satf_error_set(
+        err, SATF_ERR_ARGUMENT,
+        "%s: macro_clusters[%d]: an instance has non-uniform scale or shear "
+        "(axis lengths %g, %g, %g); the renderer draws cluster instances "
+        "that are rotations, mirrors, uniform scales and translations, "
+        "because it measures shading and database angles in the prototype's "
+        "frame: scale the prototype's trajectory, a and b instead",
+        scene_name(r->scene), in->proto, len[0], len[1], len[2]);
   satf_mat4_normal_matrix(in->m, in->nmat);
+  /* a mirror turns the proxy inside out: its outward faces then wind
+   * clockwise on screen (passes.c flips the front face for it) */
+  in->mirrored = satf_mat4_det3(in->m) < 0.0f;
   float *own = in->own_features ? in->geom.features : NULL;
   in->geom = p->geom;
   if (own)

@@ -123,3 +123,29 @@ void satf_mat4_normal_matrix(const float m[16], float out[9]) {
     for (int j = 0; j < 3; j++)
       out[3 * i + j] = inv[4 * j + i];
 }
+
+float satf_mat4_det3(const float m[16]) {
+  return m[0] * (m[5] * m[10] - m[6] * m[9]) -
+         m[1] * (m[4] * m[10] - m[6] * m[8]) +
+         m[2] * (m[4] * m[9] - m[5] * m[8]);
+}
+
+float satf_mat4_similarity_error(const float m[16], float len[3]) {
+  double c[3][3], mean = 0.0, e = 0.0;
+  for (int j = 0; j < 3; j++) {
+    for (int i = 0; i < 3; i++)
+      c[j][i] = m[4 * i + j];
+    double l2 = c[j][0] * c[j][0] + c[j][1] * c[j][1] + c[j][2] * c[j][2];
+    len[j] = (float)sqrt(l2);
+    mean += l2 / 3.0;
+  }
+  if (!(mean > 0.0))
+    return INFINITY;
+  for (int a = 0; a < 3; a++)
+    for (int b = a; b < 3; b++) {
+      double d = c[a][0] * c[b][0] + c[a][1] * c[b][1] + c[a][2] * c[b][2];
+      double dev = fabs(d - (a == b ? mean : 0.0)) / mean;
+      e = dev > e ? dev : e;
+    }
+  return (float)e;
+}

@@ -18,6 +18,13 @@ void satf_mat4_perspective(float fov_y_deg, float aspect, float near_clip,
                            float far_clip, float out[16]);
 void satf_mat4_ortho(float l, float r, float b, float t, float n, float f,
                      float out[16]);
+/* Determinant of the upper 3x3 (negative for a mirror). */
+float satf_mat4_det3(const float m[16]);
+/* How far the upper 3x3 is from a similarity (rotation, mirror, uniform
+ * scale): max |c_i . c_j - L delta_ij| / L over its columns c, L their mean
+ * squared length; 0 for a similarity. The lengths of the columns go to
+ * len. */
+float satf_mat4_similarity_error(const float m[16], float len[3]);
 /* The inverse-transpose of the upper 3x3, for normals (row-major 3x3). */
 void satf_mat4_normal_matrix(const float m[16], float out[9]);
 

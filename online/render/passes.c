@@ -37,13 +37,11 @@ static void set_dom_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
 
 /* Sets the per-pass uniforms of a layer program; returns its per-draw
  * uniform locations (model, st, layers, core). */
-static void use_layer_program(const satf_renderer *r, GLuint prog,
-                              const float viewproj[16], GLint loc[4]) {
+static void use_layer_program(GLuint prog, const float viewproj[16],
+                              GLint loc[4]) {
   glUseProgram(prog);
   set_mat4(prog, "u_viewproj", viewproj);
   glUniform1i(glGetUniformLocation(prog, "u_maps"), 0);
-  glUniform1i(glGetUniformLocation(prog, "u_satf"), r->effects.satf);
-  glUniform1f(glGetUniformLocation(prog, "u_plain_opacity"), 3.0f);
   glUniform1i(glGetUniformLocation(prog, "u_map_width"), 0);
   loc[0] = glGetUniformLocation(prog, "u_model");
   loc[1] = glGetUniformLocation(prog, "u_st");
@@ -73,6 +71,9 @@ static void bind_instance(const satf_renderer *r, GLuint prog, const inst *in,
   }
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
+  /* the proxy's outward faces wind counter-clockwise, clockwise once a
+   * mirror has turned them (culling keeps the outward ones) */
+  glFrontFace(in->mirrored ? GL_CW : GL_CCW);
 }
 
 static void draw_proxy(const proto *p, int coarse) {
@@ -89,13 +90,14 @@ static void draw_proxy(const proto *p, int coarse) {
 static void draw_clusters(const satf_renderer *r, GLuint prog,
                           const float viewproj[16], int coarse) {
   GLint loc[4];
-  use_layer_program(r, prog, viewproj, loc);
+  use_layer_program(prog, viewproj, loc);
   for (int i = 0; i < r->ninsts; i++) {
     const inst *in = &r->insts[i];
     bind_instance(r, prog, in, loc);
     draw_proxy(&r->protos[in->proto], coarse);
   }
   glBindVertexArray(0);
+  glFrontFace(GL_CCW);
 }
 
 /* The opaque meshes with `prog` (per-mesh model and normal matrices). */
@@ -311,7 +313,7 @@ satf_status passes_ordered(satf_renderer *r, satf_aov aov,
   GLuint prog = r->prog_shade_ordered;
   set_shading_uniforms(r, prog, aov);
   GLint loc[4];
-  use_layer_program(r, prog, viewproj, loc);
+  use_layer_program(prog, viewproj, loc);
   glCullFace(GL_BACK);
   for (int q = 0; q < r->ninsts; q++) {
     const inst *in = &r->insts[order[q]];
@@ -319,6 +321,7 @@ satf_status passes_ordered(satf_renderer *r, satf_aov aov,
     draw_proxy(&r->protos[in->proto], 0);
   }
   glBindVertexArray(0);
+  glFrontFace(GL_CCW);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
   hair_depth_test(0);

@@ -58,6 +58,7 @@ satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
   r->height = height;
   r->threads = threads > 0 ? threads : satf_cpu_count();
   r->effects = scene->effects;
+  satf_renderer_set_samples(r, scene->image.samples);
   take_view(r, scene);
   r->map_opt = satf_map_options_default();
   st = satf_maps_create(db, &r->maps, err);
@@ -158,8 +159,8 @@ static satf_status composite(satf_renderer *r, satf_aov aov,
 
 /* A frame; with refresh 0 the maps and the deep opacity map of the
  * previous frame are reused (the AOV passes of one image). */
-static satf_status render_frame(satf_renderer *r, satf_aov aov, int refresh,
-                                satf_frame_timing *timing, satf_error *err) {
+static satf_status render_sample(satf_renderer *r, satf_aov aov, int refresh,
+                                 satf_frame_timing *timing, satf_error *err) {
   if (r->strands) /* the strand reference path (strands.c) */
     return strands_render_frame(r, aov, refresh, timing, err);
   if (!r->effects.satf) /* Fig. 4(a): paper 002, no database (baseline.c) */
@@ -191,6 +192,45 @@ static satf_status render_frame(satf_renderer *r, satf_aov aov, int refresh,
     *timing = t;
   return satf_gl_check("frame", err);
 }
+
+/* render_sample r->samples times with the camera jittered inside the pixel,
+ * averaged (samples.c); the maps and shadows are made by the first. */
+static satf_status render_frame(satf_renderer *r, satf_aov aov, int refresh,
+                                satf_frame_timing *timing, satf_error *err) {
+  int n = r->samples > 1 ? r->samples : 1;
+  if (n == 1)
+    return render_sample(r, aov, refresh, timing, err);
+  satf_frame_timing sum, t;
+  memset(&sum, 0, sizeof sum);
+  satf_status st = SATF_OK;
+  for (int i = 0; i < n && st == SATF_OK; i++) {
+    samples_offset(i, n, r->jitter);
+    st = render_sample(r, aov, refresh && i == 0, &t, err);
+    if (st == SATF_OK)
+      st = samples_add(r, i, n, err);
+    if (i == 0) {
+      sum = t;
+      continue;
+    }
+    sum.shadow_ms += t.shadow_ms;
+    sum.lighting_ms += t.lighting_ms;
+    sum.total_ms += t.total_ms;
+    sum.fragments += t.fragments;
+  }
+  r->jitter[0] = r->jitter[1] = 0.0f;
+  if (st == SATF_OK)
+    st = samples_finish(r, err);
+  if (st == SATF_OK && timing)
+    *timing = sum;
+  return st;
+}
+
+void satf_renderer_set_samples(satf_renderer *r, int samples) {
+  r->samples = samples < 1                        ? 1
+               : samples > SATF_SCENE_MAX_SAMPLES ? SATF_SCENE_MAX_SAMPLES
+                                                  : samples;
+}
+int satf_renderer_samples(const satf_renderer *r) { return r->samples; }
 
 satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,
                                  satf_frame_timing *timing, satf_error *err) {

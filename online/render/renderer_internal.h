@@ -16,7 +16,7 @@
 #include "satf/render.h"
 
 /* Side of the deep opacity map, in texels. */
-#define DOM_SIZE 256
+#define DOM_SIZE 512
 /* Fragments each pixel can keep at first; the arrays grow (up to
  * SATF_MAX_FRAGMENTS) when a frame needs more. */
 #define START_SLOTS 16
@@ -46,6 +46,7 @@ typedef struct inst {
   float *angles, *texels;
   float eye[3], light[4];
   GLuint tex;
+  int mirrored; /* negative determinant: front faces wind clockwise */
 } inst;
 
 /* The strand reference path's strands and programs (strands.c). */
@@ -85,8 +86,15 @@ struct satf_renderer {
   int slots;       /* fragments kept per pixel */
   satf_gl_target *out, *dom_depth, *dom_opacity;
   float light_viewproj[16], dom_slab;
-  struct baseline *baseline; /* the --no-satf path's state (baseline.c) */
   strands_gpu *strands; /* strand reference mode (strands.c); NULL: clusters */
+  struct baseline *baseline; /* the --no-satf path's state (baseline.c) */
+  /* anti-aliasing (samples.c): samples per pixel, this sample's camera
+   * offset in pixels, and the accumulator */
+  int samples;
+  float jitter[2];
+  GLuint prog_accum;
+  satf_gl_target *accum;
+  int accum_size[2];
 };
 
 /* The scene's name for messages. */
@@ -124,6 +132,18 @@ void resources_release(satf_renderer *r);
  * SATF_MAX_FRAGMENTS (and `extra`) after its #version line. */
 satf_status build_program(const char *label, const char *vs, const char *fs,
                           const char *extra, GLuint *out, satf_error *err);
+
+/* ---- samples.c: anti-aliasing by jittered supersampling --------------- */
+
+/* The camera offset, in pixels within [-1/2, 1/2], of sample `index` of
+ * `count` (0, 0 when count is 1). */
+void samples_offset(int index, int count, float offset[2]);
+/* Adds r->out, weighted 1/count, into the accumulator (cleared at 0). */
+satf_status samples_add(satf_renderer *r, int index, int count,
+                        satf_error *err);
+/* The accumulated average back into r->out. */
+satf_status samples_finish(satf_renderer *r, satf_error *err);
+void samples_release(satf_renderer *r);
 
 /* ---- frame.c: per-frame CPU work (Table 1: I, C, M) ------------------- */
 

@@ -265,6 +265,7 @@ void resources_release(satf_renderer *r) {
   glDeleteTextures(3, texs);
   if (r->list_fbo)
     glDeleteFramebuffers(1, &r->list_fbo);
+  samples_release(r);
   satf_gl_target_destroy(r->out);
   satf_gl_target_destroy(r->dom_depth);
   satf_gl_target_destroy(r->dom_opacity);

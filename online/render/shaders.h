@@ -18,14 +18,11 @@ extern const char *const satf_glsl_depth_fs;   /* light-space depth only */
 extern const char *const satf_glsl_fullscreen_vs;
 extern const char *const satf_glsl_resolve_fs; /* eq. 14, sorted */
 extern const char *const satf_glsl_display_fs; /* linear -> sRGB blit */
+extern const char *const satf_glsl_accum_fs;   /* anti-aliasing samples */
 extern const char *const satf_glsl_mesh_vs;    /* opaque meshes */
 extern const char *const satf_glsl_mesh_fs;
 extern const char *const satf_glsl_empty_fs;    /* depth only */
 extern const char *const satf_glsl_dom_mesh_fs; /* meshes in the DOM */
-/* the strand reference path (strands.c) */
-extern const char *const satf_glsl_strand_vs;     /* segments as ribbons */
-extern const char *const satf_glsl_strand_fs;     /* eq. 9-11, coverage */
-extern const char *const satf_glsl_strand_dom_fs; /* strands in the DOM */
 /* Scheuermann 2004 (paper 002), the --no-satf baseline: layer patches, its
  * pixel shader, and its diffuse and noise terms alone (no #version), for
  * tests: float scheuermann_diffuse(vec3 n, vec3 l);
@@ -33,6 +30,10 @@ extern const char *const satf_glsl_strand_dom_fs; /* strands in the DOM */
 extern const char *const satf_glsl_baseline_vs;
 extern const char *const satf_glsl_baseline_fs;
 extern const char *const satf_glsl_baseline_lighting;
+/* the strand reference path (strands.c) */
+extern const char *const satf_glsl_strand_vs;     /* segments as ribbons */
+extern const char *const satf_glsl_strand_fs;     /* eq. 9-11, coverage */
+extern const char *const satf_glsl_strand_dom_fs; /* strands in the DOM */
 
 /* Fragments (one per cluster a pixel's ray meets) kept by the resolve. */
 #define SATF_MAX_FRAGMENTS 64

@@ -224,7 +224,7 @@ int satf_scene_equal(const satf_scene *a, const satf_scene *b) {
       !satf_scene_camera_equal(&a->camera, &b->camera) ||
       !floats_equal(a->background, b->background, 3) ||
       a->image.width != b->image.width || a->image.height != b->image.height ||
-      !meshes_equal(a, b))
+      a->image.samples != b->image.samples || !meshes_equal(a, b))
     return 0;
   for (int i = 0; i < a->n_macro_clusters; i++) {
     const satf_scene_macro_cluster *ma = &a->macro_clusters[i];

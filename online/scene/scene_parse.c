@@ -363,8 +363,9 @@ static satf_status parse_lights(scene_ctx *ctx, const cJSON *root) {
 
 static satf_status parse_image(scene_ctx *ctx, const cJSON *root,
                                satf_scene_image *image) {
-  static const char *const keys[] = {"width", "height", NULL};
+  static const char *const keys[] = {"width", "height", "samples", NULL};
   static const scene_range r_side = {1, SATF_SCENE_MAX_IMAGE, 0, 1};
+  static const scene_range r_samples = {1, SATF_SCENE_MAX_SAMPLES, 0, 1};
   static const cJSON empty = {0};
   const cJSON *obj;
   satf_status s = scene_key_object(ctx, root, "image", 0, &obj);
@@ -377,6 +378,8 @@ static satf_status parse_image(scene_ctx *ctx, const cJSON *root,
       (s = scene_key_int(ctx, obj, "width", &r_side, 640, &image->width)) ==
           SATF_OK)
     s = scene_key_int(ctx, obj, "height", &r_side, 480, &image->height);
+  if (s == SATF_OK)
+    s = scene_key_int(ctx, obj, "samples", &r_samples, 1, &image->samples);
   scene_pop(ctx, previous);
   return s;
 }

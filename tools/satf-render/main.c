@@ -45,6 +45,8 @@ static void usage(FILE *out) {
       "                       animation, if the scene has one) and print\n"
       "                       the paper's Table 1 row (ms per stage, FPS)\n"
       "  --threads N          CPU threads for the map stage (0 = all)\n"
+      "  --samples N          anti-aliasing: N jittered samples per pixel\n"
+      "                       (1-64; default: the scene's image.samples, 1)\n"
       "%s%s"
       "  -q, --quiet          no summary\n"
       "  -h, --help           this help\n",
@@ -53,7 +55,7 @@ static void usage(FILE *out) {
 
 typedef struct options {
   const char *scene_path, *db_path, *exr, *png, *mesh_path, *frames, *sheet;
-  long w, h, bench, threads;
+  long w, h, bench, threads, samples;
   int resume, aov, quiet, composite, bg_in_exr, strands;
   float strand_width;
   satf_scene_effects off;
@@ -88,6 +90,8 @@ static int parse_one(satf_cli_args *it, options *o) {
     return satf_cli_value_int(it, 1, 100000, &o->bench);
   if (satf_cli_is(it, NULL, "--threads"))
     return satf_cli_value_int(it, 0, 1024, &o->threads);
+  if (satf_cli_is(it, NULL, "--samples"))
+    return satf_cli_value_int(it, 1, SATF_SCENE_MAX_SAMPLES, &o->samples);
   if (satf_cli_is(it, NULL, "--composite")) {
     if (satf_cli_value(it, &val))
       return -1;
@@ -292,6 +296,8 @@ int main(int argc, char **argv) {
       SATF_OK)
     return 1;
   fe.strand_width = o.strand_width;
+  if (o.samples > 0)
+    fe.scene->image.samples = (int)o.samples;
   if (o.strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) {
     satf_frontend_free(&fe);
     return 1;

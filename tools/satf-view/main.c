@@ -29,6 +29,9 @@ static void usage(FILE *out) {
       "options:\n"
       "  --db PATH            HRIR database (default: the scene's)\n"
       "  --size WxH           window size (default: the scene's image size)\n"
+      "  --samples N          anti-aliasing: N jittered samples per pixel\n"
+      "                       (1-64; default: the scene's image.samples, 1);\n"
+      "                       costs N times the compositing time\n"
       "  --save-prefix P      saved frames are P-NNNN.exr/.png (default\n"
       "                       satf-view)\n"
       "  --screenshot PATH    render --frames frames, save the window's\n"
@@ -41,7 +44,7 @@ static void usage(FILE *out) {
 
 typedef struct options {
   const char *scene_path, *db_path;
-  long w, h;
+  long w, h, samples;
   int strands;
   float strand_width;
   viewer_opts view;
@@ -53,6 +56,8 @@ static int parse_one(satf_cli_args *it, options *o) {
     return satf_cli_value(it, &o->db_path);
   if (satf_cli_is(it, NULL, "--size"))
     return satf_cli_value_size(it, 1, 16384, &o->w, &o->h);
+  if (satf_cli_is(it, NULL, "--samples"))
+    return satf_cli_value_int(it, 1, SATF_SCENE_MAX_SAMPLES, &o->samples);
   if (satf_cli_is(it, NULL, "--save-prefix"))
     return satf_cli_value(it, &o->view.prefix);
   if (satf_cli_is(it, NULL, "--screenshot"))
@@ -119,6 +124,8 @@ int main(int argc, char **argv) {
       SATF_OK)
     return 1;
   fe.strand_width = o.strand_width;
+  if (o.samples > 0)
+    fe.scene->image.samples = (int)o.samples;
   if (o.strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) {
     satf_frontend_free(&fe);
     return 1;

@@ -5,7 +5,6 @@
 in vec2 v_uv;
 uniform sampler2D u_dom_depth;
 uniform float u_dom_slab;
-uniform int u_layers;
 out vec4 o_opacity;
 void main() {
   /* drawn for the outermost shell only: the innermost layer's s-map sum

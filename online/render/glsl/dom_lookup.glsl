@@ -1,17 +1,58 @@
 /* dom_lookup.glsl - deep opacity map (Yuksel & Keyser 2008): optical
  * depth of hair between the key light and a point, from four slabs behind
- * the first hair (filtered: the map is coarse, and its texels must not
- * show). The including shader declares u_light_viewproj, u_dom_depth,
- * u_dom_opacity, u_dom_slab and u_kcluster. */
-float cluster_transmittance(vec3 world) {
+ * the first hair. The including shader declares u_light_viewproj,
+ * u_dom_depth, u_dom_opacity, u_dom_slab and u_kcluster.
+ *
+ * Filtered by percentage-closer filtering (Reeves et al. 1987): the
+ * transmittance is computed per texel, each with its own first-hair depth,
+ * and those results are averaged with tent weights over 3 x 3 texels.
+ * Filtering the depth itself (bilinear) would blend a near cluster's depth
+ * with the cleared far depth at every cluster edge and draw the map's
+ * texels as steps; filtering the result gives soft penumbrae instead. */
+float dom_texel_transmittance(ivec2 c, float z) {
+  ivec2 size = textureSize(u_dom_depth, 0);
+  c = clamp(c, ivec2(0), size - 1);
+  float d0 = texelFetch(u_dom_depth, c, 0).r;
+  vec4 o = texelFetch(u_dom_opacity, c, 0);
+  float s = max(z - d0, 0.0) / u_dom_slab;
+  float depth = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) +
+                o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, 0.0, 1.0);
+  return exp(-u_kcluster * depth);
+}
+/* bias: depth units subtracted from the point's depth (towards the light) */
+float cluster_transmittance(vec3 world, float bias) {
   vec4 p = u_light_viewproj * vec4(world, 1.0);
   vec3 q = p.xyz / p.w * 0.5 + 0.5;
   if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, vec2(1.0))))
     return 1.0;
-  float d0 = texture(u_dom_depth, q.xy).r;
-  vec4 o = texture(u_dom_opacity, q.xy);
-  float s = max(q.z - d0, 0.0) / u_dom_slab;
-  float depth = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) +
-                o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, 0.0, 1.0);
-  return exp(-u_kcluster * depth);
+  vec2 size = vec2(textureSize(u_dom_depth, 0));
+  vec2 x = q.xy * size - 0.5;
+  ivec2 c = ivec2(floor(x + 0.5)); /* the nearest texel centre */
+  /* receiver-plane depth bias (Isidoro 2006): each tap compares the depth
+   * the receiving surface has at that texel's centre, not the point's
+   * own, or a surface sloped towards the light shadows itself in bands
+   * (acne). The slope in depth per texel comes from the screen-space
+   * derivatives, clamped where the surface is edge-on to the light. */
+  vec3 qx = dFdx(vec3(x, q.z)), qy = dFdy(vec3(x, q.z));
+  float det = qx.x * qy.y - qx.y * qy.x;
+  vec2 slope = abs(det) > 1e-8
+                   ? vec2(qy.y * qx.z - qx.y * qy.z, qx.x * qy.z - qy.x * qx.z) /
+                         det
+                   : vec2(0.0);
+  slope = clamp(slope, -u_dom_slab, u_dom_slab);
+  float sum = 0.0, wsum = 0.0;
+  for (int j = -1; j <= 1; j++)
+    for (int i = -1; i <= 1; i++) {
+      /* a tent 1.5 texels wide: a tap leaving the 3 x 3 window as the
+       * point moves has weight 0 there, so the result is continuous */
+      vec2 o = vec2(c + ivec2(i, j)) - x;
+      float w = max(1.5 - abs(o.x), 0.0) * max(1.5 - abs(o.y), 0.0);
+      float z = q.z - bias + dot(slope, o);
+      sum += w * dom_texel_transmittance(c + ivec2(i, j), z);
+      wsum += w;
+    }
+  return sum / wsum;
+}
+float cluster_transmittance(vec3 world) {
+  return cluster_transmittance(world, 0.0);
 }

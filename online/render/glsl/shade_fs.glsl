@@ -37,6 +37,7 @@ in vec3 v_n1;
 in vec3 v_n2;
 in vec4 v_shape;
 in vec3 v_axis;
+uniform mat4 u_model;           /* prototype -> world (cluster_vs.glsl) */
 uniform vec3 u_eye_local;       /* the eye in the prototype's frame */
 uniform int u_nlights;
 uniform vec4 u_light_local[SATF_MAX_LIGHTS];  /* xyz, w: 0 direction to light, 1 position */
@@ -98,6 +99,25 @@ float atan2_turns(float y, float x) {
 /* Deep opacity map (Yuksel & Keyser 2008): optical depth of hair between
  * the key light and this point, from four slabs behind the first hair. */
 #include "dom_lookup.glsl"
+/* Who owns self-shadowing: the records own the attenuation among the
+ * strands of one HSV (traced in the sector, paper 001 sec. 4), eq. 12's
+ * s-map owns the attenuation by this cluster's outer layers, and the deep
+ * opacity map owns the other clusters. So the map is read where the key
+ * light's ray towards this point enters the cluster (its exit from the
+ * outermost ellipse, in the scaled normal-plane coordinates P of main),
+ * moved out by a tenth of the cluster's radius: the map's proxies
+ * circumscribe the shell coarsely, and the cluster's own slab must not be
+ * counted a second (or third) time. A lone cluster is the first hair
+ * there, so the map leaves it unlit by nothing (tests/render/
+ * test_correctness.c). */
+float key_light_dom(vec2 P, vec3 n1, vec3 n2, float A, float B) {
+  vec3 l = normalize(u_light_local[0].xyz - u_light_local[0].w * v_local);
+  vec2 L = vec2(dot(l, n1) / A, dot(l, n2) / B);
+  float a = max(dot(L, L), 1e-12), b = dot(P, L), c = dot(P, P);
+  float s = max((-b + sqrt(max(b * b - a * (c - 1.0), 0.0))) / a, 0.0);
+  vec3 entry = v_local + (s + 0.1 * max(A, B)) * l;
+  return cluster_transmittance((u_model * vec4(entry, 1.0)).xyz);
+}
 /* SATF eq. 8-11 for one side of the cluster: diffuse, primary and
  * secondary highlight (the latter without its noise factor) */
 void lighting(vec3 t, vec3 n, vec3 v, float dom, out vec3 dif,
@@ -140,7 +160,7 @@ void main() {
   vec3 n_front = normalize(P.x / A * n1 + P.y / B * n2);
   vec3 n_back = normalize(Pout.x / A * n1 + Pout.y / B * n2);
   vec3 hair = normalize(v_hair), v = -d;
-  float dom = u_cluster_shadow != 0 ? cluster_transmittance(v_world) : 1.0;
+  float dom = u_cluster_shadow != 0 ? key_light_dom(P, n1, n2, A, B) : 1.0;
   vec3 df, s1f, s2f, db, s1b, s2b;
   lighting(hair, n_front, v, dom, df, s1f, s2f);
   vec3 col = vec3(0.0);
@@ -166,6 +186,10 @@ void main() {
       vec2 X = P + s * D;
       float u_turns = atan2_turns(X.y, X.x);
       float t = v_t + s * dt_ds;
+      /* the cluster ends at t = 0 and 1: a ray that leaves through an end
+       * meets no strands there (clamping t would shade a phantom cap with
+       * the end row) */
+      if (t < 0.0 || t > 1.0) continue;
       vec4 m = fetch_map(u_turns, t, k);
       vec2 ra = reflectance_alpha(m);
       if (ra.y < 1.0 / 1024.0) continue;
