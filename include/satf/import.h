@@ -535,18 +535,67 @@ satf_status satf_import_write_scene(const char *path,
                                     const satf_import_scene_options *o,
                                     satf_error *err);
 
+/* ---- Publishing a scene with its side files (import_publish.c) --------- */
+
+/* A file the scene names that the import writes beside it (the density
+ * grid, the strands). It is published under its base name with 8 hex
+ * digits of its bytes' FNV-1a hash before the extension ("out/hair.vdb"
+ * becomes "out/hair-1a2b3c4d.vdb"), so a new import never replaces a file
+ * the scene on disk names. */
+typedef satf_status (*satf_import_side_write_fn)(const char *path, void *ctx,
+                                                 satf_error *err);
+typedef struct satf_import_side {
+  const char *base;                /* the name asked for */
+  satf_import_side_write_fn write; /* writes the whole file at path */
+  void *ctx;
+  char published[4096]; /* out: the path written ("" before) */
+  int created;          /* out: 1 when it was new, 0 when the same bytes were
+                           already there under that name */
+} satf_import_side;
+
+/* Writes side->base's file through side->write into a staging file
+ * (BASE.tmp-PID, after removing those of dead processes: what a kill
+ * left), hashes it and renames it to its published name. */
+satf_status satf_import_publish_side(satf_import_side *side, satf_error *err);
+
+/* Writes scene to path (satf_scene_write: renamed into place last, after
+ * the published side files reached the disk). Then the side files the
+ * replaced scene at path named are removed when the new scene does not
+ * name them and they are published side files (STEM-XXXXXXXX.EXT whose
+ * XXXXXXXX is the hash of their bytes: an import made them). If the scene
+ * cannot be written, the old one stays as it was, with its files, and the
+ * new side files it does not name are removed. */
+satf_status satf_import_publish_scene(const satf_scene *scene, const char *path,
+                                      const satf_import_side *sides,
+                                      int n_sides, satf_error *err);
+
 /* ---- The whole import (import_run.c, import_sequence.c) ---------------- */
 
 #define SATF_IMPORT_MAX_INPUTS 64
+
+/* The importer's memory estimate: bytes per strand point at its peak (the
+ * points, their resampled copies, projections and labels, and the density
+ * grid's voxels at the default voxel size: measured 40-65 bytes a point on
+ * 0.3 M points, doubled), and the budget it is held to unless the command
+ * line raises it. Work grows with the points too, so the budget also keeps
+ * an import to minutes. */
+#define SATF_IMPORT_BYTES_PER_POINT 128
+#define SATF_IMPORT_DEFAULT_BUDGET 2e9 /* bytes: 2 GB */
 
 /* What satf-import's command line asks for. */
 typedef struct satf_import_options {
   const char *inputs[SATF_IMPORT_MAX_INPUTS];
   int n_inputs;
-  const char *output;   /* the scene file */
-  const char *vdb;      /* also write the density grid here, or NULL */
-  const char *database; /* named in the scene as given, or NULL */
-  const char *mesh;     /* a head mesh, checked and named absolutely */
+  const char *output; /* the scene file */
+  /* also write the density grid, published as PATH-XXXXXXXX.vdb (see
+   * satf_import_publish_side), or NULL */
+  const char *vdb;
+  const char *database; /* named in the scene (relative to it), or NULL */
+  const char *mesh;     /* a head mesh, checked and named in the scene */
+  /* 1: no strands file; else the strands (scene coordinates) are written
+   * as SCENE-STEM.strands-XXXXXXXX.hair beside the scene and named by its
+   * "strands" key */
+  int no_strands;
   /* where the mesh goes: T(translate) R(axis, angle) S(scale), as a scene
    * mesh's "transform" (identity by default) */
   double mesh_translate[3], mesh_axis[3], mesh_angle_deg, mesh_scale[3];
@@ -565,6 +614,9 @@ typedef struct satf_import_options {
   double macro_tol; /* 0: no macro-clusters */
   uint64_t seed;
   int quiet; /* no progress bars */
+  /* bytes the import may take (SATF_IMPORT_BYTES_PER_POINT a point);
+   * <= 0: SATF_IMPORT_DEFAULT_BUDGET */
+  double memory_budget;
   /* inputs[0] is a per-frame pattern (one %d) of frames first..last, each
    * re-fitted onto the clusters of the first as keyframes at fps (0: 24) */
   int sequence;
@@ -573,8 +625,18 @@ typedef struct satf_import_options {
 } satf_import_options;
 
 /* The command line's defaults: control 8, follow -1, follow_radius -1,
- * tip_separation 0.5, macro_tol 0.05, seed 1, the rest 0. */
+ * tip_separation 0.5, macro_tol 0.05, seed 1, memory_budget
+ * SATF_IMPORT_DEFAULT_BUDGET, the rest 0. */
 satf_import_options satf_import_options_default(void);
+
+/* Whether importing `points` strand points fits o's memory budget; if
+ * not, an error "WHAT: N strand points would need about X to import ...,
+ * over the memory budget of Y: ...". Checked before follow strands are
+ * made (naming the count that fits) and after the inputs are read, before
+ * anything grows with them. */
+satf_status satf_import_check_budget(const satf_import_options *o,
+                                     const char *what, size_t points,
+                                     satf_error *err);
 
 /* Reads one strand file by its signature ("HAIR" or a .hair name: cyHair;
  * otherwise TressFX, with o's follow strands added). */
@@ -623,6 +685,8 @@ typedef struct satf_import_result {
   /* 1 when --mesh was given and no strand root lies in or near the
    * transformed mesh's bounds (the head is probably misplaced) */
   int mesh_apart;
+  /* the side files as published (satf_import_publish_side), "" when none */
+  char vdb_file[4096], strands_file[4096];
   /* seconds from the start to the end of each step, and peak memory */
   double t_read, t_cluster, t_fit, t_vdb0, t_vdb, t_end, peak_mb;
 } satf_import_result;

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include "satf/common.h"
 #include "satf/import.h"
@@ -29,7 +30,7 @@ typedef struct run {
   char mesh_path[PATH_MAX];
   float mesh_m[16];             /* --mesh-transform */
   float mesh_lo[3], mesh_hi[3]; /* the transformed mesh's bounds */
-  char vdb_name[PATH_MAX];
+  char database[PATH_MAX]; /* --db, absolute (the scene names it relative) */
 } run;
 
 static void progress_cb(void *ctx, size_t done, size_t total) {
@@ -61,8 +62,8 @@ static void transformed_bounds(const float m[16], const float lo[3],
   }
 }
 
-/* The mesh is checked now, placed by --mesh-transform, and named
- * absolutely in the scene. */
+/* The mesh is checked now, placed by --mesh-transform, and held absolute
+ * (satf_scene_write names it relative to the scene). */
 static satf_status check_mesh(run *u, satf_error *err) {
   const satf_import_options *o = u->o;
   satf_mesh *probe = NULL;
@@ -101,6 +102,16 @@ static satf_status read_inputs(run *u, satf_error *err) {
         o->sequence ? first_frame : o->inputs[i], o, &s, err);
     if (st != SATF_OK)
       return st;
+    /* The budget, before anything grows with the points (issue 13 G). */
+    size_t total = satf_strand_set_point_count(s) +
+                   (u->all ? satf_strand_set_point_count(u->all) : 0);
+    char what[PATH_MAX + 32];
+    snprintf(what, sizeof what, "%s%s", o->inputs[0],
+             o->n_inputs > 1 ? " (and the other inputs)" : "");
+    if ((st = satf_import_check_budget(o, what, total, err)) != SATF_OK) {
+      satf_strand_set_destroy(s);
+      return st;
+    }
     if (!u->all) {
       u->all = s;
       continue;
@@ -282,48 +293,9 @@ static float default_voxel(const satf_import_fit *fits, int n, float diag) {
   return v;
 }
 
-/* The VDB path as the scene should name it: its file name when it sits in
- * the scene's directory, else its absolute path. Found before the grid is
- * written (the scene is checked first), from its directory when the file
- * does not exist yet. */
-static void scene_vdb_name(const char *scene, const char *vdb, char *out,
-                           size_t size) {
-  char sdir[PATH_MAX], tmp[PATH_MAX], vdir[PATH_MAX];
-  char vreal[2 * PATH_MAX + 2]; /* room for a directory and a name */
-  snprintf(tmp, sizeof tmp, "%s", scene);
-  char *slash = strrchr(tmp, '/');
-  if (slash)
-    *slash = '\0';
-  else
-    snprintf(tmp, sizeof tmp, ".");
-  snprintf(vdir, sizeof vdir, "%s", vdb);
-  char *vs = strrchr(vdir, '/');
-  const char *base = vs ? vs + 1 : vdb;
-  if (vs)
-    *vs = '\0';
-  else
-    snprintf(vdir, sizeof vdir, ".");
-  char real_dir[PATH_MAX];
-  int found = realpath(vdb, vreal) != NULL;
-  if (!found && realpath(vdir, real_dir)) {
-    snprintf(vreal, sizeof vreal, "%s/%s", real_dir, base);
-    found = 1;
-  }
-  if (!realpath(tmp, sdir) || !found) {
-    snprintf(out, size, "%s", vdb);
-    return;
-  }
-  char *vslash = strrchr(vreal, '/');
-  size_t dl = (size_t)(vslash - vreal);
-  if (strlen(sdir) == dl && strncmp(sdir, vreal, dl) == 0)
-    snprintf(out, size, "%s", vslash + 1);
-  else if (strlen(vreal) < size)
-    memcpy(out, vreal, strlen(vreal) + 1);
-  else
-    snprintf(out, size, "%s", vdb);
-}
-
-static satf_status density_grid(run *u, satf_error *err) {
+/* Writes the density grid to path (a satf_import_side writer). */
+static satf_status density_grid(const char *path, void *ctx, satf_error *err) {
+  run *u = ctx;
   const satf_import_options *o = u->o;
   float lo[3], hi[3];
   satf_strand_set_bounds(u->all, lo, hi);
@@ -339,7 +311,7 @@ static satf_status density_grid(run *u, satf_error *err) {
       u->all, u->labels, u->fits, u->r->voxel, &b, progress_cb, &bar, err);
   satf_progress_end(&bar);
   if (st == SATF_OK)
-    st = satf_vdb_builder_write(b, o->vdb, "density", err);
+    st = satf_vdb_builder_write(b, path, "density", err);
   if (st == SATF_OK) {
     satf_vdb_grid *g = NULL;
     if (satf_vdb_builder_to_grid(b, &g, err) == SATF_OK)
@@ -359,11 +331,10 @@ static satf_status build_scene(run *u, satf_scene **scene, satf_error *err) {
            "(%d macro-clusters)",
            o->inputs[0], o->n_inputs > 1 ? " and more" : "", u->r->n_strands,
            u->r->n_clusters, u->macro.n_macro);
-  if (o->vdb)
-    scene_vdb_name(o->output, o->vdb, u->vdb_name, sizeof u->vdb_name);
+  /* The grid's published name is known once it is written (publish). */
   satf_import_scene_options so = {
-      o->vdb ? u->vdb_name : NULL,  "density", o->database, desc, 0, 0, o->seed,
-      o->mesh ? u->mesh_path : NULL};
+      o->vdb, "density", o->database ? u->database : NULL, desc, 0,
+      0,      o->seed,   o->mesh ? u->mesh_path : NULL};
   satf_status st = satf_import_scene_build(u->fits, u->r->n_clusters, &u->macro,
                                            &so, o->output, scene, err);
   if (st == SATF_OK && o->sequence)
@@ -439,10 +410,95 @@ static int roots_meet_mesh(const run *u) {
   return 0;
 }
 
+/* Writes the strands (in scene coordinates) to path as cyHair. */
+static satf_status write_strands(const char *path, void *ctx, satf_error *err) {
+  const run *u = ctx;
+  return satf_hair_write(path, u->all, err);
+}
+
+/* A path given on the command line, made absolute against the working
+ * directory (the scene names it relative to itself when written). */
+static satf_status absolute_path(const char *flag, const char *path, char *out,
+                                 satf_error *err) {
+  char cwd[PATH_MAX];
+  int n = path[0] == '/' ? snprintf(out, PATH_MAX, "%s", path)
+          : getcwd(cwd, sizeof cwd)
+              ? snprintf(out, PATH_MAX, "%s/%s", cwd, path)
+              : -1;
+  if (n < 0 || n >= PATH_MAX)
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "%s %s: path is too long",
+                          flag, path);
+  return SATF_OK;
+}
+
+/* The base of the strands file: SCENE's name without .json, plus
+ * ".strands.hair", beside it. */
+static void strands_base(const char *scene, char *out, size_t size) {
+  const char *slash = strrchr(scene, '/');
+  const char *dot = strrchr(slash ? slash + 1 : scene, '.');
+  size_t len = dot && dot != (slash ? slash + 1 : scene) ? (size_t)(dot - scene)
+                                                         : strlen(scene);
+  snprintf(out, size, "%.*s.strands.hair", (int)len, scene);
+}
+
+/* The side files (density grid, strands) and the scene, published as one
+ * unit (satf_import_publish_side, satf_import_publish_scene). */
+static satf_status publish(run *u, satf_scene *scene, satf_error *err) {
+  const satf_import_options *o = u->o;
+  satf_import_side sides[2];
+  memset(sides, 0, sizeof sides);
+  char hair_base[PATH_MAX];
+  int n = 0;
+  satf_status st = SATF_OK;
+  if (o->vdb) {
+    sides[n] =
+        (satf_import_side){.base = o->vdb, .write = density_grid, .ctx = u};
+    st = satf_import_publish_side(&sides[n++], err);
+    snprintf(u->r->vdb_file, sizeof u->r->vdb_file, "%s", sides[0].published);
+    for (int m = 0; st == SATF_OK && m < scene->n_macro_clusters; m++) {
+      satf_scene_density *d = &scene->macro_clusters[m].prototype.density;
+      char *copy = malloc(strlen(sides[0].published) + 1);
+      if (!copy) {
+        st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+        break;
+      }
+      strcpy(copy, sides[0].published);
+      free(d->vdb_file);
+      d->vdb_file = copy;
+    }
+  }
+  u->r->t_vdb = satf_now_seconds() - u->t0;
+  if (st == SATF_OK && !o->no_strands) {
+    strands_base(o->output, hair_base, sizeof hair_base);
+    sides[n] =
+        (satf_import_side){.base = hair_base, .write = write_strands, .ctx = u};
+    satf_import_side *h = &sides[n++];
+    st = satf_import_publish_side(h, err);
+    snprintf(u->r->strands_file, sizeof u->r->strands_file, "%s", h->published);
+    free(scene->strands_file);
+    scene->strands_file = NULL;
+    if (st == SATF_OK &&
+        !(scene->strands_file = malloc(strlen(h->published) + 1)))
+      st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+    if (st == SATF_OK)
+      strcpy(scene->strands_file, h->published);
+  }
+  if (st == SATF_OK)
+    return satf_import_publish_scene(scene, o->output, sides, n, err);
+  /* Nothing names what was published: remove it (unless an older scene
+   * shares it, being the same bytes). */
+  for (int i = 0; i < n; i++)
+    if (sides[i].created)
+      remove(sides[i].published);
+  return st;
+}
+
 static satf_status steps(run *u, satf_error *err) {
   satf_import_result *r = u->r;
   satf_status st = SATF_OK;
-  if ((u->o->mesh && (st = check_mesh(u, err)) != SATF_OK) ||
+  if ((u->o->database && (st = absolute_path("--db", u->o->database,
+                                             u->database, err)) != SATF_OK) ||
+      (u->o->mesh && (st = check_mesh(u, err)) != SATF_OK) ||
       (st = read_inputs(u, err)) != SATF_OK ||
       (st = fit_units(u, err)) != SATF_OK)
     return st;
@@ -468,11 +524,7 @@ static satf_status steps(run *u, satf_error *err) {
   if ((st = build_scene(u, &scene, err)) == SATF_OK &&
       (st = check_scene(u, scene, err)) == SATF_OK) {
     r->t_vdb0 = satf_now_seconds() - u->t0;
-    if (u->o->vdb)
-      st = density_grid(u, err);
-    r->t_vdb = satf_now_seconds() - u->t0;
-    if (st == SATF_OK)
-      st = satf_scene_write(scene, u->o->output, err);
+    st = publish(u, scene, err);
   }
   satf_scene_destroy(scene);
   if (st != SATF_OK)
@@ -537,8 +589,16 @@ void satf_import_print_summary(FILE *out, const char *prog,
             "scene: rescaled to span 1 to 10 units)\n",
             r->scale, r->scale > 1.0 ? "small" : "large");
   if (o->vdb)
-    fprintf(out, "  vdb              %s (voxel %.4g, mass %.4g)\n", o->vdb,
-            (double)r->voxel, r->vdb_mass);
+    fprintf(out, "  vdb              %s (voxel %.4g, mass %.4g)\n",
+            r->vdb_file[0] ? r->vdb_file : o->vdb, (double)r->voxel,
+            r->vdb_mass);
+  if (r->strands_file[0])
+    fprintf(out, "  strands file     %s\n", r->strands_file);
+  if (o->database)
+    fprintf(out, "  database         %s\n", o->database);
+  else
+    fprintf(out, "  database         none named (render with --db DB.exr, "
+                 "or import with --db)\n");
   fprintf(out,
           "  time             %.2f s (read %.2f, cluster %.2f, fit %.2f, "
           "vdb %.2f, scene %.2f); peak memory %.0f MB\n",

@@ -17,9 +17,58 @@ satf_import_options satf_import_options_default(void) {
   o.control = 8;
   o.macro_tol = 0.05;
   o.seed = 1;
+  o.memory_budget = SATF_IMPORT_DEFAULT_BUDGET;
   o.mesh_axis[1] = 1.0;
   o.mesh_scale[0] = o.mesh_scale[1] = o.mesh_scale[2] = 1.0;
   return o;
+}
+
+satf_status satf_import_check_budget(const satf_import_options *o,
+                                     const char *what, size_t points,
+                                     satf_error *err) {
+  double budget =
+      o->memory_budget > 0.0 ? o->memory_budget : SATF_IMPORT_DEFAULT_BUDGET;
+  double need = (double)points * SATF_IMPORT_BYTES_PER_POINT;
+  if (need <= budget)
+    return SATF_OK;
+  char b1[32], b2[32];
+  return satf_error_set(
+      err, SATF_ERR_ARGUMENT,
+      "%s: %zu strand points would need about %s to import (%d bytes a "
+      "point), over the memory budget of %s: import fewer strands, or raise "
+      "it with --memory-budget GB",
+      what, points, satf_format_bytes(need, b1, sizeof b1),
+      SATF_IMPORT_BYTES_PER_POINT, satf_format_bytes(budget, b2, sizeof b2));
+}
+
+/* Follow strands are refused before they are made when the points they
+ * would add break the budget; the message says how many would fit. */
+static satf_status check_follow(const satf_import_options *o, const char *path,
+                                const satf_strand_set *guides, int count,
+                                int from_header, satf_error *err) {
+  size_t guide_points = satf_strand_set_point_count(guides);
+  size_t points = guide_points * (size_t)(count + 1);
+  satf_error why;
+  if (satf_import_check_budget(o, path, points, &why) == SATF_OK)
+    return SATF_OK;
+  double budget =
+      o->memory_budget > 0.0 ? o->memory_budget : SATF_IMPORT_DEFAULT_BUDGET;
+  double fit = budget / SATF_IMPORT_BYTES_PER_POINT / (double)guide_points;
+  long most = fit >= 1.0 ? (long)fit - 1 : -1;
+  char b1[32], b2[32];
+  if (most < 0)
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "%s", why.message);
+  return satf_error_set(
+      err, SATF_ERR_ARGUMENT,
+      "%s: %s %d follow strands per guide: %d guides of %zu points become "
+      "%zu points, about %s to import, over the memory budget of %s; at most "
+      "%ld followers per guide fit (--follow %ld), or raise the budget with "
+      "--memory-budget GB",
+      path, from_header ? "its header asks for" : "--follow asks for", count,
+      satf_strand_set_count(guides), guide_points, points,
+      satf_format_bytes((double)points * SATF_IMPORT_BYTES_PER_POINT, b1,
+                        sizeof b1),
+      satf_format_bytes(budget, b2, sizeof b2), most, most);
 }
 
 /* The parser of format f on the file's bytes; TressFX guides get their
@@ -49,7 +98,9 @@ static satf_status parse_as(satf_strands_format f, const void *data,
     *out = guides;
     return SATF_OK;
   }
-  st = satf_strand_set_add_follow(guides, &fp, out, err);
+  st = check_follow(o, path, guides, fp.count, o->follow < 0, err);
+  if (st == SATF_OK)
+    st = satf_strand_set_add_follow(guides, &fp, out, err);
   satf_strand_set_destroy(guides);
   return st;
 }

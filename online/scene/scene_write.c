@@ -4,8 +4,9 @@
  * the file says what the renderer will use; the exceptions are what the
  * format derives: an automatic camera position, unused layout parameters
  * and, in keys, values a key takes from the static object. */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* realpath */
 #include <cjson/cJSON.h>
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -20,6 +21,7 @@
 typedef struct writer {
   const char *base_dir; /* paths under it are written relative to it */
   char *cwd;            /* when set, other relative paths become absolute */
+  const char *real_dir; /* satf_scene_write: the file's canonical directory */
   int failed;           /* out of memory */
   char path_buf[4096];  /* a path being written */
 } writer;
@@ -143,11 +145,67 @@ static void append(writer *w, cJSON *arr, cJSON *item) {
   }
 }
 
+/* The absolute form of path with its directory canonical (symlinks and
+ * "..", resolved by realpath) and its own name kept, so a file that is a
+ * link beside the scene is named as the link; 0 when the directory does
+ * not resolve. */
+static int canonical(const char *path, char *out) {
+  const char *slash = strrchr(path, '/');
+  const char *name = slash ? slash + 1 : path;
+  if (!*name || !strcmp(name, ".") || !strcmp(name, ".."))
+    return realpath(path, out) != NULL;
+  char buf[PATH_MAX], dir[PATH_MAX];
+  snprintf(buf, sizeof buf, "%.*s", slash ? (int)(slash - path) : 1,
+           slash ? (slash == path ? "/" : path) : ".");
+  if (!realpath(buf, dir))
+    return 0;
+  int n =
+      snprintf(out, PATH_MAX, "%s%s%s", dir, strcmp(dir, "/") ? "/" : "", name);
+  return n > 0 && n < PATH_MAX;
+}
+
+/* path relative to the canonical directory real_dir (with "../" steps),
+ * into out; 0 when it cannot be found or the two share no directory below
+ * the root (a file in another top-level tree, e.g. /usr/share, keeps its
+ * absolute name: it stays put when the scene's folder moves). */
+static int relative_to(const char *real_dir, const char *path, char *out,
+                       size_t size) {
+  char target[PATH_MAX];
+  if (!canonical(path, target))
+    return 0;
+  size_t common = 0; /* length of the shared leading directories */
+  for (size_t i = 0;; i++) {
+    int dir_end = real_dir[i] == '\0' || real_dir[i] == '/';
+    if (dir_end && (target[i] == '/' || target[i] == '\0'))
+      common = i;
+    if (real_dir[i] == '\0' || real_dir[i] != target[i])
+      break;
+  }
+  if (!strcmp(real_dir, "/")) {
+    int n = snprintf(out, size, "%s", target + 1);
+    return n > 0 && (size_t)n < size;
+  }
+  if (common == 0)
+    return 0;
+  size_t at = 0;
+  for (const char *p = real_dir + common; *p; p++)
+    if (*p == '/' && at + 3 < size) {
+      memcpy(out + at, "../", 3);
+      at += 3;
+    }
+  const char *rest = target + common + (target[common] == '/');
+  int n = snprintf(out + at, size - at, "%s", rest);
+  return n >= 0 && (size_t)n < size - at && out[0];
+}
+
 /* A path as the file should name it (see satf_scene_write). */
 static void add_path(writer *w, cJSON *obj, const char *key, const char *path) {
   size_t n = w->base_dir ? strlen(w->base_dir) : 0;
-  if (n && strncmp(path, w->base_dir, n) == 0 &&
-      (path[n] == '/' || w->base_dir[n - 1] == '/') && path[n]) {
+  if (w->real_dir &&
+      relative_to(w->real_dir, path, w->path_buf, sizeof w->path_buf)) {
+    add_string(w, obj, key, w->path_buf);
+  } else if (n && strncmp(path, w->base_dir, n) == 0 &&
+             (path[n] == '/' || w->base_dir[n - 1] == '/') && path[n]) {
     add_string(w, obj, key, path + n + (path[n] == '/'));
   } else if (w->cwd && path[0] != '/') {
     snprintf(w->path_buf, sizeof w->path_buf, "%s/%s", w->cwd, path);
@@ -467,6 +525,8 @@ static cJSON *image(writer *w, const satf_scene_image *im) {
   cJSON *o = object(w);
   add(w, o, "width", num_int(w, im->width));
   add(w, o, "height", num_int(w, im->height));
+  if (im->samples > 1)
+    add(w, o, "samples", num_int(w, im->samples));
   return o;
 }
 
@@ -536,6 +596,10 @@ satf_status satf_scene_write(const satf_scene *scene, const char *path,
       w.cwd = cwd;
   }
   w.base_dir = dir;
+  /* Every path relative to the file's directory (satf/scene.h). */
+  char real_dir[PATH_MAX];
+  if (realpath(dir ? dir : ".", real_dir))
+    w.real_dir = real_dir;
   char *text = NULL;
   satf_status s = to_json(scene, &w, &text, err);
   if (s == SATF_OK)

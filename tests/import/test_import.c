@@ -566,8 +566,96 @@ static void scene_file_with_vdb(void **state) {
   satf_strand_set_destroy(s);
 }
 
+/* A TressFX file of g guides of v vertices whose header asks for `follow`
+ * follow strands per guide, at path. */
+static void write_tfx_guides(const char *path, int g, int v, int follow) {
+  int *counts = malloc((size_t)g * sizeof *counts);
+  float *pts = malloc((size_t)g * (size_t)v * 3 * sizeof *pts);
+  for (int i = 0; i < g; i++) {
+    counts[i] = v;
+    for (int k = 0; k < v; k++) {
+      float *p = pts + 3 * ((size_t)i * (size_t)v + (size_t)k);
+      p[0] = 0.01f * (float)(i % 32);
+      p[1] = -0.05f * (float)k;
+      p[2] = 0.01f * (float)(i / 32);
+    }
+  }
+  satf_strand_set *s;
+  satf_error err;
+  assert_int_equal(satf_strand_set_create(g, counts, pts, NULL, &s, &err),
+                   SATF_OK);
+  assert_int_equal(satf_tfx_write(path, s, 3, follow, &err), SATF_OK);
+  satf_strand_set_destroy(s);
+  free(counts);
+  free(pts);
+}
+
+/* Issue 13 item G: a 0.4 MB TressFX file whose header asks for 1024 follow
+ * strands per guide (33.6 M points, 205 s and 1.25 GB before the budget)
+ * is refused at once, naming the file, the numbers and the --follow that
+ * fits; with that --follow it imports. */
+static void follow_strands_within_budget(void **state) {
+  (void)state;
+  char path[512];
+  test_path(path, sizeof path, "budget_follow.tfx");
+  write_tfx_guides(path, 1024, 32, 1024);
+  satf_import_options o = satf_import_options_default();
+  satf_strand_set *s = NULL;
+  satf_error err;
+  double t0 = satf_now_seconds();
+  assert_int_equal(satf_import_read_strands(path, &o, &s, &err),
+                   SATF_ERR_ARGUMENT);
+  assert_true(satf_now_seconds() - t0 < 1.0);
+  assert_null(s);
+  assert_non_null(strstr(err.message, path));
+  assert_non_null(
+      strstr(err.message, "its header asks for 1024 follow strands per guide"));
+  assert_non_null(strstr(err.message, "1024 guides of 32768 points become "
+                                      "33587200 points"));
+  /* 2 GB / 128 B = 15.6 M points: 476 per guide point, 475 followers */
+  assert_non_null(strstr(err.message, "(--follow 475)"));
+  o.follow = 15;
+  assert_int_equal(satf_import_read_strands(path, &o, &s, &err), SATF_OK);
+  assert_int_equal(satf_strand_set_count(s), 1024 * 16);
+  satf_strand_set_destroy(s);
+  /* A raised budget lets the header's count through the check (the strands
+   * themselves are not made here: the budget check alone). */
+  o.memory_budget = 8e9;
+  assert_int_equal(satf_import_check_budget(&o, path, 33587200, &err), SATF_OK);
+}
+
+/* Strands read from files are held to the budget before anything grows
+ * with them: a whole import stops after reading, fast, naming the file. */
+static void import_within_budget(void **state) {
+  (void)state;
+  char path[512], out[512];
+  test_path(path, sizeof path, "budget_guides.tfx");
+  test_path(out, sizeof out, "budget_never.json");
+  remove(out);
+  write_tfx_guides(path, 256, 32, 0); /* 8192 points, about 1 MB */
+  satf_import_options o = satf_import_options_default();
+  o.inputs[0] = path;
+  o.n_inputs = 1;
+  o.output = out;
+  o.quiet = 1;
+  o.memory_budget = 5e5; /* 3906 points */
+  satf_import_result r;
+  satf_error err;
+  double t0 = satf_now_seconds();
+  assert_int_equal(satf_import_run(&o, &r, &err), SATF_ERR_ARGUMENT);
+  assert_true(satf_now_seconds() - t0 < 1.0);
+  assert_non_null(strstr(err.message, path));
+  assert_non_null(strstr(err.message, "8192 strand points would need about"));
+  assert_non_null(strstr(err.message, "over the memory budget of"));
+  assert_non_null(strstr(err.message, "--memory-budget"));
+  FILE *f = fopen(out, "rb");
+  assert_null(f); /* nothing written */
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(follow_strands_within_budget),
+      cmocka_unit_test(import_within_budget),
       cmocka_unit_test(fit_recovers_known_cylinder),
       cmocka_unit_test(fit_recovers_twisted_ribbon),
       cmocka_unit_test(density_mass),

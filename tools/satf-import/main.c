@@ -3,10 +3,15 @@
  * density (SATF sec. 3.1-3.3), optionally with a world-space OpenVDB
  * density grid. The import itself is satf_import_run (satf/import.h); this
  * reads the command line. */
+#define _XOPEN_SOURCE 700
+#include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "satf/common.h"
 #include "satf/import.h"
@@ -41,7 +46,9 @@ static void usage(FILE *out) {
       "  --fit-report PATH      write every cluster's fit measures (TSV)\n"
       "  --vdb PATH             also write the density as an OpenVDB "
       "FloatGrid\n"
-      "                         \"density\" and make the scene use it\n"
+      "                         \"density\" and make the scene use it; "
+      "written as\n"
+      "                         PATH-XXXXXXXX.vdb (a hash of its bytes)\n"
       "  --voxel SIZE           VDB voxel size (default: from the "
       "clusters)\n"
       "  --follow N             TressFX follow strands per guide "
@@ -57,7 +64,18 @@ static void usage(FILE *out) {
       "  --macro-tol T          macro-cluster shape tolerance, relative "
       "to the\n"
       "                         cluster length (default 0.05; 0 = off)\n"
-      "  --database PATH        HRIR database to name in the scene\n"
+      "  --db PATH              HRIR database to name in the scene "
+      "(default: the\n"
+      "                         project's out/satf-default.hrirdb.exr when "
+      "this\n"
+      "                         program runs from a build in the project "
+      "and it\n"
+      "                         exists); --database is the same\n"
+      "  --no-strands           do not write the strands beside the scene "
+      "(default:\n"
+      "                         SCENE.strands-XXXXXXXX.hair, cyHair, in scene\n"
+      "                         coordinates, named by the scene's "
+      "\"strands\" key)\n"
       "  --mesh PATH            opaque head mesh (OBJ/PLY) for the scene\n"
       "  --mesh-transform T     where the mesh goes, e.g. 'scale=0.2;\n"
       "                         rotate=1,0,0,-90;translate=0,-2,0' (scaled,\n"
@@ -67,10 +85,22 @@ static void usage(FILE *out) {
       "                         frame A defines the clusters, every frame is\n"
       "                         re-fitted onto them as keyframes\n"
       "  --fps F                frame rate of such an animation (default 24)\n"
+      "  --memory-budget GB     memory the import may take, estimated at "
+      "128 bytes\n"
+      "                         a strand point before anything is made "
+      "(default 2)\n"
       "  --seed N               clustering and placement seed (default "
       "1)\n"
       "  --threads N            threads (0 = all cores)\n"
       "  -q, --quiet            no progress bar or summary\n"
+      "\n"
+      "Every path the scene names is relative to the scene's folder, so the "
+      "scene\n"
+      "and its files can be moved together. The side files and the scene "
+      "are\n"
+      "published as one unit: the scene is renamed into place last, then the "
+      "side\n"
+      "files of the scene it replaced are removed.\n"
       "  -h, --help             this help\n",
       PROG);
 }
@@ -149,7 +179,7 @@ static int value_option(satf_cli_args *it, satf_import_options *o) {
     return satf_cli_value(it, &o->mesh) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--mesh-transform"))
     return satf_cli_value(it, &val) ? 2 : parse_mesh_transform(val, o);
-  if (satf_cli_is(it, NULL, "--database"))
+  if (satf_cli_is(it, NULL, "--db") || satf_cli_is(it, NULL, "--database"))
     return satf_cli_value(it, &o->database) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--clusters"))
     return satf_cli_value_int(it, 1, SATF_IMPORT_MAX_CLUSTERS, &o->clusters)
@@ -203,6 +233,13 @@ static int value_option(satf_cli_args *it, satf_import_options *o) {
     return satf_cli_value_double(it, 0.0, 100.0, &o->tip_separation) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--macro-tol"))
     return satf_cli_value_double(it, 0.0, 1.0, &o->macro_tol) ? 2 : 0;
+  if (satf_cli_is(it, NULL, "--memory-budget")) {
+    double gb;
+    if (satf_cli_value_double(it, 0.001, 1e6, &gb))
+      return 2;
+    o->memory_budget = gb * 1e9;
+    return 0;
+  }
   if (satf_cli_is(it, NULL, "--seed"))
     return satf_cli_value_u64(it, &o->seed) ? 2 : 0;
   return -1;
@@ -240,9 +277,11 @@ static int check_sequence(satf_import_options *o) {
 
 /* No output may overwrite an input or another output. */
 static int check_files(const satf_import_options *o) {
-  satf_file_role files[SATF_IMPORT_MAX_INPUTS + 3] = {
-      {"-o", o->output, 1}, {"--vdb", o->vdb, 1}, {"--mesh", o->mesh, 0}};
-  int n = 3;
+  satf_file_role files[SATF_IMPORT_MAX_INPUTS + 4] = {{"-o", o->output, 1},
+                                                      {"--vdb", o->vdb, 1},
+                                                      {"--mesh", o->mesh, 0},
+                                                      {"--db", o->database, 0}};
+  int n = 4;
   for (int i = 0; i < o->n_inputs && !o->sequence; i++)
     files[n++] = (satf_file_role){"the input", o->inputs[i], 0};
   satf_error err;
@@ -252,6 +291,45 @@ static int check_files(const satf_import_options *o) {
       satf_check_output_extension("--vdb", o->vdb, ".vdb", "an OpenVDB grid",
                                   &err)) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
+    return 2;
+  }
+  return 0;
+}
+
+/* The database the project's main command builds (scripts/main.sh):
+ * PROJECT/out/satf-default.hrirdb.exr, where this program runs as
+ * PROJECT/BUILD/bin/satf-import. NULL when it is not there. */
+static const char *default_database(void) {
+  static char path[PATH_MAX];
+  char exe[PATH_MAX];
+  ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n <= 0)
+    return NULL;
+  exe[n] = '\0';
+  for (int up = 0; up < 3; up++) { /* satf-import, bin, BUILD */
+    char *slash = strrchr(exe, '/');
+    if (!slash || slash == exe)
+      return NULL;
+    *slash = '\0';
+  }
+  struct stat sb;
+  int len = snprintf(path, sizeof path, "%s/out/satf-default.hrirdb.exr", exe);
+  return len > 0 && len < (int)sizeof path && stat(path, &sb) == 0 &&
+                 S_ISREG(sb.st_mode)
+             ? path
+             : NULL;
+}
+
+/* A --db that is not a readable file would only fail at render time. */
+static int check_database(const satf_import_options *o) {
+  struct stat sb;
+  if (!o->database)
+    return 0;
+  if (stat(o->database, &sb) != 0 || !S_ISREG(sb.st_mode) ||
+      access(o->database, R_OK) != 0) {
+    fprintf(stderr, "%s: --db %s: %s\n", PROG, o->database,
+            stat(o->database, &sb) != 0 ? strerror(errno)
+                                        : "not a readable regular file");
     return 2;
   }
   return 0;
@@ -272,6 +350,8 @@ static int parse_args(int argc, char **argv, satf_import_options *o) {
         return rc;
     } else if (satf_cli_is(&it, "-q", "--quiet")) {
       o->quiet = 1;
+    } else if (satf_cli_is(&it, NULL, "--no-strands")) {
+      o->no_strands = 1;
     } else if (!satf_cli_positional(&it) && strcmp(it.arg, "-") != 0) {
       return satf_cli_unknown(&it);
     } else if (o->n_inputs < SATF_IMPORT_MAX_INPUTS) {
@@ -288,7 +368,9 @@ static int parse_args(int argc, char **argv, satf_import_options *o) {
             PROG);
     return 2;
   }
-  return check_files(o);
+  if (!o->database)
+    o->database = default_database();
+  return check_database(o) ? 2 : check_files(o);
 }
 
 int main(int argc, char **argv) {
