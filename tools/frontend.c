@@ -75,6 +75,49 @@ satf_status satf_frontend_load_strands(const char *prog, satf_frontend *fe) {
   return st;
 }
 
+static float curve_mean(const satf_scene_curve *c) {
+  double sum = 0.0;
+  for (int i = 0; i < c->count; i++)
+    sum += c->values[i];
+  return c->count > 0 ? (float)(sum / c->count) : 0.0f;
+}
+
+static int float_less(const void *a, const void *b) {
+  float x = *(const float *)a, y = *(const float *)b;
+  return (x > y) - (x < y);
+}
+
+/* The strand diameter the clusters' density assumes (what satf-import
+ * estimates from the strands' spacing: "strand_width" in units of the
+ * cluster radius sqrt(mean a * mean b), world sigma = width * radius / 2,
+ * import_density.c), the median over the placed clusters; 0 if none. */
+static float density_strand_width(const satf_scene *scene) {
+  int n = 0;
+  for (int m = 0; m < scene->n_macro_clusters; m++)
+    n += scene->macro_clusters[m].n_instances;
+  float *w = malloc((size_t)(n > 0 ? n : 1) * sizeof(float));
+  if (!w)
+    return 0.0f;
+  int k = 0;
+  for (int m = 0; m < scene->n_macro_clusters; m++) {
+    const satf_scene_cluster *c = &scene->macro_clusters[m].prototype;
+    if (c->density.type != SATF_SCENE_DENSITY_PROCEDURAL)
+      continue;
+    float radius = sqrtf(curve_mean(&c->a) * curve_mean(&c->b));
+    for (int i = 0; i < scene->macro_clusters[m].n_instances; i++) {
+      const float *t = scene->macro_clusters[m].instances[i].m;
+      float det = t[0] * (t[5] * t[10] - t[6] * t[9]) -
+                  t[1] * (t[4] * t[10] - t[6] * t[8]) +
+                  t[2] * (t[4] * t[9] - t[5] * t[8]);
+      w[k++] = c->density.strand_width * radius * cbrtf(fabsf(det));
+    }
+  }
+  qsort(w, (size_t)k, sizeof *w, float_less);
+  float median = k > 0 ? w[k / 2] : 0.0f;
+  free(w);
+  return median;
+}
+
 satf_status satf_frontend_apply_strands(satf_renderer *r,
                                         const satf_frontend *fe,
                                         satf_error *err) {
@@ -105,11 +148,22 @@ satf_status satf_frontend_apply_strands(satf_renderer *r,
                                                       : 0.0f;
     at += (size_t)counts[i];
   }
-  /* without a thickness the importer's default diameter would be a guess:
-   * the renderer is asked for the file's, or --strand-width's */
-  int have = fe->strand_width > 0.0f || thick;
+  /* --strand-width density, or no thickness: the width the clusters'
+   * density assumes */
+  int have = fe->strand_width > 0.0f || (thick && fe->strand_width == 0.0f);
+  float assumed = have ? 0.0f : density_strand_width(fe->scene);
+  if (!have && !(assumed > 0.0f)) {
+    free(counts);
+    free(xyz);
+    free(width);
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "%s: no strand width: the file has no thickness "
+                          "and no cluster has a procedural density to take "
+                          "one from (give --strand-width W)",
+                          fe->scene->strands_file);
+  }
   satf_status st = satf_renderer_set_strands(r, n, counts, xyz,
-                                             have ? width : NULL, 0.0f, err);
+                                             have ? width : NULL, assumed, err);
   if (st != SATF_OK) {
     satf_error why = *err; /* the message is rewritten from a copy */
     st = satf_error_set(err, st, "%s: %s%s", fe->scene->strands_file,
@@ -128,9 +182,22 @@ int satf_frontend_strand_flag(satf_cli_args *it, int *on, float *width) {
   }
   if (!satf_cli_is(it, NULL, "--strand-width"))
     return 0;
-  double w = 0.0;
-  if (satf_cli_value_double(it, 1e-9, 1e9, &w))
+  const char *val;
+  if (satf_cli_value(it, &val))
     return -1;
+  if (!strcmp(val, "density")) {
+    *width = -1.0f; /* satf_frontend_apply_strands takes the clusters' */
+    return 1;
+  }
+  char *end;
+  double w = strtod(val, &end);
+  if (end == val || *end || !(w > 0.0 && w < 1e9)) {
+    fprintf(stderr,
+            "%s: --strand-width: expected a width in scene units (> 0) or "
+            "'density', got '%s'\n",
+            it->prog, val);
+    return -1;
+  }
   *width = (float)w;
   return 1;
 }
@@ -141,7 +208,9 @@ const char *const satf_frontend_strand_help =
     "                       reference the clusters approximate, same lights,\n"
     "                       material, shading and shadows (slow)\n"
     "  --strand-width W     with --strands: every strand W scene units wide\n"
-    "                       (default: the file's thickness)\n";
+    "                       (default: the file's thickness); 'density': the\n"
+    "                       width the clusters' density assumes (median of\n"
+    "                       strand_width x cluster radius)\n";
 
 const char *const satf_frontend_effect_help =
     "  --no-satf            Fig. 4a's baseline, Scheuermann 2004 (paper 002):\n"

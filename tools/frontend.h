@@ -16,7 +16,9 @@ typedef struct satf_frontend {
   /* --strands: the scene's source strands (satf_frontend_load_strands),
    * drawn instead of the clusters; NULL otherwise */
   satf_strand_set *strands;
-  float strand_width; /* --strand-width: replaces the file's thickness */
+  /* --strand-width: > 0 replaces the file's thickness; -1 ("density"):
+   * the width the clusters' density assumes */
+  float strand_width;
 } satf_frontend;
 
 /* Loads SCENE (printing its warnings to stderr) and the database (db_path,
@@ -28,17 +30,18 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
 
 /* --strands: reads the scene's source strands (its "strands" key, a
  * cyHair .hair file in scene coordinates, which satf-import writes beside
- * the scene) into fe->strands; fe->strand_width > 0 replaces their
- * thickness. A scene without strands is an error. On failure prints
- * "PROG: reason" and returns non-OK. */
+ * the scene) into fe->strands (fe->strand_width is applied when they are
+ * handed to the renderer). A scene without strands is an error. On failure
+ * prints "PROG: reason" and returns non-OK. */
 satf_status satf_frontend_load_strands(const char *prog, satf_frontend *fe);
 /* Has r draw fe->strands instead of the clusters (the strand reference
  * path, satf_renderer_set_strands); nothing without them. */
 satf_status satf_frontend_apply_strands(satf_renderer *r,
                                         const satf_frontend *fe,
                                         satf_error *err);
-/* Applies --strands or --strand-width W (setting *on, *width); returns 1
- * if arg was one of them, -1 after printing a bad value. */
+/* Applies --strands or --strand-width W|density (setting *on, *width; -1
+ * for density); returns 1 if arg was one of them, -1 after printing a bad
+ * value. */
 int satf_frontend_strand_flag(satf_cli_args *it, int *on, float *width);
 extern const char *const satf_frontend_strand_help;
 

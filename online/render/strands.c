@@ -41,6 +41,7 @@ struct strands_gpu {
   uint32_t *indices; /* 6 per segment, in the sorted order */
   GLuint vao, vbo, ibo;
   GLuint prog_shade, prog_dom;
+  float lo[3], hi[3]; /* bounds of the ribbons */
 };
 
 static void free_data(strands_gpu *s) {
@@ -188,13 +189,26 @@ static satf_status build_strand_programs(strands_gpu *s, satf_error *err) {
 
 /* Grows the renderer's bounds (camera clip planes, the light's map) by
  * the strands. */
-static void grow_bounds(satf_renderer *r, const strands_gpu *s) {
+static void strand_bounds(strands_gpu *s) {
+  for (int a = 0; a < 3; a++) {
+    s->lo[a] = INFINITY;
+    s->hi[a] = -INFINITY;
+  }
   for (size_t k = 0; k < s->npoints; k++)
     for (int a = 0; a < 3; a++) {
       float v = s->points[4 * k + (size_t)a], h = 0.5f * s->points[4 * k + 3];
-      r->lo[a] = v - h < r->lo[a] ? v - h : r->lo[a];
-      r->hi[a] = v + h > r->hi[a] ? v + h : r->hi[a];
+      s->lo[a] = v - h < s->lo[a] ? v - h : s->lo[a];
+      s->hi[a] = v + h > s->hi[a] ? v + h : s->hi[a];
     }
+}
+
+/* Called every frame: a scene switch (satf_renderer_set_scene) takes the
+ * new scene's bounds. */
+static void grow_bounds(satf_renderer *r, const strands_gpu *s) {
+  for (int a = 0; a < 3; a++) {
+    r->lo[a] = s->lo[a] < r->lo[a] ? s->lo[a] : r->lo[a];
+    r->hi[a] = s->hi[a] > r->hi[a] ? s->hi[a] : r->hi[a];
+  }
 }
 
 satf_status satf_renderer_set_strands(satf_renderer *r, int n_strands,
@@ -240,6 +254,7 @@ satf_status satf_renderer_set_strands(satf_renderer *r, int n_strands,
     strands_release(r);
     return st;
   }
+  strand_bounds(s);
   grow_bounds(r, s);
   return SATF_OK;
 }
@@ -420,6 +435,7 @@ satf_status strands_render_frame(satf_renderer *r, satf_aov aov, int refresh,
   satf_frame_timing t;
   memset(&t, 0, sizeof t);
   double t0 = satf_now_seconds();
+  grow_bounds(r, s);
   /* the opacity map's passes add or keep the nearest, in any order */
   sort_far_to_near(s, r->camera.position);
   double t1 = satf_now_seconds();
