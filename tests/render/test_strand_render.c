@@ -277,6 +277,46 @@ static void test_strand_aovs(void **state) {
   satf_image_destroy(img);
 }
 
+/* Degenerate strands draw without NaN: repeated points, a hairpin whose
+ * tip has no direction, a strand seen end-on, one of zero width. */
+static void test_degenerate_strands(void **state) {
+  const fixture *f = *state;
+  satf_scene *scene = fixture_scene(scene_json);
+  satf_renderer *r = NULL;
+  satf_error err;
+  assert_int_equal(satf_renderer_create(scene, f->db, W, H, 0, &r, &err),
+                   SATF_OK);
+  int counts[4] = {4, 3, 2, 2};
+  float xyz[] = {-2, -3, 0,  -2, 0, 0, -2, 0,  0, -2, 3, 0, /* repeated */
+                 0,  -3, 0,  0,  3, 0, 0,  -3, 0,           /* hairpin */
+                 2,  0,  -1, 2,  0, 1,                      /* end-on */
+                 3,  -3, 0,  3,  3, 0};                     /* zero width */
+  float width[11] = {0.2f, 0.2f, 0.2f, 0.2f, 0.2f, 0.2f,
+                     0.2f, 0.2f, 0.2f, 0.0f, 0.0f};
+  assert_int_equal(
+      satf_renderer_set_strands(r, 4, counts, xyz, width, 0.0f, &err), SATF_OK);
+  satf_image *img = NULL;
+  satf_frame_timing t;
+  if (satf_renderer_render_image(r, 1, &img, &t, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  double sum = 0.0;
+  for (int c = 0; c < satf_image_channel_count(img); c++) {
+    const float *p = satf_image_const_plane(img, c);
+    for (size_t i = 0; i < (size_t)W * H; i++) {
+      assert_true(isfinite(p[i]));
+      sum += p[i];
+    }
+  }
+  assert_true(sum > 0.0);
+  /* the zero-width strand (x = 3) covers nothing */
+  int col = (int)floor(0.5 * W + 3.0 * px_per_unit());
+  for (int row = 30; row <= 66; row++)
+    assert_true(at(img, "A", col, row) == 0.0f);
+  satf_image_destroy(img);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(scene);
+}
+
 /* Bad strands are refused with a reason; zero strands is the cluster
  * path again. */
 static void test_bad_strands(void **state) {
@@ -313,6 +353,7 @@ int main(void) {
       cmocka_unit_test(test_strands_shadow_strands),
       cmocka_unit_test(test_wide_strands_occlude_per_pixel),
       cmocka_unit_test(test_strand_aovs),
+      cmocka_unit_test(test_degenerate_strands),
       cmocka_unit_test(test_bad_strands),
   };
   return cmocka_run_group_tests(tests, setup, teardown);

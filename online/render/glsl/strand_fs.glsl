@@ -56,7 +56,10 @@ void main() {
   bool whole = cover >= 1.0 - 1.0 / 1024.0;
   if (whole != (u_whole != 0)) discard;
   if (whole) cover = 1.0;
-  vec3 t = normalize(v_tangent), v = normalize(u_eye - v_world);
+  /* a hairpin's tip has no direction: a zero tangent lights as one
+   * across every light (sin 1), never as NaN */
+  vec3 t = v_tangent / max(length(v_tangent), 1e-30);
+  vec3 v = normalize(u_eye - v_world);
   /* the highlight shift's normal (SATF eq. 10-11): the ribbon's, facing
    * the eye. The cluster path shifts along the cluster normal facing the
    * viewer (outward at the front, inward at the back, shade_fs.glsl);
