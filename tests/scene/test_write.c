@@ -2,7 +2,9 @@
  * the scene format: every sample scene reads back as the same scene (every
  * field and every key), writing that gives the same bytes, and a scene
  * built in memory (as the importer builds one) reads back as built. */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include <dirent.h>
+#include <limits.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -26,6 +28,43 @@ static void assert_same_at(const satf_scene *a, const satf_scene *b, double f) {
     fail_msg("%s: snapshots differ at frame %g", a->name, f);
   satf_scene_destroy(sa);
   satf_scene_destroy(sb);
+}
+
+/* Whether two paths name the same place: their directories resolve to the
+ * same directory (realpath) and their names agree; paths whose directory
+ * does not exist must be equal strings. */
+static int same_place(const char *a, const char *b) {
+  if (!a || !b)
+    return a == b;
+  char da[PATH_MAX], db[PATH_MAX], ra[PATH_MAX], rb[PATH_MAX];
+  const char *sa = strrchr(a, '/'), *sb = strrchr(b, '/');
+  snprintf(da, sizeof da, "%.*s", sa ? (int)(sa - a) : 1, sa ? a : ".");
+  snprintf(db, sizeof db, "%.*s", sb ? (int)(sb - b) : 1, sb ? b : ".");
+  if (!realpath(da, ra) || !realpath(db, rb))
+    return strcmp(a, b) == 0;
+  return strcmp(ra, rb) == 0 && strcmp(sa ? sa + 1 : a, sb ? sb + 1 : b) == 0;
+}
+
+/* *dst = a copy of src when both name the same place. */
+static void align(char **dst, const char *src) {
+  if (!src || !*dst || !same_place(src, *dst))
+    return;
+  free(*dst);
+  *dst = malloc(strlen(src) + 1);
+  assert_non_null(*dst);
+  strcpy(*dst, src);
+}
+
+/* b's paths replaced by a's where they name the same place (a file
+ * written elsewhere names the same files by other strings). */
+static void align_paths(const satf_scene *a, satf_scene *b) {
+  align(&b->database, a->database);
+  align(&b->strands_file, a->strands_file);
+  for (int m = 0; m < a->n_meshes && m < b->n_meshes; m++)
+    align(&b->meshes[m].file, a->meshes[m].file);
+  for (int m = 0; m < a->n_macro_clusters && m < b->n_macro_clusters; m++)
+    align(&b->macro_clusters[m].prototype.density.vdb_file,
+          a->macro_clusters[m].prototype.density.vdb_file);
 }
 
 /* parse -> write -> parse is the same scene; write(parse(write(x))) is
@@ -61,6 +100,7 @@ static void round_trip(const char *path) {
   assert_int_equal(satf_scene_write(scene, out, &err), SATF_OK);
   if (satf_scene_load(out, &again, &err) != SATF_OK)
     fail_msg("%s", err.message);
+  align_paths(scene, again);
   if (!satf_scene_equal(scene, again))
     fail_msg("%s: written to %s, it reads back different", path, out);
   satf_scene_destroy(again);
@@ -233,6 +273,50 @@ static void test_built_scene(void **state) {
   satf_scene_destroy(scene);
 }
 
+/* Issue 13 item 11: satf_scene_write names every file relative to the
+ * scene's folder, with ../ steps (directories resolved, a link's own name
+ * kept), except a file in another top-level tree. */
+static void test_paths_relative_to_the_file(void **state) {
+  (void)state;
+  char base[1024], dir[1100], other[1100], path[1200], cmd[4096];
+  test_path(base, sizeof base, "rel");
+  snprintf(dir, sizeof dir, "%s/scenes/a", base);
+  snprintf(other, sizeof other, "%s/assets", base);
+  snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s' '%s'", base, dir,
+           other);
+  assert_int_equal(system(cmd), 0);
+  snprintf(path, sizeof path, "%s/s.json", dir);
+  satf_scene *scene;
+  satf_error err;
+  static const char json[] =
+      "{\"macro_clusters\": [{\"prototype\": {\"trajectory\": [[0, 0, 0],"
+      " [0, 1, 0]], \"a\": 0.5}}]}";
+  assert_int_equal(satf_scene_parse(json, strlen(json), path, &scene, &err),
+                   SATF_OK);
+  char mesh[1200], hair[1200], db[1200];
+  /* a sibling tree reached through "..", a file beside the scene, and a
+   * file under another top-level directory */
+  snprintf(mesh, sizeof mesh, "%s/../../assets/head.obj", dir);
+  snprintf(hair, sizeof hair, "%s/s.strands.hair", dir);
+  snprintf(db, sizeof db, "/usr/satf-no-such-db.exr");
+  assert_int_equal(satf_scene_add_mesh(scene, mesh, &err), SATF_OK);
+  assert_int_equal(satf_scene_set_database(scene, db, &err), SATF_OK);
+  scene->strands_file = malloc(strlen(hair) + 1);
+  strcpy(scene->strands_file, hair);
+  assert_int_equal(satf_scene_write(scene, path, &err), SATF_OK);
+  size_t size;
+  unsigned char *bytes = test_read_file(path, &size);
+  char *text = calloc(size + 1, 1);
+  memcpy(text, bytes, size);
+  free(bytes);
+  if (!strstr(text, "\"file\":\t\"../../assets/head.obj\"") ||
+      !strstr(text, "\"strands\":\t\"s.strands.hair\"") ||
+      !strstr(text, "\"database\":\t\"/usr/satf-no-such-db.exr\""))
+    fail_msg("paths not written relative to %s:\n%s", dir, text);
+  free(text);
+  satf_scene_destroy(scene);
+}
+
 static void test_too_many_lights(void **state) {
   (void)state;
   char json[2048] = "{\"macro_clusters\": [{\"prototype\": {\"trajectory\":"
@@ -256,6 +340,7 @@ int main(void) {
       cmocka_unit_test(test_every_key_round_trips),
       cmocka_unit_test(test_built_scene),
       cmocka_unit_test(test_too_many_lights),
+      cmocka_unit_test(test_paths_relative_to_the_file),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
