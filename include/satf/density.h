@@ -121,8 +121,13 @@ satf_status satf_vdb_write_mixed_test_file(const char *path, satf_error *err);
  * cluster's normalised cross-section or an OpenVDB grid in world space, and
  * the density features (sec. 5.2) of every boundary sector of its shells. */
 
-/* Grid nodes per side used to sample a sector's density for its features. */
-#define SATF_SECTOR_GRID 8
+/* Grid nodes per side used to sample a sector's density for its features.
+ * 16 (issue 13 item 5, tests/render/bench_lookup): at 8 the nodes along a
+ * sector's phase are about a strand width apart (cluster_6a: 0.022 against
+ * strands 0.03 wide), so a strand counts more or less by where it falls
+ * between nodes: held-out error 7% above 16's at k = 4. 32, the database's
+ * own grid, gains 2% more for 4x the time. */
+#define SATF_SECTOR_GRID 16
 
 typedef struct satf_strands satf_strands;
 
@@ -152,6 +157,15 @@ satf_status satf_sector_features(const satf_cluster *cluster,
                                  const satf_vdb_grid *vdb,
                                  const float *instance, int threads,
                                  float *features, satf_error *err);
+/* The same on grid x grid nodes per sector (2 to 64); satf_sector_features
+ * uses SATF_SECTOR_GRID. For measuring what the grid costs and changes. */
+satf_status satf_sector_features_grid(const satf_cluster *cluster,
+                                      const satf_shell_params *shell,
+                                      const satf_strands *strands,
+                                      const satf_vdb_grid *vdb,
+                                      const float *instance, int grid,
+                                      int threads, float *features,
+                                      satf_error *err);
 
 #ifdef __cplusplus
 }

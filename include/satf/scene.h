@@ -43,14 +43,16 @@ extern "C" {
 #define SATF_SCENE_MAX_HSV 50000000ull     /* over the whole scene */
 #define SATF_SCENE_MAX_CONTROL_POINTS 4096 /* per curve */
 #define SATF_SCENE_MAX_MACRO_CLUSTERS 65536
-#define SATF_SCENE_MAX_INSTANCES 65536  /* per macro-cluster */
-#define SATF_SCENE_MAX_CLUSTERS 1000000 /* instances over the scene */
-#define SATF_SCENE_MAX_LIGHTS 8         /* what the renderer draws */
-#define SATF_SCENE_MAX_STRANDS 10000000 /* per cluster */
-#define SATF_SCENE_MAX_CLUMPS 16        /* clumps or holes per cluster */
-#define SATF_SCENE_MAX_COORD 1e6        /* |coordinate| in scene units */
-#define SATF_SCENE_MAX_IMAGE 16384      /* pixels per side */
-#define SATF_SCENE_MAX_SAMPLES 64       /* anti-aliasing samples per pixel */
+#define SATF_SCENE_MAX_INSTANCES 65536       /* per macro-cluster */
+#define SATF_SCENE_MAX_CLUSTERS 1000000      /* instances over the scene */
+#define SATF_SCENE_MAX_LIGHTS 8              /* what the renderer draws */
+#define SATF_SCENE_MAX_STRANDS 10000000      /* per cluster */
+#define SATF_SCENE_MAX_TRACK_SLICES 256      /* tracks density: t slices */
+#define SATF_SCENE_MAX_TRACK_POINTS 50000000 /* tracks density: per cluster */
+#define SATF_SCENE_MAX_CLUMPS 16             /* clumps or holes per cluster */
+#define SATF_SCENE_MAX_COORD 1e6             /* |coordinate| in scene units */
+#define SATF_SCENE_MAX_IMAGE 16384           /* pixels per side */
+#define SATF_SCENE_MAX_SAMPLES 64 /* anti-aliasing samples per pixel */
 #define SATF_SCENE_MAX_FILE_BYTES (64u << 20)
 #define SATF_SCENE_MAX_FRAME 10000000 /* |frame| in the animation range */
 #define SATF_SCENE_MAX_FPS 1000.0
@@ -77,7 +79,8 @@ typedef struct satf_scene_shell {
 
 typedef enum satf_scene_density_type {
   SATF_SCENE_DENSITY_PROCEDURAL = 0,
-  SATF_SCENE_DENSITY_VDB
+  SATF_SCENE_DENSITY_VDB,
+  SATF_SCENE_DENSITY_TRACKS /* the cluster's own strands, as tracks */
 } satf_scene_density_type;
 
 typedef enum satf_scene_layout {
@@ -107,6 +110,16 @@ typedef struct satf_scene_density {
   /* vdb */
   char *vdb_file; /* resolved against the scene file's directory */
   char *vdb_grid; /* grid name, default "density" */
+  /* tracks (with strand_width and scale): where each of the cluster's own
+   * strands passes, in the normalised cross-section (x, y) = v (cos u,
+   * sin u), at track_slices evenly spaced t (slice i at t = i / (slices -
+   * 1)). Track k holds slices track_first[k] .. track_first[k] +
+   * track_count[k] - 1 (a strand runs from its root to its tip, so it may
+   * start after t = 0 and end before t = 1); its (x, y) pairs follow the
+   * previous track's in track_xy. */
+  int track_slices, n_tracks;
+  int *track_first, *track_count;
+  float *track_xy;
 } satf_scene_density;
 
 /* One generalized-disk cluster (SATF eq. 1-2): an ellipse with half-axes

@@ -8,6 +8,10 @@
 
 #include "satf/common.h"
 #include "satf/db.h"
+#include "tracks.h"
+
+/* The largest feature grid satf_sector_features_grid takes (stack). */
+#define SATF_SECTOR_GRID_MAX 64
 
 struct satf_strands {
   int n;
@@ -18,6 +22,7 @@ struct satf_strands {
   int cells;
   float cell;
   int *start, *items;
+  density_tracks *tracks; /* type "tracks": the cluster's own strands */
 };
 
 /* Strands drift at most this far (normalised units) from their base. */
@@ -74,6 +79,19 @@ static void place(const satf_scene_density *d, satf_rng *rng,
 satf_status satf_strands_create(const satf_scene_density *d, satf_strands **out,
                                 satf_error *err) {
   *out = NULL;
+  if (d->type == SATF_SCENE_DENSITY_TRACKS) {
+    satf_strands *s = calloc(1, sizeof *s);
+    if (!s)
+      return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+    satf_status st = density_tracks_create(d, &s->tracks, err);
+    if (st != SATF_OK) {
+      free(s);
+      return st;
+    }
+    s->n = density_tracks_count(s->tracks);
+    *out = s;
+    return SATF_OK;
+  }
   if (d->strands < 0 || d->strands > 10000000 || !(d->strand_width > 0.0f))
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "procedural density: %d strands of width %g",
@@ -143,6 +161,7 @@ satf_status satf_strands_create(const satf_scene_density *d, satf_strands **out,
 
 void satf_strands_destroy(satf_strands *s) {
   if (s) {
+    density_tracks_destroy(s->tracks);
     free(s->base);
     free(s->wobble);
     free(s->start);
@@ -154,6 +173,10 @@ void satf_strands_destroy(satf_strands *s) {
 int satf_strands_count(const satf_strands *s) { return s->n; }
 
 void satf_strands_position(const satf_strands *s, int i, float t, float xy[2]) {
+  if (s->tracks) {
+    density_tracks_position(s->tracks, i, t, xy);
+    return;
+  }
   const float *w = s->wobble + 4 * i;
   float k = sinf(SATF_TWO_PI_F * w[2] * t + w[3]);
   xy[0] = s->base[2 * i] + w[0] * k;
@@ -162,7 +185,19 @@ void satf_strands_position(const satf_strands *s, int i, float t, float xy[2]) {
 
 /* SATF sec. 3.3: the density is the sum of one circular Gaussian per strand
  * cross-section; peak 1/2 as in the database (see satf/sector.h). */
+static float strands_density_at(const satf_strands *s, const float *pos,
+                                float t, float x, float y);
+
 float satf_strands_density(const satf_strands *s, float t, float x, float y) {
+  if (s->tracks)
+    return density_tracks_density(s->tracks, t, x, y);
+  return strands_density_at(s, NULL, t, x, y);
+}
+
+/* The sum above; pos: every strand's position at t in bucket order
+ * (strands_slice), or NULL to compute them here. */
+static float strands_density_at(const satf_strands *s, const float *pos,
+                                float t, float x, float y) {
   float cut = 4.0f * s->sigma, inv = 1.0f / (2.0f * s->sigma * s->sigma);
   int cx = (int)((x + 1.1f) / s->cell), cy = (int)((y + 1.1f) / s->cell);
   float sum = 0.0f;
@@ -174,8 +209,10 @@ float satf_strands_density(const satf_strands *s, float t, float x, float y) {
         continue;
       int c = by * s->cells + bx;
       for (int k = s->start[c]; k < s->start[c + 1]; k++) {
-        float p[2];
-        satf_strands_position(s, s->items[k], t, p);
+        float q[2];
+        const float *p = pos ? pos + 2 * k : q;
+        if (!pos)
+          satf_strands_position(s, s->items[k], t, q);
         float dx = x - p[0], dy = y - p[1], d2 = dx * dx + dy * dy;
         if (d2 < cut * cut)
           sum += 0.5f * expf(-d2 * inv);
@@ -185,12 +222,27 @@ float satf_strands_density(const satf_strands *s, float t, float x, float y) {
   return sum * s->scale;
 }
 
+/* Every procedural strand's position at t, in bucket order, for the many
+ * density queries of one t slice (a sine per strand once instead of per
+ * query); NULL for tracks, for more strands than are worth a copy per
+ * thread, or without memory (queries then compute them). */
+static float *strands_slice(const satf_strands *s, float t) {
+  if (s->tracks || s->n <= 0 || s->n > (1 << 20))
+    return NULL;
+  float *pos = malloc(2 * (size_t)s->n * sizeof(float));
+  if (pos)
+    for (int k = 0; k < s->n; k++)
+      satf_strands_position(s, s->items[k], t, pos + 2 * k);
+  return pos;
+}
+
 typedef struct features_job {
   const satf_cluster *cluster;
   const satf_shell_params *shell;
   const satf_strands *strands;
   const satf_vdb_grid *vdb;
   const float *m;
+  int grid; /* nodes per side */
   float *features;
 } features_job;
 
@@ -206,11 +258,14 @@ static int features_slice(void *vctx, size_t i, int thread) {
   const features_job *job = vctx;
   const satf_shell_params *sh = job->shell;
   float t = (float)i / (float)sh->st;
-  enum { G = SATF_SECTOR_GRID };
-  float dens[G * G];
+  const int G = job->grid;
+  float dens[SATF_SECTOR_GRID_MAX * SATF_SECTOR_GRID_MAX];
   satf_cluster_section sec;
+  float *pos = NULL;
   if (job->vdb)
     satf_cluster_section_at(job->cluster, t, &sec);
+  else
+    pos = strands_slice(job->strands, t);
   for (int k = 0; k < sh->layers; k++) {
     float v0 = satf_shell_layer_v(sh, k), v1 = satf_shell_layer_v(sh, k + 1);
     for (int j = 0; j < sh->su; j++) {
@@ -233,7 +288,9 @@ static int features_slice(void *vctx, size_t i, int thread) {
             /* the strands live at (v cos u, v sin u) in the ellipse's own
              * axes, which the twist turns (SATF eq. 1, satf/geometry.h):
              * they turn with the cross-section at no cost here */
-            d = satf_strands_density(job->strands, t, v * cosf(u), v * sinf(u));
+            float x = v * cosf(u), y = v * sinf(u);
+            d = pos ? strands_density_at(job->strands, pos, t, x, y)
+                    : satf_strands_density(job->strands, t, x, y);
           }
           dens[b * G + a] = d;
         }
@@ -243,7 +300,29 @@ static int features_slice(void *vctx, size_t i, int thread) {
       satf_density_features(dens, G, G, f); /* SATF sec. 5.2 */
     }
   }
+  free(pos);
   return 0;
+}
+
+satf_status satf_sector_features_grid(const satf_cluster *cluster,
+                                      const satf_shell_params *shell,
+                                      const satf_strands *strands,
+                                      const satf_vdb_grid *vdb,
+                                      const float *instance, int grid,
+                                      int threads, float *features,
+                                      satf_error *err) {
+  if (!strands && !vdb)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "sector features need strands or a VDB grid");
+  if (grid < 2 || grid > SATF_SECTOR_GRID_MAX)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "sector feature grid of %d nodes: 2 to %d", grid,
+                          SATF_SECTOR_GRID_MAX);
+  features_job job = {cluster, shell, strands, vdb, instance, grid, features};
+  if (satf_parallel_for((size_t)shell->st + 1, threads, features_slice, &job,
+                        NULL, NULL) != 0)
+    return satf_error_set(err, SATF_ERR_INTERNAL, "feature computation failed");
+  return SATF_OK;
 }
 
 satf_status satf_sector_features(const satf_cluster *cluster,
@@ -252,12 +331,6 @@ satf_status satf_sector_features(const satf_cluster *cluster,
                                  const satf_vdb_grid *vdb,
                                  const float *instance, int threads,
                                  float *features, satf_error *err) {
-  if (!strands && !vdb)
-    return satf_error_set(err, SATF_ERR_ARGUMENT,
-                          "sector features need strands or a VDB grid");
-  features_job job = {cluster, shell, strands, vdb, instance, features};
-  if (satf_parallel_for((size_t)shell->st + 1, threads, features_slice, &job,
-                        NULL, NULL) != 0)
-    return satf_error_set(err, SATF_ERR_INTERNAL, "feature computation failed");
-  return SATF_OK;
+  return satf_sector_features_grid(cluster, shell, strands, vdb, instance,
+                                   SATF_SECTOR_GRID, threads, features, err);
 }

@@ -14,6 +14,9 @@ static void free_cluster(satf_scene_cluster *c) {
   free(c->twist.values);
   free(c->density.vdb_file);
   free(c->density.vdb_grid);
+  free(c->density.track_first);
+  free(c->density.track_count);
+  free(c->density.track_xy);
 }
 
 void satf_scene_destroy(satf_scene *scene) {
@@ -119,6 +122,8 @@ uint64_t satf_scene_strand_count(const satf_scene *scene) {
     const satf_scene_macro_cluster *mc = &scene->macro_clusters[i];
     if (mc->prototype.density.type == SATF_SCENE_DENSITY_PROCEDURAL)
       n += (uint64_t)mc->n_instances * (uint64_t)mc->prototype.density.strands;
+    else if (mc->prototype.density.type == SATF_SCENE_DENSITY_TRACKS)
+      n += (uint64_t)mc->n_instances * (uint64_t)mc->prototype.density.n_tracks;
   }
   return n;
 }

@@ -17,6 +17,21 @@ static int strings_equal(const char *a, const char *b) {
   return (!a && !b) || (a && b && strcmp(a, b) == 0);
 }
 
+static int tracks_equal(const satf_scene_density *a,
+                        const satf_scene_density *b) {
+  if (a->track_slices != b->track_slices || a->n_tracks != b->n_tracks)
+    return 0;
+  size_t points = 0;
+  for (int k = 0; k < a->n_tracks; k++) {
+    if (a->track_first[k] != b->track_first[k] ||
+        a->track_count[k] != b->track_count[k])
+      return 0;
+    points += (size_t)a->track_count[k];
+  }
+  return points == 0 ||
+         floats_equal(a->track_xy, b->track_xy, (int)(2 * points));
+}
+
 static int densities_equal(const satf_scene_density *a,
                            const satf_scene_density *b) {
   return a->type == b->type && a->strands == b->strands && a->seed == b->seed &&
@@ -28,7 +43,7 @@ static int densities_equal(const satf_scene_density *a,
          floats_equal(&a->hole_radius, &b->hole_radius, 1) &&
          floats_equal(&a->gradient, &b->gradient, 1) &&
          strings_equal(a->vdb_file, b->vdb_file) &&
-         strings_equal(a->vdb_grid, b->vdb_grid);
+         strings_equal(a->vdb_grid, b->vdb_grid) && tracks_equal(a, b);
 }
 
 int satf_scene_prototype_equal(const satf_scene_cluster *a,

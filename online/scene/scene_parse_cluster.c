@@ -216,9 +216,93 @@ static satf_status parse_procedural(scene_ctx *ctx, const cJSON *obj,
   return warn_unused_layout_keys(ctx, obj, d->layout);
 }
 
+/* One track: [first slice, x0, y0, x1, y1, ...]; its pairs go to xy. */
+static satf_status parse_track(scene_ctx *ctx, const cJSON *item, int slices,
+                               int *first, int *count, float *xy) {
+  static const scene_range r_coord = {-8, 8, 0, 0};
+  int n = cJSON_IsArray(item) ? cJSON_GetArraySize(item) : 0;
+  if (n < 3 || n % 2 == 0)
+    return scene_fail(ctx, SATF_ERR_FORMAT,
+                      "expected [first slice, x, y, x, y, ...], got %s of %d",
+                      scene_type_name(item), n);
+  const cJSON *e = item->child;
+  double f;
+  static const scene_range r_first = {0, SATF_SCENE_MAX_TRACK_SLICES, 0, 1};
+  satf_status s = scene_number(ctx, e, &r_first, &f);
+  if (s != SATF_OK)
+    return s;
+  *first = (int)f;
+  *count = (n - 1) / 2;
+  if (*first + *count > slices)
+    return scene_fail(ctx, SATF_ERR_ARGUMENT,
+                      "slices %d to %d: the density has %d slices", *first,
+                      *first + *count - 1, slices);
+  int i = 0;
+  for (e = e->next; e; e = e->next, i++) {
+    double v;
+    if ((s = scene_number(ctx, e, &r_coord, &v)) != SATF_OK)
+      return s;
+    xy[i] = (float)v;
+  }
+  return SATF_OK;
+}
+
+/* "tracks": the cluster's own strands in its normalised cross-section. */
+static satf_status parse_tracks(scene_ctx *ctx, const cJSON *obj,
+                                satf_scene_density *d) {
+  static const char *const keys[] = {"type",  "slices", "strand_width",
+                                     "scale", "tracks", NULL};
+  static const scene_range r_slices = {2, SATF_SCENE_MAX_TRACK_SLICES, 0, 1};
+  static const scene_range r_width = {0, 0.5, 1, 0};
+  static const scene_range r_scale = {0, 100, 1, 0};
+  const cJSON *arr;
+  int n = 0;
+  double slices;
+  satf_status s;
+  if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
+      (s = scene_key_number(ctx, obj, "slices", &r_slices, 1, 0, &slices)) !=
+          SATF_OK ||
+      (s = scene_key_float(ctx, obj, "strand_width", &r_width, 0.03,
+                           &d->strand_width)) != SATF_OK ||
+      (s = scene_key_float(ctx, obj, "scale", &r_scale, 1.0, &d->scale)) !=
+          SATF_OK ||
+      (s = scene_key_array(ctx, obj, "tracks", 1, 1, SATF_SCENE_MAX_STRANDS,
+                           &arr, &n)) != SATF_OK)
+    return s;
+  d->track_slices = (int)slices;
+  /* every size from the document before allocating */
+  size_t points = 0;
+  for (const cJSON *e = arr->child; e; e = e->next) {
+    int len = cJSON_IsArray(e) ? cJSON_GetArraySize(e) : 0;
+    points += len > 1 ? (size_t)(len - 1) / 2 : 0;
+  }
+  if (points > SATF_SCENE_MAX_TRACK_POINTS)
+    return scene_fail(ctx, SATF_ERR_ARGUMENT,
+                      "tracks: %zu points, over the limit of %d", points,
+                      SATF_SCENE_MAX_TRACK_POINTS);
+  d->n_tracks = n;
+  d->track_first = malloc((size_t)n * sizeof(int));
+  d->track_count = malloc((size_t)n * sizeof(int));
+  d->track_xy = malloc((2 * points + 1) * sizeof(float));
+  if (!d->track_first || !d->track_count || !d->track_xy)
+    return scene_nomem(ctx);
+  size_t previous = scene_push_key(ctx, "tracks"), at = 0;
+  int k = 0;
+  for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, k++) {
+    size_t item = scene_push_index(ctx, k);
+    s = parse_track(ctx, e, d->track_slices, &d->track_first[k],
+                    &d->track_count[k], d->track_xy + 2 * at);
+    if (s == SATF_OK)
+      at += (size_t)d->track_count[k];
+    scene_pop(ctx, item);
+  }
+  scene_pop(ctx, previous);
+  return s;
+}
+
 static satf_status parse_density(scene_ctx *ctx, const cJSON *cluster,
                                  const char *base_dir, satf_scene_density *d) {
-  static const char *const types[] = {"procedural", "vdb"};
+  static const char *const types[] = {"procedural", "vdb", "tracks"};
   static const char *const vdb_keys[] = {"type", "file", "grid", NULL};
   static const cJSON empty = {0};
   const cJSON *obj;
@@ -229,7 +313,7 @@ static satf_status parse_density(scene_ctx *ctx, const cJSON *cluster,
     obj = &empty;
   size_t previous = scene_push_key(ctx, "density");
   int type;
-  s = scene_key_enum(ctx, obj, "type", types, 2, SATF_SCENE_DENSITY_PROCEDURAL,
+  s = scene_key_enum(ctx, obj, "type", types, 3, SATF_SCENE_DENSITY_PROCEDURAL,
                      &type);
   d->type = (satf_scene_density_type)type;
   /* Procedural defaults stay meaningful for a VDB density too. */
@@ -237,6 +321,8 @@ static satf_status parse_density(scene_ctx *ctx, const cJSON *cluster,
     s = parse_procedural(ctx, &empty, d);
   if (s == SATF_OK && d->type == SATF_SCENE_DENSITY_PROCEDURAL)
     s = parse_procedural(ctx, obj, d);
+  if (s == SATF_OK && d->type == SATF_SCENE_DENSITY_TRACKS)
+    s = parse_tracks(ctx, obj, d);
   if (s == SATF_OK && d->type == SATF_SCENE_DENSITY_VDB) {
     if ((s = scene_check_keys(ctx, obj, vdb_keys)) == SATF_OK &&
         (s = scene_key_path(ctx, obj, "file", 1, base_dir, &d->vdb_file)) ==

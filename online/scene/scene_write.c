@@ -234,6 +234,24 @@ static cJSON *density(writer *w, const satf_scene_density *d) {
     add_string(w, o, "grid", d->vdb_grid ? d->vdb_grid : "density");
     return o;
   }
+  if (d->type == SATF_SCENE_DENSITY_TRACKS) {
+    add_string(w, o, "type", "tracks");
+    add(w, o, "slices", num_int(w, d->track_slices));
+    add(w, o, "strand_width", num_float(w, d->strand_width));
+    add(w, o, "scale", num_float(w, d->scale));
+    cJSON *tracks = array(w);
+    const float *xy = d->track_xy;
+    for (int k = 0; k < d->n_tracks; k++) {
+      cJSON *t = array(w);
+      append(w, t, num_int(w, d->track_first[k]));
+      for (int i = 0; i < 2 * d->track_count[k]; i++)
+        append(w, t, num_float(w, xy[i]));
+      xy += 2 * d->track_count[k];
+      append(w, tracks, t);
+    }
+    add(w, o, "tracks", tracks);
+    return o;
+  }
   add_string(w, o, "type", "procedural");
   add(w, o, "strands", num_int(w, d->strands));
   add(w, o, "seed", num_int(w, (long long)d->seed));
