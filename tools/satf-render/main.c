@@ -238,6 +238,10 @@ static satf_status render_still(const options *o, satf_renderer *r,
            o->png ? o->png : "", o->w, o->h, stats->clusters, stats->layers,
            stats->hsvs / 1000.0, t.lookups, t.fragments / 1e6,
            frame.overflow_pixels, t.total_ms, t_setup);
+  if (st == SATF_OK && !o->quiet && satf_renderer_strand_count(r) > 0)
+    printf("%s: drawn: the scene's %d source strands, not its clusters "
+           "(--strands)\n",
+           PROG, satf_renderer_strand_count(r));
   return st;
 }
 
