@@ -548,26 +548,34 @@ typedef struct satf_import_side {
   const char *base;                /* the name asked for */
   satf_import_side_write_fn write; /* writes the whole file at path */
   void *ctx;
-  char published[4096]; /* out: the path written ("" before) */
-  int created;          /* out: 1 when it was new, 0 when the same bytes were
-                           already there under that name */
+  char staging[4096];   /* BASE.tmp-PID while staged, "" otherwise */
+  char published[4096]; /* the name it is published under ("" before) */
+  int created;          /* 1 once renamed to a new name (0: the same bytes
+                           were already there under that name) */
 } satf_import_side;
 
-/* Writes side->base's file through side->write into a staging file
- * (BASE.tmp-PID, after removing those of dead processes: what a kill
- * left), hashes it and renames it to its published name. */
-satf_status satf_import_publish_side(satf_import_side *side, satf_error *err);
+/* Writes side->base's file through side->write into its staging file
+ * BASE.tmp-PID (after removing those of dead processes: what a kill
+ * left) and hashes it, which names it (side->published). Nothing is
+ * published yet: satf_import_publish_scene does that. */
+satf_status satf_import_stage_side(satf_import_side *side, satf_error *err);
 
-/* Writes scene to path (satf_scene_write: renamed into place last, after
- * the published side files reached the disk). Then the side files the
- * replaced scene at path named are removed when the new scene does not
- * name them and they are published side files (STEM-XXXXXXXX.EXT whose
- * XXXXXXXX is the hash of their bytes: an import made them). If the scene
- * cannot be written, the old one stays as it was, with its files, and the
- * new side files it does not name are removed. */
+/* Removes what sides staged or published (an import that gives up). */
+void satf_import_discard_sides(satf_import_side *sides, int n_sides);
+
+/* Publishes a scene with its staged side files as one unit: the side
+ * files are renamed to their published names and reach the disk, then
+ * scene is written to path (satf_scene_write: renamed into place last).
+ * Then the side files the replaced scene at path named are removed when
+ * the new scene does not name them and they are published side files
+ * (STEM-XXXXXXXX.EXT whose XXXXXXXX is the hash of their bytes: an import
+ * made them). If anything fails, the old scene stays as it was, with its
+ * files, and the new side files it does not name are removed. A run killed
+ * at any point leaves the old scene with its files or the new one with
+ * its own. */
 satf_status satf_import_publish_scene(const satf_scene *scene, const char *path,
-                                      const satf_import_side *sides,
-                                      int n_sides, satf_error *err);
+                                      satf_import_side *sides, int n_sides,
+                                      satf_error *err);
 
 /* ---- The whole import (import_run.c, import_sequence.c) ---------------- */
 
@@ -588,7 +596,7 @@ typedef struct satf_import_options {
   int n_inputs;
   const char *output; /* the scene file */
   /* also write the density grid, published as PATH-XXXXXXXX.vdb (see
-   * satf_import_publish_side), or NULL */
+   * satf_import_stage_side), or NULL */
   const char *vdb;
   const char *database; /* named in the scene (relative to it), or NULL */
   const char *mesh;     /* a head mesh, checked and named in the scene */
@@ -685,7 +693,7 @@ typedef struct satf_import_result {
   /* 1 when --mesh was given and no strand root lies in or near the
    * transformed mesh's bounds (the head is probably misplaced) */
   int mesh_apart;
-  /* the side files as published (satf_import_publish_side), "" when none */
+  /* the side files as published (satf_import_stage_side), "" when none */
   char vdb_file[4096], strands_file[4096];
   /* seconds from the start to the end of each step, and peak memory */
   double t_read, t_cluster, t_fit, t_vdb0, t_vdb, t_end, peak_mb;

@@ -103,7 +103,7 @@ static int same_bytes(const char *a, const char *b) {
 }
 
 /* Whether path is a published side file: its name is STEM-XXXXXXXX.EXT
- * and XXXXXXXX is the hash of its bytes. Only satf_import_publish_side
+ * and XXXXXXXX is the hash of its bytes. Only satf_import_publish_scene
  * makes such files, so only those are ever removed. */
 static int is_published(const char *path) {
   const char *name = strrchr(path, '/');
@@ -139,53 +139,79 @@ static void sync_dir_of(const char *path) {
   }
 }
 
-satf_status satf_import_publish_side(satf_import_side *side, satf_error *err) {
-  side->published[0] = '\0';
+satf_status satf_import_stage_side(satf_import_side *side, satf_error *err) {
+  side->published[0] = side->staging[0] = '\0';
   side->created = 0;
   if (!side->base || !side->base[0] || !side->write)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
-                          "satf_import_publish_side: no name or no writer");
-  char staging[PATH_MAX], stem[PATH_MAX];
+                          "satf_import_stage_side: no name or no writer");
+  char stem[PATH_MAX];
   const char *ext;
   remove_stale_staging(side->base);
   split_base(side->base, stem, sizeof stem, &ext);
-  int n = snprintf(staging, sizeof staging, "%s.tmp-%ld", side->base,
-                   (long)getpid());
-  if (n < 0 || (size_t)n >= sizeof staging ||
-      strlen(stem) + 9 + strlen(ext) >= sizeof side->published)
+  int n = snprintf(side->staging, sizeof side->staging, "%s.tmp-%ld",
+                   side->base, (long)getpid());
+  if (n < 0 || (size_t)n >= sizeof side->staging ||
+      strlen(stem) + 9 + strlen(ext) >= sizeof side->published) {
+    side->staging[0] = '\0';
     return satf_error_set(err, SATF_ERR_ARGUMENT, "%s: path is too long",
                           side->base);
-  satf_status st = side->write(staging, side->ctx, err);
+  }
+  satf_status st = side->write(side->staging, side->ctx, err);
   uint32_t h = 0;
-  if (st == SATF_OK && !hash_file(staging, &h, err))
+  if (st == SATF_OK && !hash_file(side->staging, &h, err))
     st = SATF_ERR_IO;
   if (st != SATF_OK) {
-    remove(staging);
+    remove(side->staging);
+    side->staging[0] = '\0';
     return st;
   }
   snprintf(side->published, sizeof side->published, "%s-%08x%s", stem,
            (unsigned)h, ext);
-  struct stat sb;
-  if (stat(side->published, &sb) == 0) {
-    /* The same bytes as a file already there (a repeated import): keep that
-     * one, whichever scene names it. */
-    int same = same_bytes(staging, side->published);
-    remove(staging);
-    if (!same)
+  return SATF_OK;
+}
+
+void satf_import_discard_sides(satf_import_side *sides, int n_sides) {
+  for (int i = 0; i < n_sides; i++) {
+    if (sides[i].staging[0])
+      remove(sides[i].staging);
+    if (sides[i].created)
+      remove(sides[i].published);
+    sides[i].staging[0] = '\0';
+    sides[i].created = 0;
+  }
+}
+
+/* Renames each staged side file to its published name (or drops it when
+ * that name already holds the same bytes: a repeated import). */
+static satf_status publish_sides(satf_import_side *sides, int n_sides,
+                                 satf_error *err) {
+  for (int i = 0; i < n_sides; i++) {
+    satf_import_side *side = &sides[i];
+    if (!side->staging[0])
+      continue;
+    struct stat sb;
+    if (stat(side->published, &sb) == 0) {
+      int same = same_bytes(side->staging, side->published);
+      remove(side->staging);
+      side->staging[0] = '\0';
+      if (!same)
+        return satf_error_set(err, SATF_ERR_IO,
+                              "%s: already exists with other contents (a "
+                              "hash collision): remove it and import again",
+                              side->published);
+      continue;
+    }
+    if (rename(side->staging, side->published) != 0)
       return satf_error_set(err, SATF_ERR_IO,
-                            "%s: already exists with other contents (a hash "
-                            "collision): remove it and import again",
-                            side->published);
-    return SATF_OK;
+                            "%s: cannot rename %s into place: %s",
+                            side->published, side->staging, strerror(errno));
+    side->staging[0] = '\0';
+    side->created = 1;
   }
-  if (rename(staging, side->published) != 0) {
-    int e = errno;
-    remove(staging);
-    return satf_error_set(err, SATF_ERR_IO,
-                          "%s: cannot rename %s into place: %s",
-                          side->published, staging, strerror(e));
-  }
-  side->created = 1;
+  for (int i = 0; i < n_sides; i++)
+    if (sides[i].published[0])
+      sync_dir_of(sides[i].published);
   return SATF_OK;
 }
 
@@ -214,8 +240,8 @@ static int same_file(const char *a, const char *b) {
 #define MAX_NAMED 65536
 
 satf_status satf_import_publish_scene(const satf_scene *scene, const char *path,
-                                      const satf_import_side *sides,
-                                      int n_sides, satf_error *err) {
+                                      satf_import_side *sides, int n_sides,
+                                      satf_error *err) {
   /* What the scene being replaced names, read before it goes. A file that
    * is not a scene (or not ours) names nothing. */
   satf_scene *old = NULL;
@@ -224,10 +250,11 @@ satf_status satf_import_publish_scene(const satf_scene *scene, const char *path,
   if (stat(path, &sb) == 0 && S_ISREG(sb.st_mode) &&
       satf_scene_load(path, &old, &ignored) != SATF_OK)
     old = NULL;
-  for (int i = 0; i < n_sides; i++)
-    if (sides[i].published[0])
-      sync_dir_of(sides[i].published);
-  satf_status st = satf_scene_write(scene, path, err);
+  /* The side files go into place together, just before the scene: a kill
+   * before this leaves only staging files, which the next run removes. */
+  satf_status st = publish_sides(sides, n_sides, err);
+  if (st == SATF_OK)
+    st = satf_scene_write(scene, path, err);
   const char **was = calloc(MAX_NAMED, sizeof *was);
   const char **now = calloc(MAX_NAMED, sizeof *now);
   int n_was = old && was ? named_paths(old, was, MAX_NAMED) : 0;
@@ -236,6 +263,9 @@ satf_status satf_import_publish_scene(const satf_scene *scene, const char *path,
     /* The old scene stays, naming its own files: the new ones it does not
      * name go (a file shared with it, same bytes, stays). */
     for (int i = 0; i < n_sides; i++) {
+      if (sides[i].staging[0])
+        remove(sides[i].staging);
+      sides[i].staging[0] = '\0';
       int kept = !sides[i].created;
       for (int k = 0; k < n_was && !kept; k++)
         kept = same_file(was[k], sides[i].published);

@@ -442,7 +442,7 @@ static void strands_base(const char *scene, char *out, size_t size) {
 }
 
 /* The side files (density grid, strands) and the scene, published as one
- * unit (satf_import_publish_side, satf_import_publish_scene). */
+ * unit (satf_import_stage_side, satf_import_publish_scene). */
 static satf_status publish(run *u, satf_scene *scene, satf_error *err) {
   const satf_import_options *o = u->o;
   satf_import_side sides[2];
@@ -453,7 +453,7 @@ static satf_status publish(run *u, satf_scene *scene, satf_error *err) {
   if (o->vdb) {
     sides[n] =
         (satf_import_side){.base = o->vdb, .write = density_grid, .ctx = u};
-    st = satf_import_publish_side(&sides[n++], err);
+    st = satf_import_stage_side(&sides[n++], err);
     snprintf(u->r->vdb_file, sizeof u->r->vdb_file, "%s", sides[0].published);
     for (int m = 0; st == SATF_OK && m < scene->n_macro_clusters; m++) {
       satf_scene_density *d = &scene->macro_clusters[m].prototype.density;
@@ -473,7 +473,7 @@ static satf_status publish(run *u, satf_scene *scene, satf_error *err) {
     sides[n] =
         (satf_import_side){.base = hair_base, .write = write_strands, .ctx = u};
     satf_import_side *h = &sides[n++];
-    st = satf_import_publish_side(h, err);
+    st = satf_import_stage_side(h, err);
     snprintf(u->r->strands_file, sizeof u->r->strands_file, "%s", h->published);
     free(scene->strands_file);
     scene->strands_file = NULL;
@@ -485,11 +485,7 @@ static satf_status publish(run *u, satf_scene *scene, satf_error *err) {
   }
   if (st == SATF_OK)
     return satf_import_publish_scene(scene, o->output, sides, n, err);
-  /* Nothing names what was published: remove it (unless an older scene
-   * shares it, being the same bytes). */
-  for (int i = 0; i < n; i++)
-    if (sides[i].created)
-      remove(sides[i].published);
+  satf_import_discard_sides(sides, n); /* staged only: nothing names them */
   return st;
 }
 

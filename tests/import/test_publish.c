@@ -1,6 +1,7 @@
 /* test_publish.c - a scene and its side files published as one unit
- * (satf_import_publish_side, satf_import_publish_scene; issue 13 item D):
- * side files under names of their bytes' hash, the scene renamed last, the
+ * (satf_import_stage_side, satf_import_publish_scene; issue 13 item D):
+ * side files staged, then renamed to names of their bytes' hash together
+ * just before the scene, which is renamed last, the
  * replaced scene's side files removed only once the new scene is in place,
  * and the leftovers of killed runs (*.tmp-PID of dead processes) cleaned
  * by the next run. A scene write that fails (what a kill between the side
@@ -118,10 +119,10 @@ static void publish_as_one_unit(void **state) {
 
   /* The first import: a VDB and strands, then the scene naming them. */
   bytes_job old_vdb = {"OLD grid bytes", NULL}, old_hair = {"OLD hair", NULL};
-  satf_import_side sides[2] = {{base, write_bytes, &old_vdb, "", 0},
-                               {hair_base, write_bytes, &old_hair, "", 0}};
-  assert_int_equal(satf_import_publish_side(&sides[0], &err), SATF_OK);
-  assert_int_equal(satf_import_publish_side(&sides[1], &err), SATF_OK);
+  satf_import_side sides[2] = {{base, write_bytes, &old_vdb, "", "", 0},
+                               {hair_base, write_bytes, &old_hair, "", "", 0}};
+  assert_int_equal(satf_import_stage_side(&sides[0], &err), SATF_OK);
+  assert_int_equal(satf_import_stage_side(&sides[1], &err), SATF_OK);
   /* base-XXXXXXXX.ext, beside the base */
   assert_int_equal(strlen(sides[0].published), strlen(base) + 9);
   assert_int_equal(strncmp(sides[0].published, base, strlen(base) - 4), 0);
@@ -144,10 +145,13 @@ static void publish_as_one_unit(void **state) {
    * the old VDB, whose bytes are unchanged; the new VDB is gone. */
   snprintf(tmp, sizeof tmp, "%s.tmp-%ld", scene_path, (long)getpid());
   bytes_job new_vdb = {"NEW grid bytes", tmp};
-  satf_import_side next = {base, write_bytes, &new_vdb, "", 0};
-  assert_int_equal(satf_import_publish_side(&next, &err), SATF_OK);
+  satf_import_side next = {base, write_bytes, &new_vdb, "", "", 0};
+  assert_int_equal(satf_import_stage_side(&next, &err), SATF_OK);
   assert_string_not_equal(next.published, old_vdb_path);
-  assert_true(exists(next.published));
+  assert_false(exists(next.published)); /* staged, not yet published */
+  char staged[4200];
+  strcpy(staged, next.staging);
+  assert_true(exists(staged));
   scene = scene_naming(scene_path, next.published, old_hair_path);
   assert_int_not_equal(
       satf_import_publish_scene(scene, scene_path, &next, 1, &err), SATF_OK);
@@ -158,6 +162,7 @@ static void publish_as_one_unit(void **state) {
   assert_file_holds(old_vdb_path, "OLD grid bytes");
   assert_file_holds(old_hair_path, "OLD hair");
   assert_false(exists(next.published));
+  assert_false(exists(staged));
   assert_int_equal(rmdir(tmp), 0);
 
   /* A killed run's leftovers: staging files of the side files (with the
@@ -179,10 +184,10 @@ static void publish_as_one_unit(void **state) {
    * old strands (same bytes: the same name); the old VDB is removed. */
   new_vdb.sabotage = NULL;
   bytes_job same_hair = {"OLD hair", NULL};
-  satf_import_side third[2] = {{base, write_bytes, &new_vdb, "", 0},
-                               {hair_base, write_bytes, &same_hair, "", 0}};
-  assert_int_equal(satf_import_publish_side(&third[0], &err), SATF_OK);
-  assert_int_equal(satf_import_publish_side(&third[1], &err), SATF_OK);
+  satf_import_side third[2] = {{base, write_bytes, &new_vdb, "", "", 0},
+                               {hair_base, write_bytes, &same_hair, "", "", 0}};
+  assert_int_equal(satf_import_stage_side(&third[0], &err), SATF_OK);
+  assert_int_equal(satf_import_stage_side(&third[1], &err), SATF_OK);
   assert_string_equal(third[1].published, old_hair_path);
   assert_int_equal(third[1].created, 0);
   scene = scene_naming(scene_path, third[0].published, third[1].published);
