@@ -128,8 +128,12 @@ satf_status satf_maps_prepare(const satf_maps *m, satf_shell_geom *g,
   return SATF_OK;
 }
 
+/* k = 4 (issue 13 item 5, measured by tests/render/bench_lookup, README
+ * "Look-up defaults"): against k = 1 it lowers the held-out error 14% (with
+ * 16 x 16 feature nodes) and the jumps between neighbouring HSVs' records
+ * 30-45%, for 1.2-1.3x the map stage; k = 8 gains 1-2% more for 1.7x. */
 satf_map_options satf_map_options_default(void) {
-  satf_map_options o = {0.05f, 1};
+  satf_map_options o = {0.05f, 4};
   return o;
 }
 
@@ -341,7 +345,8 @@ static params sector_params(const satf_shell_geom *g, const float *angles,
 /* A record at p (SATF eq. 4): from the cached neighbours nb when there
  * are some, else from the k nearest samples. Returns its reflectance
  * scale: the neighbours' scales blended with the weights that blend their
- * records (exact for k = 1, the default). */
+ * records (exact for k = 1; for k > 1 the blend of ratios, not the ratio
+ * of the blended record's sums). */
 static float lookup(const satf_maps *m, const satf_db_neighbors *nb,
                     const params *p, int k, float *re, float *al) {
   satf_db_neighbors found;
@@ -423,4 +428,55 @@ void satf_maps_shadow_sums(const satf_shell_geom *g, int width, float *texels) {
     for (size_t x = 0; x < n; x++)
       cur[4 * x + 2] = up[4 * x + 2] + up[4 * x + 1];
   }
+}
+
+/* One pair of texels into the seam sums (see maps.h). */
+static void seam_pair(const float *a, const float *b, double *re, long *n_re,
+                      double *al, long *n_al) {
+  *al += fabsf(a[1] - b[1]);
+  (*n_al)++;
+  if (a[1] > 0.05f && b[1] > 0.05f) {
+    *re += fabsf(a[0] - b[0]);
+    (*n_re)++;
+  }
+}
+
+void satf_maps_seams_add(const satf_shell_geom *g, int width,
+                         const float *texels, satf_maps_seams *acc) {
+  const satf_shell_params *sh = &g->shell;
+  int cols = sh->su * width;
+  for (int r = 0; r < 2 * sh->st; r++) {
+    const float *row = texels + (size_t)r * (size_t)cols * 4;
+    for (int c = 0; c < cols; c++) {
+      /* the texture wraps around the phase (GL_REPEAT) */
+      const float *a = row + 4 * c, *b = row + 4 * ((c + 1) % cols);
+      seam_pair(a, row + 4 * ((c + width) % cols), &acc->re_hsv, &acc->n_re_hsv,
+                &acc->al_hsv, &acc->n_al_hsv);
+      if ((c + 1) % width == 0)
+        seam_pair(a, b, &acc->re_edge, &acc->n_re_edge, &acc->al_edge,
+                  &acc->n_al_edge);
+      else
+        seam_pair(a, b, &acc->re_inner, &acc->n_re_inner, &acc->al_inner,
+                  &acc->n_al_inner);
+    }
+  }
+  for (int i = 0; i + 1 < sh->st; i++) {
+    const float *r1 = texels + (size_t)(2 * i + 1) * (size_t)cols * 4;
+    const float *r2 = r1 + (size_t)cols * 4;
+    for (int c = 0; c < cols; c++)
+      seam_pair(r1 + 4 * c, r2 + 4 * c, &acc->re_t, &acc->n_re_t, &acc->al_t,
+                &acc->n_al_t);
+  }
+}
+
+void satf_maps_seams_ratio(const satf_maps_seams *a, double *re,
+                           double *alpha) {
+  *re = a->n_re_edge && a->n_re_inner && a->re_inner > 0.0
+            ? (a->re_edge / (double)a->n_re_edge) /
+                  (a->re_inner / (double)a->n_re_inner)
+            : 0.0;
+  *alpha = a->n_al_edge && a->n_al_inner && a->al_inner > 0.0
+               ? (a->al_edge / (double)a->n_al_edge) /
+                     (a->al_inner / (double)a->n_al_inner)
+               : 0.0;
 }

@@ -81,6 +81,35 @@ int satf_maps_build_layer(const satf_maps *maps, const satf_shell_geom *g,
 /* Eq. 12 sums: channel 2 of layer k = sum of the alpha of layers m > k. */
 void satf_maps_shadow_sums(const satf_shell_geom *g, int width, float *texels);
 
+/* How visible the HSV boundaries are in a layer's maps: sums of the absolute
+ * differences of reflectance (channel 0, where both texels have alpha above
+ * 0.05: below it reflectance is re / alpha of almost nothing) and of alpha
+ * (channel 1) between neighbouring columns, split into pairs across an HSV
+ * boundary along the phase (column w - 1 of HSV j and column 0 of HSV
+ * j + 1, the same phase step apart as neighbours inside an HSV) and pairs
+ * inside an HSV. Along t, the pairs of rows 2i + 1 and 2i + 2 (both at
+ * t_{i+1}, one per HSV) are summed apart: 0 when neighbouring HSVs agree
+ * there. edge / inner near 1: no visible seam. The records' own profile
+ * across an HSV (alpha ramps up along the phase where the view is oblique:
+ * a ray entering near the sector's side leaves it soon) shows as a jump at
+ * every boundary whatever the look-up; the "hsv" sums cancel it, comparing
+ * column x of HSV j with column x of HSV j + 1: how much the looked-up
+ * records change from one HSV to the next (a patchwork with k = 1). */
+typedef struct satf_maps_seams {
+  double re_edge, re_inner, re_t, re_hsv; /* sums of |difference| */
+  double al_edge, al_inner, al_t, al_hsv;
+  long n_re_edge, n_re_inner, n_re_t, n_re_hsv; /* pairs summed */
+  long n_al_edge, n_al_inner, n_al_t, n_al_hsv;
+} satf_maps_seams;
+
+/* Adds layer `texels` (one layer of the layout above) to *acc. */
+void satf_maps_seams_add(const satf_shell_geom *g, int width,
+                         const float *texels, satf_maps_seams *acc);
+/* Mean jump across HSV boundaries over the mean step inside an HSV, for
+ * reflectance and alpha (0 where nothing was summed). */
+void satf_maps_seams_ratio(const satf_maps_seams *acc, double *re,
+                           double *alpha);
+
 /* Texels in one layer: su * width * 2 * st. */
 size_t satf_maps_layer_texels(const satf_shell_geom *g, int width);
 

@@ -148,25 +148,31 @@ static void feature_at(const satf_db *db, float q, float out[3]) {
 }
 
 /* What maps.c scales a record's re / alpha by: 1 / the reflectance per
- * unit coverage of the database sample nearest to `feature` (k = 1),
- * sum(re) / sum(alpha) over all its records, computed here independently. */
-static double expected_re_scale(const satf_db *db, const float feature[3]) {
-  int nearest;
-  float d2;
-  assert_int_equal(satf_db_nearest(db, feature, 1, &nearest, &d2), 1);
+ * unit coverage of each database sample blended for `feature` (the k
+ * nearest), sum(re) / sum(alpha) over all its records, computed here
+ * independently and blended with the look-up's weights. */
+static double expected_re_scale(const satf_db *db, const float feature[3],
+                                int k) {
+  satf_db_neighbors nb;
+  satf_db_neighbors_find(db, feature, k, &nb);
+  assert_int_equal(nb.count, k);
   const satf_build_params *p = satf_db_params(db);
-  double sum_re = 0.0, sum_al = 0.0;
-  for (int iv = 0; iv < p->n_view; iv++)
-    for (int il = 0; il < p->n_light; il++) {
-      const float *re, *al;
-      satf_db_record(db, nearest, iv, il, &re, &al);
-      for (int j = 0; j < p->trace.width; j++) {
-        sum_re += re[j];
-        sum_al += al[j];
+  double blended = 0.0;
+  for (int c = 0; c < nb.count; c++) {
+    double sum_re = 0.0, sum_al = 0.0;
+    for (int iv = 0; iv < p->n_view; iv++)
+      for (int il = 0; il < p->n_light; il++) {
+        const float *re, *al;
+        satf_db_record(db, nb.index[c], iv, il, &re, &al);
+        for (int j = 0; j < p->trace.width; j++) {
+          sum_re += re[j];
+          sum_al += al[j];
+        }
       }
-    }
-  assert_true(sum_re > 0.0 && sum_al > 0.0);
-  return sum_al / sum_re;
+    assert_true(sum_re > 0.0 && sum_al > 0.0);
+    blended += nb.weight[c] * (sum_al / sum_re);
+  }
+  return blended;
 }
 
 /* An HSV whose two boundary sectors have identical parameters is uniform
@@ -271,8 +277,8 @@ static void test_non_uniform_rows_and_shadow_sums(void **state) {
   satf_map_options opt = satf_map_options_default();
   size_t row = (size_t)sh->su * w * 4;
   /* stored reflectance / (re / alpha): the scale of the record's sample */
-  double scale[2] = {expected_re_scale(f->db, feat[0]),
-                     expected_re_scale(f->db, feat[1])};
+  double scale[2] = {expected_re_scale(f->db, feat[0], opt.k_nearest),
+                     expected_re_scale(f->db, feat[1], opt.k_nearest)};
   printf("reflectance scales: %.4f at 0.2, %.4f at 0.8 of the range\n",
          scale[0], scale[1]);
   int alpha_seen = 0;
@@ -414,6 +420,93 @@ static void test_uniform_density_features(void **state) {
   satf_strands_destroy(strands);
 }
 
+/* Seams between neighbouring HSVs (maps.h, satf_maps_seams): a cluster of
+ * procedural strands seen from the side, its maps built with one database
+ * sample per look-up (k = 1) and with the default options. The default
+ * must change the looked-up records less from one HSV to the next, along
+ * the phase and along t (issue 13 item 5: k = 1 showed visible jumps).
+ * The jump across a boundary over the step inside an HSV is printed too:
+ * the records' own profile across an HSV dominates it for any k. */
+typedef struct seam_figures {
+  double ratio_re, ratio_al;         /* jump across / step inside, phase */
+  double hsv_re, hsv_al, t_re, t_al; /* mean |change| between HSVs */
+} seam_figures;
+
+static seam_figures seam_measure(const fixture *f, const satf_shell_geom *g,
+                                 const satf_map_options *opt) {
+  const satf_shell_params *sh = &g->shell;
+  size_t n = satf_shell_sector_count(sh);
+  int w = satf_maps_width(f->maps);
+  size_t layer = satf_maps_layer_texels(g, w);
+  float *angles = malloc(2 * n * sizeof(float));
+  float *tex = calloc(layer * 4, sizeof(float));
+  assert_non_null(angles);
+  assert_non_null(tex);
+  const float eye[3] = {24.0f, 6.0f, 9.0f};
+  const float light[4] = {0.3f, 0.8f, 0.5f, 0.0f};
+  satf_maps_angles(g, eye, light, angles);
+  satf_maps_seams acc;
+  memset(&acc, 0, sizeof acc);
+  for (int k = 0; k < sh->layers; k++) {
+    satf_maps_build_layer(f->maps, g, angles, opt, k, tex);
+    satf_maps_seams_add(g, w, tex, &acc);
+  }
+  long texels = (long)sh->layers * 2 * sh->st * sh->su * w;
+  assert_true(acc.n_al_edge == (long)sh->layers * 2 * sh->st * sh->su);
+  assert_true(acc.n_al_hsv == texels);
+  assert_true(acc.n_re_hsv > texels / 4 && acc.n_re_t > 0);
+  seam_figures s;
+  satf_maps_seams_ratio(&acc, &s.ratio_re, &s.ratio_al);
+  s.hsv_re = acc.re_hsv / (double)acc.n_re_hsv;
+  s.hsv_al = acc.al_hsv / (double)acc.n_al_hsv;
+  s.t_re = acc.re_t / (double)acc.n_re_t;
+  s.t_al = acc.al_t / (double)acc.n_al_t;
+  free(angles);
+  free(tex);
+  return s;
+}
+
+static void test_default_lookup_reduces_seams(void **state) {
+  fixture *f = *state;
+  satf_scene_density d;
+  memset(&d, 0, sizeof d);
+  d.type = SATF_SCENE_DENSITY_PROCEDURAL;
+  d.strands = 1500;
+  d.seed = 11;
+  d.layout = SATF_SCENE_LAYOUT_CLUMPED;
+  d.clumps = 6;
+  d.clump_spread = 0.3f;
+  d.strand_width = 0.03f;
+  d.scale = 1.0f;
+  satf_strands *strands = NULL;
+  satf_error err;
+  assert_int_equal(satf_strands_create(&d, &strands, &err), SATF_OK);
+  satf_shell_params sh = {4, 12, 16, 0.3f};
+  satf_shell_geom g;
+  assert_int_equal(satf_shell_geom_create(f->cluster, &sh, &g, &err), SATF_OK);
+  assert_int_equal(satf_sector_features(f->cluster, &sh, strands, NULL, NULL, 0,
+                                        g.features, &err),
+                   SATF_OK);
+  satf_map_options one = satf_map_options_default(), def = one;
+  one.k_nearest = 1;
+  seam_figures s1 = seam_measure(f, &g, &one);
+  seam_figures sd = seam_measure(f, &g, &def);
+  const seam_figures *s[2] = {&s1, &sd};
+  for (int c = 0; c < 2; c++)
+    printf("k = %d: HSV to HSV along the phase: reflectance %.4f, alpha "
+           "%.4f; along t: %.4f, %.4f; jump across / step inside: %.2f, "
+           "%.2f\n",
+           c ? def.k_nearest : 1, s[c]->hsv_re, s[c]->hsv_al, s[c]->t_re,
+           s[c]->t_al, s[c]->ratio_re, s[c]->ratio_al);
+  assert_true(s1.hsv_re > 0.0 && s1.t_re > 0.0 && s1.t_al > 0.0);
+  assert_true(sd.hsv_re < 0.9 * s1.hsv_re);
+  assert_true(sd.hsv_al < s1.hsv_al);
+  assert_true(sd.t_re < s1.t_re);
+  assert_true(sd.t_al < s1.t_al);
+  satf_shell_geom_destroy(&g);
+  satf_strands_destroy(strands);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_sector_frames),
@@ -422,6 +515,7 @@ int main(void) {
       cmocka_unit_test(test_non_uniform_rows_and_shadow_sums),
       cmocka_unit_test(test_shadow_sums_exact),
       cmocka_unit_test(test_uniform_density_features),
+      cmocka_unit_test(test_default_lookup_reduces_seams),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
