@@ -93,15 +93,17 @@ static void usage(FILE *out) {
       "1)\n"
       "  --threads N            threads (0 = all cores)\n"
       "  -q, --quiet            no progress bar or summary\n"
+      "  -h, --help             this help\n"
       "\n"
       "Every path the scene names is relative to the scene's folder, so the "
       "scene\n"
-      "and its files can be moved together. The side files and the scene "
+      "and its files can be moved together. The side files (VDB, strands) "
       "are\n"
-      "published as one unit: the scene is renamed into place last, then the "
-      "side\n"
-      "files of the scene it replaced are removed.\n"
-      "  -h, --help             this help\n",
+      "named by a hash of their bytes and published with the scene as one "
+      "unit:\n"
+      "the scene is renamed into place last, then the side files of the "
+      "scene it\n"
+      "replaced are removed.\n",
       PROG);
 }
 
