@@ -429,6 +429,14 @@ satf_status satf_import_write_fit_report(const char *path,
 void satf_import_estimate_density(const satf_import_projection *proj,
                                   satf_import_fit *fit);
 
+/* When the strands carry a thickness: fit->strand_width becomes the
+ * members' mean diameter over the cluster radius (0.005..0.5), so the
+ * density is that of the file's strands as they are drawn, not of strands
+ * widened to fill the cluster. Nothing changes without thickness. */
+void satf_import_width_from_thickness(const satf_strand_set *s,
+                                      const int *members, int n,
+                                      satf_import_fit *fit);
+
 /* A cluster's density in its own coordinates (SATF sec. 3.3): nt slices at
  * t = (i + 0.5) / nt, each an n x n grid over normalised (x, y) in
  * [-extent, extent]^2, in which every strand crossing the slice adds a
@@ -453,7 +461,8 @@ double satf_import_density_slice_mass(const satf_import_density *d, int i);
 float satf_import_world_sigma(const satf_import_fit *fit);
 
 /* The whole hairstyle's density in world space: every segment of strand i
- * is a tube of width satf_import_world_sigma(fits[labels[i]]) and mass pi
+ * is a tube of width satf_import_world_sigma(fits[labels[i]]) (half the
+ * file's thickness instead where the set has thickness) and mass pi
  * sigma^2 per unit length (coverage units, as the per-cluster grids). */
 satf_status satf_import_build_vdb(const satf_strand_set *s, const int *labels,
                                   const satf_import_fit *fits, float voxel,

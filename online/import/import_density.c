@@ -111,6 +111,26 @@ void satf_import_estimate_density(const satf_import_projection *proj,
     fit->gradient = 0.0f;
 }
 
+void satf_import_width_from_thickness(const satf_strand_set *s,
+                                      const int *members, int n,
+                                      satf_import_fit *fit) {
+  double sum = 0.0;
+  size_t count = 0;
+  for (int i = 0; i < n; i++) {
+    const float *th = satf_strand_set_thickness(s, members[i]);
+    if (!th)
+      return;
+    int m = satf_strand_set_points(s, members[i]);
+    for (int k = 0; k < m; k++)
+      sum += th[k];
+    count += (size_t)m;
+  }
+  if (count == 0 || !(sum > 0.0) || !(fit->radius > 0.0f))
+    return;
+  float w = (float)(sum / (double)count) / fit->radius;
+  fit->strand_width = w < 0.005f ? 0.005f : w > 0.5f ? 0.5f : w;
+}
+
 void satf_import_density_free(satf_import_density *d) {
   if (d) {
     free(d->values);
@@ -212,12 +232,19 @@ satf_status satf_import_build_vdb(const satf_strand_set *s, const int *labels,
   int n = satf_strand_set_count(s);
   for (int i = 0; i < n && st == SATF_OK; i++) {
     float sigma = satf_import_world_sigma(&fits[labels[i]]);
-    float mpl = SATF_PI_F * sigma * sigma;
     int m;
     const float *p = satf_strand_set_strand(s, i, &m);
-    for (int k = 0; k + 1 < m && st == SATF_OK; k++)
-      st = satf_vdb_builder_add_tube(b, p + 3 * k, p + 3 * k + 3, sigma, mpl,
-                                     err);
+    /* the file's own thickness where it has one (SATF sec. 3.3: the
+     * strand's cross-section, half its diameter as the Gaussian's width),
+     * so sparse strands stay as thin as they are drawn */
+    const float *th = satf_strand_set_thickness(s, i);
+    for (int k = 0; k + 1 < m && st == SATF_OK; k++) {
+      float sg = sigma;
+      if (th && th[k] + th[k + 1] > 0.0f)
+        sg = 0.25f * (th[k] + th[k + 1]);
+      st = satf_vdb_builder_add_tube(b, p + 3 * k, p + 3 * k + 3, sg,
+                                     SATF_PI_F * sg * sg, err);
+    }
     if (progress && (i % 256 == 255 || i == n - 1))
       progress(progress_ctx, (size_t)i + 1, (size_t)n);
   }

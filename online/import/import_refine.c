@@ -273,6 +273,7 @@ static int density_job(void *vctx, size_t i, int thread) {
     st = satf_import_project(r->s, m, n, cl, &proj, &r->errs[c]);
   if (st == SATF_OK) {
     satf_import_estimate_density(&proj, &r->fits[c]);
+    satf_import_width_from_thickness(r->s, m, n, &r->fits[c]);
     satf_import_projection_free(&proj);
   }
   satf_cluster_destroy(cl);
