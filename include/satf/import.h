@@ -283,6 +283,11 @@ typedef struct satf_import_fit {
   float radius;       /* sqrt(mean a * mean b), scene units */
   satf_scene_layout layout;
   float gradient; /* for SATF_SCENE_LAYOUT_GRADIENT */
+  /* the members as tracks (satf_import_fit_tracks; the scene density type
+   * "tracks", fields as in satf_scene_density); n_tracks 0: none */
+  int track_slices, n_tracks;
+  int *track_first, *track_count;
+  float *track_xy;
 } satf_import_fit;
 
 /* Fits the cluster of the strands `members`: the trajectory is the
@@ -428,6 +433,12 @@ satf_status satf_import_write_fit_report(const char *path,
  * strands' mean v says |g| >= 0.3, else "uniform". */
 void satf_import_estimate_density(const satf_import_projection *proj,
                                   satf_import_fit *fit);
+/* The members as tracks (import_tracks.c): where each crosses evenly
+ * spaced t slices in the normalised cross-section, root slice to tip
+ * slice; called by satf_import_estimate_density. Without memory the fit
+ * keeps no tracks (the procedural density stands in). */
+void satf_import_fit_tracks(const satf_import_projection *proj,
+                            satf_import_fit *fit);
 
 /* When the strands carry a thickness: fit->strand_width becomes the
  * members' mean diameter over the cluster radius (0.005..0.5), so the

@@ -42,6 +42,7 @@ static double gradient_ratio(double g) {
 
 void satf_import_estimate_density(const satf_import_projection *proj,
                                   satf_import_fit *fit) {
+  satf_import_fit_tracks(proj, fit);
   int n = proj->n_strands;
   int m = n < WIDTH_PROBES ? n : WIDTH_PROBES;
   float *xy = malloc(2 * (size_t)(m ? m : 1) * sizeof(float));

@@ -32,6 +32,15 @@ static float *rounded(const float *v, int n, int *failed) {
   return out;
 }
 
+static void *copy_bytes(const void *from, size_t size, int *failed) {
+  void *to = malloc(size ? size : 1);
+  if (!to)
+    *failed = 1;
+  else if (size)
+    memcpy(to, from, size);
+  return to;
+}
+
 static char *copy_string(const char *s, int *failed) {
   char *c = s ? malloc(strlen(s) + 1) : NULL;
   if (c)
@@ -96,6 +105,22 @@ static void fill_cluster(const satf_import_fit *f,
     d->type = SATF_SCENE_DENSITY_VDB;
     d->vdb_file = scene_path(base_dir, o->vdb_file, failed);
     d->vdb_grid = copy_string(o->vdb_grid ? o->vdb_grid : "density", failed);
+    return;
+  }
+  d->strand_width = round7(f->strand_width);
+  d->scale = 1.0f;
+  if (f->n_tracks > 0) { /* the cluster's own strands (issue 10 item 5) */
+    size_t points = 0;
+    for (int k = 0; k < f->n_tracks; k++)
+      points += (size_t)f->track_count[k];
+    d->type = SATF_SCENE_DENSITY_TRACKS;
+    d->track_slices = f->track_slices;
+    d->n_tracks = f->n_tracks;
+    d->track_first =
+        copy_bytes(f->track_first, (size_t)f->n_tracks * sizeof(int), failed);
+    d->track_count =
+        copy_bytes(f->track_count, (size_t)f->n_tracks * sizeof(int), failed);
+    d->track_xy = copy_bytes(f->track_xy, 2 * points * sizeof(float), failed);
     return;
   }
   d->type = SATF_SCENE_DENSITY_PROCEDURAL;

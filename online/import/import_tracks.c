@@ -1,0 +1,81 @@
+/* import_tracks.c - a cluster's density from its own strands (issue 10
+ * item 5; scene density type "tracks", online/density/tracks.c): where
+ * each member strand crosses evenly spaced t slices of the fitted cluster,
+ * in its normalised cross-section, from the first slice it reaches to the
+ * last. The renderer's sector features (SATF sec. 5.2) then see the file's
+ * strands where they really are, and a cluster thins out where its strands
+ * end instead of stopping at t = 1. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "satf/import.h"
+
+/* Slices per cluster: two per HSV along t (the shell's st, about one per
+ * cluster width), so a strand that winds about the axis is followed
+ * between the sectors' own t. */
+static int slice_count(const satf_import_fit *fit) {
+  satf_scene_shell sh = satf_import_choose_shell(fit);
+  int n = 2 * sh.st + 1;
+  return n < 9 ? 9 : n > 129 ? 129 : n;
+}
+
+/* Rounded to 1e-4 of the cluster radius: the scene stays small, and a
+ * strand's place is known to far better than its width. */
+static float round4(float v) { return roundf(v * 1e4f) * 1e-4f; }
+
+void satf_import_fit_tracks(const satf_import_projection *proj,
+                            satf_import_fit *fit) {
+  free(fit->track_first);
+  free(fit->track_count);
+  free(fit->track_xy);
+  fit->track_first = fit->track_count = NULL;
+  fit->track_xy = NULL;
+  fit->n_tracks = 0;
+  int n = proj->n_strands, slices = slice_count(fit);
+  int *first = malloc(((size_t)n + 1) * sizeof(int));
+  int *count = malloc(((size_t)n + 1) * sizeof(int));
+  float *xy = malloc(((size_t)n * (size_t)slices * 2 + 1) * sizeof(float));
+  if (!first || !count || !xy) { /* the procedural density stands in */
+    free(first);
+    free(count);
+    free(xy);
+    return;
+  }
+  size_t at = 0;
+  int kept = 0;
+  for (int i = 0; i < n; i++) {
+    int lo = -1, hi = -1;
+    float p[2];
+    for (int s = 0; s < slices; s++)
+      if (satf_import_projection_at(proj, i, (float)s / (float)(slices - 1),
+                                    p)) {
+        if (lo < 0)
+          lo = s;
+        hi = s;
+      }
+    if (lo < 0) /* shorter than a slice interval: no slice sees it */
+      continue;
+    first[kept] = lo;
+    count[kept] = hi - lo + 1;
+    float last[2] = {0.0f, 0.0f};
+    for (int s = lo; s <= hi; s++) {
+      /* a strand doubling back may skip a slice: hold its last place */
+      if (satf_import_projection_at(proj, i, (float)s / (float)(slices - 1),
+                                    p)) {
+        last[0] = p[0];
+        last[1] = p[1];
+      }
+      /* the scene format holds |x|, |y| <= 8: strands beyond 8 radii are
+       * far outside the shells the features sample */
+      xy[2 * at] = round4(fminf(fmaxf(last[0], -8.0f), 8.0f));
+      xy[2 * at + 1] = round4(fminf(fmaxf(last[1], -8.0f), 8.0f));
+      at++;
+    }
+    kept++;
+  }
+  fit->track_slices = slices;
+  fit->n_tracks = kept;
+  fit->track_first = first;
+  fit->track_count = count;
+  fit->track_xy = xy;
+}
