@@ -3,6 +3,7 @@
  * optional OpenVDB density grid, and the scene written out (SATF sec.
  * 3.1-3.3), with progress bars and the summary it prints. */
 #define _XOPEN_SOURCE 700
+#include <errno.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -489,10 +490,27 @@ static satf_status publish(run *u, satf_scene *scene, satf_error *err) {
   return st;
 }
 
+/* The folder an output goes into exists and takes new files: checked
+ * before the work, which can take minutes, not after it. */
+static satf_status check_output_dir(const char *flag, const char *path,
+                                    satf_error *err) {
+  char dir[PATH_MAX];
+  const char *slash = strrchr(path, '/');
+  snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) : 1,
+           slash ? (slash == path ? "/" : path) : ".");
+  if (access(dir, W_OK | X_OK) != 0)
+    return satf_error_set(err, SATF_ERR_IO, "%s %s: cannot write into %s: %s",
+                          flag, path, dir, strerror(errno));
+  return SATF_OK;
+}
+
 static satf_status steps(run *u, satf_error *err) {
   satf_import_result *r = u->r;
   satf_status st = SATF_OK;
-  if ((u->o->database && (st = absolute_path("--db", u->o->database,
+  if ((st = check_output_dir("-o", u->o->output, err)) != SATF_OK ||
+      (u->o->vdb &&
+       (st = check_output_dir("--vdb", u->o->vdb, err)) != SATF_OK) ||
+      (u->o->database && (st = absolute_path("--db", u->o->database,
                                              u->database, err)) != SATF_OK) ||
       (u->o->mesh && (st = check_mesh(u, err)) != SATF_OK) ||
       (st = read_inputs(u, err)) != SATF_OK ||
