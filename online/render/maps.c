@@ -130,8 +130,9 @@ satf_status satf_maps_prepare(const satf_maps *m, satf_shell_geom *g,
 
 /* k = 4 (issue 13 item 5, measured by tests/render/bench_lookup, README
  * "Look-up defaults"): against k = 1 it lowers the held-out error 14% (with
- * 16 x 16 feature nodes) and the jumps between neighbouring HSVs' records
- * 30-45%, for 1.2-1.3x the map stage; k = 8 gains 1-2% more for 1.7x. */
+ * 16 x 16 feature nodes) and the change of the looked-up records between
+ * neighbouring HSVs 25-45% (reflectance), for 1.3-1.5x the map stage;
+ * k = 8 gains 1-2% more accuracy for 1.7-2.2x. */
 satf_map_options satf_map_options_default(void) {
   satf_map_options o = {0.05f, 4};
   return o;
