@@ -114,6 +114,34 @@ static void resample_curve(const satf_scene_curve *c, int n, float *out) {
   }
 }
 
+/* The density queries of satf_sector_features on grid x grid nodes, one
+ * satf_strands_density call each (strand positions computed per query, as
+ * the sampling did before it computed them once per t slice): its time. */
+static double features_per_query_ms(const satf_cluster *cluster,
+                                    const satf_shell_params *sh,
+                                    const satf_strands *strands, int grid) {
+  double t0 = satf_now_seconds(), sum = 0.0;
+  for (int i = 0; i <= sh->st; i++) {
+    float t = (float)i / (float)sh->st;
+    for (int k = 0; k < sh->layers; k++) {
+      float v0 = satf_shell_layer_v(sh, k), v1 = satf_shell_layer_v(sh, k + 1);
+      for (int j = 0; j < sh->su; j++)
+        for (int b = 0; b < grid; b++) {
+          float u = SATF_TWO_PI_F * ((float)j + (float)b / (float)(grid - 1)) /
+                    (float)sh->su;
+          for (int a = 0; a < grid; a++) {
+            float v = v0 + (v1 - v0) * (float)a / (float)(grid - 1);
+            sum += satf_strands_density(strands, t, v * cosf(u), v * sinf(u));
+          }
+        }
+    }
+  }
+  (void)cluster;
+  if (sum < 0.0) /* keeps the loop */
+    printf("%g\n", sum);
+  return 1e3 * (satf_now_seconds() - t0);
+}
+
 typedef struct bproto {
   satf_cluster *cluster;
   satf_strands *strands;
@@ -173,7 +201,7 @@ static int maps_bench(const satf_db *db, const char *path, int frames) {
   bproto *bp = calloc((size_t)scene->n_macro_clusters, sizeof *bp);
   int np = 0;
   size_t max_sectors = 0, max_texels = 0;
-  double feat_ms[NG] = {0};
+  double feat_ms[NG] = {0}, query_ms = 0.0;
   long hsvs = 0;
   for (int m = 0; m < scene->n_macro_clusters; m++) {
     const satf_scene_cluster *c = &scene->macro_clusters[m].prototype;
@@ -211,6 +239,8 @@ static int maps_bench(const satf_db *db, const char *path, int frames) {
                                     &err) != SATF_OK)
         die("features", &err);
       feat_ms[g] += 1e3 * (satf_now_seconds() - t0);
+      if (GS[g] == 8)
+        query_ms += features_per_query_ms(b->cluster, &sh, b->strands, 8);
       for (int k = 0; k < NK; k++) {
         satf_map_options opt = satf_map_options_default();
         opt.k_nearest = KS[k];
@@ -270,6 +300,9 @@ static int maps_bench(const satf_db *db, const char *path, int frames) {
     printf("  features on %dx%d nodes: %.1f ms (1 thread, once per "
            "prototype)\n",
            GS[g], GS[g], feat_ms[g]);
+  printf("  8x8 nodes, strand positions per query (the sampling before "
+         "positions per t slice): %.1f ms\n",
+         query_ms);
   for (int q = 0; q < np; q++) {
     for (int g = 0; g < NG; g++) {
       for (int k = 0; k < NK; k++)
