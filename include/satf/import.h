@@ -119,6 +119,12 @@ typedef struct satf_follow_params {
 satf_status satf_strand_set_add_follow(const satf_strand_set *guides,
                                        const satf_follow_params *p,
                                        satf_strand_set **out, satf_error *err);
+/* The same, calling progress(ctx, guides done, guides) now and then (it
+ * may be NULL): 15 M points take seconds. */
+satf_status satf_strand_set_add_follow_progress(
+    const satf_strand_set *guides, const satf_follow_params *p,
+    void (*progress)(void *ctx, size_t done, size_t total), void *progress_ctx,
+    satf_strand_set **out, satf_error *err);
 
 /* Mean distance between each strand's root and the nearest other root: the
  * scale of a sensible follow radius. 0 for fewer than two strands. */

@@ -71,6 +71,10 @@ static satf_status check_follow(const satf_import_options *o, const char *path,
       satf_format_bytes(budget, b2, sizeof b2), most, most);
 }
 
+static void follow_progress(void *ctx, size_t done, size_t total) {
+  satf_progress_update(ctx, done, total);
+}
+
 /* The parser of format f on the file's bytes; TressFX guides get their
  * follow strands as o asks. */
 static satf_status parse_as(satf_strands_format f, const void *data,
@@ -99,8 +103,13 @@ static satf_status parse_as(satf_strands_format f, const void *data,
     return SATF_OK;
   }
   st = check_follow(o, path, guides, fp.count, o->follow < 0, err);
-  if (st == SATF_OK)
-    st = satf_strand_set_add_follow(guides, &fp, out, err);
+  if (st == SATF_OK) {
+    satf_progress bar;
+    satf_progress_begin(&bar, stderr, "follow strands", "guides", 1, o->quiet);
+    st = satf_strand_set_add_follow_progress(guides, &fp, follow_progress, &bar,
+                                             out, err);
+    satf_progress_end(&bar);
+  }
   satf_strand_set_destroy(guides);
   return st;
 }
