@@ -29,9 +29,6 @@ void satf_import_fit_free(satf_import_fit *fit) {
     free(fit->b);
     free(fit->twist);
     free(fit->spread);
-    free(fit->track_first);
-    free(fit->track_count);
-    free(fit->track_xy);
     memset(fit, 0, sizeof *fit);
   }
 }
@@ -802,11 +799,24 @@ static void tuft_axis(const satf_strand_set *s, const int *members, int n,
         mean[3 * used + c] = sum[4 * b + c] / sum[4 * b + 3];
       used++;
     }
-  /* fewer points than bins: repeat the last, which the least-squares fit
-   * weighs as one more sample at the end */
-  for (int k = used; k < m && used > 0; k++)
-    for (int c = 0; c < 3; c++)
-      mean[3 * k + c] = mean[3 * (used - 1) + c];
+  /* fewer points than bins: the used ones spread evenly over m again
+   * (repeated points would leave the end's control points unconstrained) */
+  if (used >= 2 && used < m) {
+    double *tmp = malloc(3 * (size_t)used * sizeof(double));
+    if (tmp) {
+      memcpy(tmp, mean, 3 * (size_t)used * sizeof(double));
+      for (int k = 0; k < m; k++) {
+        double x = (double)k * (used - 1) / (m - 1);
+        int a = (int)x;
+        a = a >= used - 1 ? used - 2 : a;
+        double f = x - a;
+        for (int c = 0; c < 3; c++)
+          mean[3 * k + c] =
+              tmp[3 * a + c] + f * (tmp[3 * a + 3 + c] - tmp[3 * a + c]);
+      }
+      free(tmp);
+    }
+  }
   free(sum);
 }
 
@@ -815,7 +825,8 @@ static void tuft_axis(const satf_strand_set *s, const int *members, int n,
 static satf_status fit_mean_trajectory(const satf_strand_set *s,
                                        const int *members, int n_members,
                                        const satf_import_fit_params *p,
-                                       float *traj, satf_error *err) {
+                                       float *traj, int *n_ctrl,
+                                       satf_error *err) {
   int m = p->samples;
   double *mean = calloc(3 * (size_t)m, sizeof(double));
   float *buf = malloc(3 * (size_t)m * sizeof(float));
@@ -833,7 +844,33 @@ static satf_status fit_mean_trajectory(const satf_strand_set *s,
     mean[k] /= n_members;
   free(buf);
   tuft_axis(s, members, n_members, m, mean);
-  int bad = fit_trajectory(mean, m, p->n_ctrl, traj);
+  /* the control points stay near the points they fit: a B-spline with
+   * more control points than the data pins down swings far out (and the
+   * scene's camera frames it); then half as many, down to 4 */
+  double lo[3] = {INFINITY, INFINITY, INFINITY},
+         hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int k = 0; k < m; k++)
+    for (int c = 0; c < 3; c++) {
+      lo[c] = fmin(lo[c], mean[3 * k + c]);
+      hi[c] = fmax(hi[c], mean[3 * k + c]);
+    }
+  double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+                     (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                     (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  int bad = 1;
+  for (int n = *n_ctrl; n >= 2; n = n > 4 ? n / 2 : n - 1) {
+    bad = fit_trajectory(mean, m, n, traj);
+    int wild = 0;
+    for (int k = 0; !bad && k < 3 * n; k++) {
+      double g = 0.5 * diag + 1e-6;
+      wild |= traj[k] < lo[k % 3] - g || traj[k] > hi[k % 3] + g;
+    }
+    if (!bad && (!wild || n <= 4)) {
+      *n_ctrl = n;
+      break;
+    }
+    bad = 1;
+  }
   free(mean);
   if (bad)
     return satf_error_set(err, SATF_ERR_INTERNAL,
@@ -868,12 +905,12 @@ satf_status satf_import_fit_cluster(const satf_strand_set *s,
   }
   out->n_ctrl = p->n_ctrl;
   out->n_radius = p->n_radius;
-  satf_status st =
-      fit_mean_trajectory(s, members, n_members, p, out->traj, err);
+  satf_status st = fit_mean_trajectory(s, members, n_members, p, out->traj,
+                                       &out->n_ctrl, err);
   /* A provisional cylinder of unit radius and no twist gives the untwisted
    * rotation-minimising frames the raw offsets are measured in. */
   float one = 1.0f, zero = 0.0f;
-  satf_cluster_desc d = {p->n_ctrl, out->traj, 1, &one, &one, &zero};
+  satf_cluster_desc d = {out->n_ctrl, out->traj, 1, &one, &one, &zero};
   satf_cluster *cl = NULL;
   if (st == SATF_OK)
     st = satf_cluster_create(&d, &cl, err);
