@@ -386,6 +386,8 @@ float satf_import_fit_score(const satf_import_fit *fit,
 
 /* Clusters the strands adaptively: k-means with rp->initial clusters (seed
  * from cp), then fit, check and split as satf_import_refine_params says.
+ * Where the strands have a thickness, half their mean thickness caps
+ * fp->min_radius (a cluster of one sparse strand is as thin as it is).
  * labels (one per strand) and *n_clusters receive the result; *fits a
  * malloc'ed array of *n_clusters fits, density estimated (as
  * satf_import_fit_all leaves them): free each and the array. Deterministic

@@ -209,7 +209,8 @@ typedef struct refine {
   const satf_import_refine_params *rp;
   const satf_import_fit_params *fp;
   int n_strands;
-  int k, cap; /* clusters, room in the arrays */
+  float half_thickness; /* half the strands' mean thickness, 0: none */
+  int k, cap;           /* clusters, room in the arrays */
   int *labels;
   satf_import_fit *fits;
   int *ctrl;       /* each cluster's trajectory control points */
@@ -235,6 +236,9 @@ static int fit_job(void *vctx, size_t i, int thread) {
   int c = r->todo[i];
   satf_import_fit_params fp = *r->fp;
   fp.n_ctrl = r->ctrl[c];
+  /* sparse strands: a cluster of one or a few is as thin as they are */
+  if (r->half_thickness > 0.0f && r->half_thickness < fp.min_radius)
+    fp.min_radius = r->half_thickness;
   if (fp.samples < 4 * fp.n_ctrl)
     fp.samples = 4 * fp.n_ctrl;
   satf_import_fit_free(&r->fits[c]);
@@ -450,6 +454,16 @@ satf_status satf_import_refine(const satf_strand_set *s,
   r.rp = rp;
   r.fp = fp;
   r.n_strands = n;
+  double th_sum = 0.0;
+  size_t th_count = 0;
+  for (int i = 0; i < n; i++) {
+    const float *th = satf_strand_set_thickness(s, i);
+    int m = satf_strand_set_points(s, i);
+    for (int k = 0; th && k < m; k++)
+      th_sum += th[k];
+    th_count += th ? (size_t)m : 0;
+  }
+  r.half_thickness = th_count ? (float)(0.5 * th_sum / (double)th_count) : 0.0f;
   r.k = k0;
   r.cap = rp->max_clusters > k0 ? rp->max_clusters : k0;
   r.labels = labels;
