@@ -25,8 +25,17 @@ typedef struct satf_frontend {
  * or the scene's "database"); a zero *width takes the scene's image size.
  * On failure prints "PROG: reason" and returns non-OK. */
 satf_status satf_frontend_load(const char *prog, const char *scene_path,
-                               const char *db_path, long *width, long *height,
-                               satf_frontend *fe);
+                               const char *db_path, double budget, long *width,
+                               long *height, satf_frontend *fe);
+/* Bytes the renderer is estimated to take for `scene` at width x height;
+ * satf_frontend_load refuses a scene over `budget` bytes (0: half the machine's memory) before
+ * anything is built. */
+double satf_frontend_memory_estimate(const satf_scene *scene, long width,
+                                     long height);
+/* --memory-budget GB: 1 if arg was it (sets *bytes), -1 after printing a
+ * bad value, 0 otherwise. */
+int satf_frontend_budget_flag(satf_cli_args *it, double *bytes);
+extern const char *const satf_frontend_budget_help;
 
 /* --strands: reads the scene's source strands (its "strands" key, a
  * cyHair .hair file in scene coordinates, which satf-import writes beside

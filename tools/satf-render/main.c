@@ -47,10 +47,11 @@ static void usage(FILE *out) {
       "  --threads N          CPU threads for the map stage (0 = all)\n"
       "  --samples N          anti-aliasing: N jittered samples per pixel\n"
       "                       (1-64; default: the scene's image.samples, 1)\n"
-      "%s%s"
+      "%s%s%s"
       "  -q, --quiet          no summary\n"
       "  -h, --help           this help\n",
-      PROG, satf_frontend_effect_help, satf_frontend_strand_help);
+      PROG, satf_frontend_effect_help, satf_frontend_strand_help,
+      satf_frontend_budget_help);
 }
 
 typedef struct options {
@@ -58,6 +59,7 @@ typedef struct options {
   long w, h, bench, threads, samples;
   int resume, aov, quiet, composite, bg_in_exr, strands;
   float strand_width;
+  double budget; /* --memory-budget, bytes (0: the default) */
   satf_scene_effects off;
 } options;
 
@@ -111,6 +113,8 @@ static int parse_one(satf_cli_args *it, options *o) {
     o->quiet = 1;
   else if (satf_frontend_effect_flag(it->arg, &o->off))
     return 0;
+  else if ((strand = satf_frontend_budget_flag(it, &o->budget)) != 0)
+    return strand < 0 ? -1 : 0;
   else if ((strand = satf_frontend_strand_flag(it, &o->strands,
                                                &o->strand_width)) != 0)
     return strand < 0 ? -1 : 0;
@@ -296,8 +300,8 @@ int main(int argc, char **argv) {
   if (rc >= 0)
     return rc;
   satf_frontend fe;
-  if (satf_frontend_load(PROG, o.scene_path, o.db_path, &o.w, &o.h, &fe) !=
-      SATF_OK)
+  if (satf_frontend_load(PROG, o.scene_path, o.db_path, o.budget, &o.w, &o.h,
+                         &fe) != SATF_OK)
     return 1;
   fe.strand_width = o.strand_width;
   if (o.samples > 0)

@@ -37,9 +37,10 @@ static void usage(FILE *out) {
       "  --screenshot PATH    render --frames frames, save the window's\n"
       "                       last frame as PATH (.png or .exr), and exit\n"
       "  --frames N           frames before --screenshot (default 3)\n"
-      "%s%s"
+      "%s%s%s"
       "  -h, --help           this help\n",
-      PROG, satf_frontend_effect_help, satf_frontend_strand_help);
+      PROG, satf_frontend_effect_help, satf_frontend_strand_help,
+      satf_frontend_budget_help);
 }
 
 typedef struct options {
@@ -47,6 +48,7 @@ typedef struct options {
   long w, h, samples;
   int strands;
   float strand_width;
+  double budget; /* --memory-budget, bytes (0: the default) */
   viewer_opts view;
 } options;
 
@@ -75,6 +77,9 @@ static int parse_one(satf_cli_args *it, options *o) {
   }
   if (satf_frontend_effect_flag(it->arg, &o->view.off))
     return 0;
+  int budget = satf_frontend_budget_flag(it, &o->budget);
+  if (budget != 0)
+    return budget < 0 ? -1 : 0;
   int strand = satf_frontend_strand_flag(it, &o->strands, &o->strand_width);
   if (strand != 0)
     return strand < 0 ? -1 : 0;
@@ -120,8 +125,8 @@ int main(int argc, char **argv) {
   if (rc >= 0)
     return rc;
   satf_frontend fe;
-  if (satf_frontend_load(PROG, o.scene_path, o.db_path, &o.w, &o.h, &fe) !=
-      SATF_OK)
+  if (satf_frontend_load(PROG, o.scene_path, o.db_path, o.budget, &o.w, &o.h,
+                         &fe) != SATF_OK)
     return 1;
   fe.strand_width = o.strand_width;
   if (o.samples > 0)
