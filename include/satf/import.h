@@ -297,7 +297,12 @@ typedef struct satf_import_fit {
 } satf_import_fit;
 
 /* Fits the cluster of the strands `members`: the trajectory is the
- * least-squares cubic B-spline through the members' mean strand. The twist
+ * least-squares cubic B-spline through the members' mean strand (for fur,
+ * short straight strands whose points reach 1.25x further along their
+ * direction than a strand is long, through their points binned along that
+ * direction: a tuft from the first roots to the last tips; with fewer
+ * control points, down to 4, where they would swing more than half the
+ * data's diagonal outside it, so out->n_ctrl may be below p->n_ctrl). The twist
  * theta turns the geometry's ellipse away from the rotation-minimising
  * axes (SATF eq. 1 as satf/geometry.h reads it), so theta(t) is the
  * orientation of the principal axes of the points' spread in the normal
