@@ -282,7 +282,8 @@ static double greville(int j, int n) {
 
 /* The least-squares B-spline with n control points through m points
  * parameterised by their chord length. */
-static int fit_trajectory(const double *pts, int m, int n, float *ctrl) {
+static int fit_trajectory_u(const double *pts, int m, int n, int uniform,
+                            float *ctrl) {
   double *u = malloc((size_t)m * sizeof(double));
   double *ata = calloc((size_t)n * n, sizeof(double));
   double *atb = calloc((size_t)n * 3, sizeof(double));
@@ -297,7 +298,7 @@ static int fit_trajectory(const double *pts, int m, int n, float *ctrl) {
       u[k] = u[k - 1] + sqrt(dx * dx + dy * dy + dz * dz);
     }
     for (int k = 0; k < m; k++)
-      u[k] = u[m - 1] > 0.0 ? u[k] / u[m - 1] : (double)k / (m - 1);
+      u[k] = u[m - 1] > 0.0 && !uniform ? u[k] / u[m - 1] : (double)k / (m - 1);
     for (int k = 0; k < m; k++) {
       basis(n, u[k], w);
       for (int i = 0; i < n; i++) {
@@ -315,6 +316,10 @@ static int fit_trajectory(const double *pts, int m, int n, float *ctrl) {
   free(ata);
   free(atb);
   return bad ? -1 : 0;
+}
+
+static int fit_trajectory(const double *pts, int m, int n, float *ctrl) {
+  return fit_trajectory_u(pts, m, n, 0, ctrl);
 }
 
 /* ---- Cross-section ----------------------------------------------------- */
@@ -825,8 +830,7 @@ static void tuft_axis(const satf_strand_set *s, const int *members, int n,
 static satf_status fit_mean_trajectory(const satf_strand_set *s,
                                        const int *members, int n_members,
                                        const satf_import_fit_params *p,
-                                       float *traj, int *n_ctrl,
-                                       satf_error *err) {
+                                       float *traj, satf_error *err) {
   int m = p->samples;
   double *mean = calloc(3 * (size_t)m, sizeof(double));
   float *buf = malloc(3 * (size_t)m * sizeof(float));
@@ -857,19 +861,30 @@ static satf_status fit_mean_trajectory(const satf_strand_set *s,
   double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
                      (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                      (hi[2] - lo[2]) * (hi[2] - lo[2]));
-  int bad = 1;
-  for (int n = *n_ctrl; n >= 2; n = n > 4 ? n / 2 : n - 1) {
+  int bad = 1, want = p->n_ctrl;
+  for (int n = want; n >= 2; n = n > 4 ? n / 2 : n - 1) {
     bad = fit_trajectory(mean, m, n, traj);
     int wild = 0;
     for (int k = 0; !bad && k < 3 * n; k++) {
       double g = 0.5 * diag + 1e-6;
       wild |= traj[k] < lo[k % 3] - g || traj[k] > hi[k % 3] + g;
     }
-    if (!bad && (!wild || n <= 4)) {
-      *n_ctrl = n;
-      break;
+    if (bad || (wild && n > 4))
+      continue;
+    if (n < want) {
+      /* the calm curve of n control points, sampled evenly and fitted
+       * again with the count asked for (keyframes of a sequence and the
+       * scene need every fit of a cluster to keep its count): smooth dense
+       * samples pin every control point down */
+      for (int k = 0; k < m; k++) {
+        double v[3];
+        satf_bspline_eval(traj, n, 3, (double)k / (m - 1), v, NULL, NULL);
+        for (int c = 0; c < 3; c++)
+          mean[3 * k + c] = v[c];
+      }
+      bad = fit_trajectory_u(mean, m, want, 1, traj);
     }
-    bad = 1;
+    break;
   }
   free(mean);
   if (bad)
@@ -905,8 +920,8 @@ satf_status satf_import_fit_cluster(const satf_strand_set *s,
   }
   out->n_ctrl = p->n_ctrl;
   out->n_radius = p->n_radius;
-  satf_status st = fit_mean_trajectory(s, members, n_members, p, out->traj,
-                                       &out->n_ctrl, err);
+  satf_status st =
+      fit_mean_trajectory(s, members, n_members, p, out->traj, err);
   /* A provisional cylinder of unit radius and no twist gives the untwisted
    * rotation-minimising frames the raw offsets are measured in. */
   float one = 1.0f, zero = 0.0f;

@@ -223,7 +223,9 @@ static satf_status cluster(run *u, satf_error *err) {
     u->fp.min_radius = 0.5f * satf_strand_set_root_spacing(u->all);
     u->rp = satf_import_refine_params_for(u->all, o->quality, o->tolerance);
     u->rp.threads = (int)o->threads;
-    if (u->rp.max_ctrl < u->fp.n_ctrl)
+    /* a sequence's keyframes are re-fitted with fp's count: every cluster
+     * keeps it */
+    if (u->rp.max_ctrl < u->fp.n_ctrl || o->sequence)
       u->rp.max_ctrl = u->fp.n_ctrl;
     satf_progress_begin(&bar, stderr, "clustering", "clusters fit", 1,
                         o->quiet);
