@@ -29,6 +29,9 @@ void satf_import_fit_free(satf_import_fit *fit) {
     free(fit->b);
     free(fit->twist);
     free(fit->spread);
+    free(fit->track_first);
+    free(fit->track_count);
+    free(fit->track_xy);
     memset(fit, 0, sizeof *fit);
   }
 }
