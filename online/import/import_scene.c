@@ -94,10 +94,14 @@ satf_scene_shell satf_import_choose_shell(const satf_import_fit *fit) {
   }
   double aspect = ma > mb ? ma / mb : mb / ma;
   sh.su = aspect <= 1.5 ? 16 : aspect <= 3.0 ? 24 : 32;
-  /* around a handful of strands, 8 phases resolve them */
-  if (fit->strands <= 8)
-    sh.su = 8;
   sh.core = 0.4f;
+  /* around a handful of strands, 8 phases resolve them; and no hollow
+   * core: a lone strand's track runs along the axis, which the shells
+   * between the core and the envelope would never see */
+  if (fit->strands <= 8) {
+    sh.su = 8;
+    sh.core = 0.0f;
+  }
   return sh;
 }
 
