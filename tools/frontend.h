@@ -28,8 +28,8 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
                                const char *db_path, double budget, long *width,
                                long *height, satf_frontend *fe);
 /* Bytes the renderer is estimated to take for `scene` at width x height;
- * satf_frontend_load refuses a scene over `budget` bytes (0: half the machine's memory) before
- * anything is built. */
+ * satf_frontend_load refuses a scene over `budget` bytes (0: half the machine's
+ * memory) before anything is built. */
 double satf_frontend_memory_estimate(const satf_scene *scene, long width,
                                      long height);
 /* --memory-budget GB: 1 if arg was it (sets *bytes), -1 after printing a
