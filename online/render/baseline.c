@@ -428,42 +428,20 @@ static void draw_patches(const satf_renderer *r, GLuint prog,
 /* The deep opacity map (as passes_dom) from the patches' own alpha: the
  * first hair at least DOM_ALPHA opaque, then every patch's alpha summed
  * into four slabs behind it. */
-static void baseline_dom(satf_renderer *r) {
-  const struct baseline *b = r->baseline;
-  frame_light_view(r);
-  satf_gl_target_bind(r->dom_depth);
-  glClearColor(0, 0, 0, 0);
-  glClearDepth(1.0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+static void dom_patches(satf_renderer *r, void *ctx, int opacity) {
+  const struct baseline *b = ctx;
+  if (opacity) {
+    passes_dom_uniforms(r, b->prog_dom);
+    draw_patches(r, b->prog_dom, r->light_viewproj, NULL, ALL_LAYERS);
+    return;
+  }
   glUseProgram(b->prog_alpha);
   glUniform1f(glGetUniformLocation(b->prog_alpha, "u_alpha_ref"), DOM_ALPHA);
   draw_patches(r, b->prog_alpha, r->light_viewproj, NULL, ALL_LAYERS);
-  draw_meshes(r, r->prog_mesh_depth, r->light_viewproj);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glDisable(GL_DEPTH_TEST);
+}
 
-  satf_gl_target_bind(r->dom_opacity);
-  glClear(GL_COLOR_BUFFER_BIT);
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_ONE, GL_ONE);
-  GLuint p = b->prog_dom;
-  glUseProgram(p);
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
-  glUniform1i(glGetUniformLocation(p, "u_dom_depth"), 1);
-  glUniform1f(glGetUniformLocation(p, "u_dom_slab"), r->dom_slab);
-  draw_patches(r, p, r->light_viewproj, NULL, ALL_LAYERS);
-  if (r->nmeshes > 0) {
-    GLuint pm = r->prog_mesh_dom;
-    glUseProgram(pm);
-    glUniform1i(glGetUniformLocation(pm, "u_dom_depth"), 1);
-    glUniform1f(glGetUniformLocation(pm, "u_dom_slab"), r->dom_slab);
-    draw_meshes(r, pm, r->light_viewproj);
-  }
-  glDisable(GL_BLEND);
+static void baseline_dom(satf_renderer *r) {
+  passes_dom_with(r, dom_patches, r->baseline);
 }
 
 /* The full pixel shader's uniforms: the clusters' material, lights,

@@ -125,10 +125,13 @@ void passes_fullscreen(const satf_renderer *r) {
   glBindVertexArray(0);
 }
 
-/* Deep opacity map (Yuksel & Keyser 2008) from the key light (frame.c
- * places it): the first hair's depth, then optical depth summed into four
- * slabs behind it. */
-void passes_dom(satf_renderer *r) {
+void passes_dom_uniforms(const satf_renderer *r, GLuint prog) {
+  glUseProgram(prog);
+  glUniform1i(glGetUniformLocation(prog, "u_dom_depth"), 1);
+  glUniform1f(glGetUniformLocation(prog, "u_dom_slab"), r->dom_slab);
+}
+
+void passes_dom_with(satf_renderer *r, passes_dom_hair_fn hair, void *ctx) {
   frame_light_view(r);
   satf_gl_target_bind(r->dom_depth);
   glClearColor(0, 0, 0, 0);
@@ -137,7 +140,7 @@ void passes_dom(satf_renderer *r) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  draw_clusters(r, r->prog_depth, r->light_viewproj, 1);
+  hair(r, ctx, 0);
   draw_meshes(r, r->prog_mesh_depth, r->light_viewproj);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDisable(GL_DEPTH_TEST);
@@ -146,21 +149,29 @@ void passes_dom(satf_renderer *r) {
   glClear(GL_COLOR_BUFFER_BIT);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE);
-  glUseProgram(r->prog_dom);
   glActiveTexture(GL_TEXTURE1);
   glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
-  glUniform1i(glGetUniformLocation(r->prog_dom, "u_dom_depth"), 1);
-  glUniform1f(glGetUniformLocation(r->prog_dom, "u_dom_slab"), r->dom_slab);
-  draw_clusters(r, r->prog_dom, r->light_viewproj, 1);
+  hair(r, ctx, 1);
   if (r->nmeshes > 0) {
-    glUseProgram(r->prog_mesh_dom);
-    glUniform1i(glGetUniformLocation(r->prog_mesh_dom, "u_dom_depth"), 1);
-    glUniform1f(glGetUniformLocation(r->prog_mesh_dom, "u_dom_slab"),
-                r->dom_slab);
+    passes_dom_uniforms(r, r->prog_mesh_dom);
     draw_meshes(r, r->prog_mesh_dom, r->light_viewproj);
   }
   glDisable(GL_BLEND);
 }
+
+/* The clusters' outermost shells, coarse: their depth, or their alpha
+ * summed into the slabs (glsl/dom_fs.glsl). */
+static void dom_clusters(satf_renderer *r, void *ctx, int opacity) {
+  (void)ctx;
+  if (opacity)
+    passes_dom_uniforms(r, r->prog_dom);
+  draw_clusters(r, opacity ? r->prog_dom : r->prog_depth, r->light_viewproj, 1);
+}
+
+/* Deep opacity map (Yuksel & Keyser 2008) from the key light (frame.c
+ * places it): the first hair's depth, then optical depth summed into four
+ * slabs behind it. */
+void passes_dom(satf_renderer *r) { passes_dom_with(r, dom_clusters, NULL); }
 
 /* Material, effects and lights of a shading program. */
 void set_shading_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {

@@ -169,6 +169,15 @@ int *frame_far_to_near(const satf_renderer *r);
 /* ---- passes.c: GPU passes (Table 1: L, S) ----------------------------- */
 
 /* The deep opacity map from the key light. */
+/* Draws the hair of a deep opacity map into the bound target: its depth
+ * (opacity 0, colour writes off) or its opacity into the slabs (1: the
+ * first-hair depth on texture unit 1; passes_dom_uniforms sets a
+ * program's u_dom_depth and u_dom_slab). */
+typedef void (*passes_dom_hair_fn)(satf_renderer *r, void *ctx, int opacity);
+/* The deep opacity map of any hair: the light's view, both passes with the
+ * meshes as opaque occluders, the state restored. */
+void passes_dom_with(satf_renderer *r, passes_dom_hair_fn hair, void *ctx);
+void passes_dom_uniforms(const satf_renderer *r, GLuint prog);
 void passes_dom(satf_renderer *r);
 /* Per-pixel fragment arrays, then their sorted composite; returns the
  * largest number of fragments a pixel received and sets *overflow to the

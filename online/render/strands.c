@@ -357,42 +357,17 @@ static void draw_segments(const strands_gpu *s) {
 /* The deep opacity map of passes_dom with the strands in the clusters'
  * place: the first hair's depth from the strand segments and the meshes,
  * then each segment's coverage summed into the slab it falls in. */
-static void strands_dom(satf_renderer *r) {
-  strands_gpu *s = r->strands;
-  frame_light_view(r);
-  satf_gl_target_bind(r->dom_depth);
-  glClearColor(0, 0, 0, 0);
-  glClearDepth(1.0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+static void dom_strands(satf_renderer *r, void *ctx, int opacity) {
+  strands_gpu *s = ctx;
   bind_strands(s->prog_dom, r->light_viewproj, DOM_SIZE, DOM_SIZE);
-  glUniform1i(glGetUniformLocation(s->prog_dom, "u_depth_only"), 1);
+  glUniform1i(glGetUniformLocation(s->prog_dom, "u_depth_only"), !opacity);
+  if (opacity)
+    passes_dom_uniforms(r, s->prog_dom);
   draw_segments(s);
-  draw_meshes(r, r->prog_mesh_depth, r->light_viewproj);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glDisable(GL_DEPTH_TEST);
+}
 
-  satf_gl_target_bind(r->dom_opacity);
-  glClear(GL_COLOR_BUFFER_BIT);
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_ONE, GL_ONE);
-  bind_strands(s->prog_dom, r->light_viewproj, DOM_SIZE, DOM_SIZE);
-  glUniform1i(glGetUniformLocation(s->prog_dom, "u_depth_only"), 0);
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom_depth));
-  glUniform1i(glGetUniformLocation(s->prog_dom, "u_dom_depth"), 1);
-  glUniform1f(glGetUniformLocation(s->prog_dom, "u_dom_slab"), r->dom_slab);
-  draw_segments(s);
-  if (r->nmeshes > 0) {
-    glUseProgram(r->prog_mesh_dom);
-    glUniform1i(glGetUniformLocation(r->prog_mesh_dom, "u_dom_depth"), 1);
-    glUniform1f(glGetUniformLocation(r->prog_mesh_dom, "u_dom_slab"),
-                r->dom_slab);
-    draw_meshes(r, r->prog_mesh_dom, r->light_viewproj);
-  }
-  glDisable(GL_BLEND);
+static void strands_dom(satf_renderer *r) {
+  passes_dom_with(r, dom_strands, r->strands);
 }
 
 /* The meshes as the cluster path draws them; then the fragments strands
