@@ -25,6 +25,23 @@ double satf_frontend_memory_estimate(const satf_scene *scene, long width,
          px * (64.0 * 16.0 + 64.0 * 4.0 + 64.0);
 }
 
+static void setup_progress(void *ctx, size_t done, size_t total) {
+  satf_progress_update(ctx, done, total);
+}
+
+satf_status satf_frontend_create_renderer(const satf_frontend *fe, int width,
+                                          int height, int threads, int quiet,
+                                          satf_renderer **out,
+                                          satf_error *err) {
+  satf_progress prog;
+  satf_progress_begin(&prog, stderr, "set-up", "clusters", 1, quiet);
+  satf_status st =
+      satf_renderer_create_progress(fe->scene, fe->db, width, height, threads,
+                                    setup_progress, &prog, out, err);
+  satf_progress_end(&prog);
+  return st;
+}
+
 /* Half the machine's physical memory (2 GB when it cannot be read). */
 static double default_budget(void) {
   long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);

@@ -27,6 +27,11 @@ typedef struct satf_frontend {
 satf_status satf_frontend_load(const char *prog, const char *scene_path,
                                const char *db_path, double budget, long *width,
                                long *height, satf_frontend *fe);
+/* satf_renderer_create with a progress bar on stderr for the set-up
+ * (clusters built), unless quiet. */
+satf_status satf_frontend_create_renderer(const satf_frontend *fe, int width,
+                                          int height, int threads, int quiet,
+                                          satf_renderer **out, satf_error *err);
 /* Bytes the renderer is estimated to take for `scene` at width x height;
  * satf_frontend_load refuses a scene over `budget` bytes (0: half the machine's
  * memory) before anything is built. */

@@ -5,6 +5,7 @@
 #ifndef SATF_RENDER_H
 #define SATF_RENDER_H
 
+#include "satf/common.h"
 #include "satf/db.h"
 #include "satf/scene.h"
 
@@ -162,6 +163,14 @@ typedef struct satf_render_stats {
 satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
                                  int width, int height, int threads,
                                  satf_renderer **out, satf_error *err);
+/* The same, calling progress(ctx, clusters built, clusters) as the set-up
+ * goes (a large imported scene takes seconds); progress may be NULL. */
+satf_status satf_renderer_create_progress(const satf_scene *scene,
+                                          const satf_db *db, int width,
+                                          int height, int threads,
+                                          satf_progress_fn progress,
+                                          void *progress_ctx,
+                                          satf_renderer **out, satf_error *err);
 void satf_renderer_destroy(satf_renderer *r);
 
 satf_status satf_renderer_resize(satf_renderer *r, int width, int height,

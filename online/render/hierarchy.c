@@ -326,7 +326,8 @@ static satf_status build_inst(satf_renderer *r, inst *in, int pi,
   return satf_gl_check("map texture", err);
 }
 
-satf_status hierarchy_build(satf_renderer *r, satf_error *err) {
+satf_status hierarchy_build(satf_renderer *r, satf_progress_fn progress,
+                            void *progress_ctx, satf_error *err) {
   const satf_scene *scene = r->scene;
   r->nprotos = scene->n_macro_clusters;
   r->protos = calloc((size_t)r->nprotos, sizeof(proto));
@@ -343,6 +344,8 @@ satf_status hierarchy_build(satf_renderer *r, satf_error *err) {
     for (int i = 0; i < mc->n_instances && st == SATF_OK; i++)
       st = build_inst(r, &r->insts[ii++], m, &mc->instances[i], err);
     r->stats.prototypes_shared += mc->n_instances - 1;
+    if (progress) /* clusters built so far: the set-up's bulk */
+      progress(progress_ctx, (size_t)ii, (size_t)r->ninsts);
   }
   return st;
 }

@@ -37,6 +37,15 @@ static void take_view(satf_renderer *r, const satf_scene *scene) {
 satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
                                  int width, int height, int threads,
                                  satf_renderer **out, satf_error *err) {
+  return satf_renderer_create_progress(scene, db, width, height, threads, NULL,
+                                       NULL, out, err);
+}
+
+satf_status
+satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
+                              int width, int height, int threads,
+                              satf_progress_fn progress, void *progress_ctx,
+                              satf_renderer **out, satf_error *err) {
   *out = NULL;
   GLint major = 0, minor = 0;
   glGetIntegerv(GL_MAJOR_VERSION, &major);
@@ -67,7 +76,7 @@ satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
     return st;
   }
   r->w = satf_maps_width(r->maps);
-  st = hierarchy_build(r, err);
+  st = hierarchy_build(r, progress, progress_ctx, err);
   if (st == SATF_OK)
     st = resources_build(r, err);
   if (st != SATF_OK) {

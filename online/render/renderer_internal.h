@@ -105,7 +105,8 @@ static inline const char *scene_name(const satf_scene *scene) {
 /* ---- hierarchy.c: prototypes and instances ---------------------------- */
 
 /* Builds every prototype and instance of r->scene. */
-satf_status hierarchy_build(satf_renderer *r, satf_error *err);
+satf_status hierarchy_build(satf_renderer *r, satf_progress_fn progress,
+                            void *progress_ctx, satf_error *err);
 /* Whether `scene` has r's hierarchy (macro-clusters, instance counts,
  * shells): only geometry and transforms may change between frames. */
 satf_status hierarchy_check(const satf_renderer *r, const satf_scene *scene,

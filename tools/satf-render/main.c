@@ -272,8 +272,8 @@ static satf_status run(options *o, const satf_frontend *fe, satf_error *err) {
   satf_status st =
       satf_gl_context_create_headless((int)o->w, (int)o->h, &ctx, err);
   if (st == SATF_OK)
-    st = satf_renderer_create(fe->scene, fe->db, (int)o->w, (int)o->h,
-                              (int)o->threads, &r, err);
+    st = satf_frontend_create_renderer(fe, (int)o->w, (int)o->h,
+                                       (int)o->threads, o->quiet, &r, err);
   double t_setup = satf_now_seconds() - t0;
   satf_render_stats stats; /* of the scene as loaded */
   if (st == SATF_OK) {

@@ -223,9 +223,8 @@ static satf_status viewer_init(viewer *v, satf_gl_window *win,
   v->shown = -1;
   int fw, fh;
   satf_gl_window_framebuffer_size(win, &fw, &fh);
-  satf_status st =
-      satf_renderer_create(fe->scene, fe->db, fw > 0 ? fw : o->width,
-                           fh > 0 ? fh : o->height, 0, &v->r, err);
+  satf_status st = satf_frontend_create_renderer(
+      fe, fw > 0 ? fw : o->width, fh > 0 ? fh : o->height, 0, 0, &v->r, err);
   if (st != SATF_OK)
     return st;
   satf_frontend_apply(v->r, &o->off, o->composite);
