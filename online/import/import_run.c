@@ -413,10 +413,43 @@ static int roots_meet_mesh(const run *u) {
   return 0;
 }
 
-/* Writes the strands (in scene coordinates) to path as cyHair. */
+/* Writes the strands (in scene coordinates) to path as cyHair. A file
+ * without thickness (TressFX, PLY, .data) gets, per strand, the width its
+ * cluster's density assumes (strand_width x radius, a diameter), so the
+ * strand reference (satf-render --strands) draws what the clusters stand
+ * for rather than the format's default of 1 unit whatever the scale. */
 static satf_status write_strands(const char *path, void *ctx, satf_error *err) {
   const run *u = ctx;
-  return satf_hair_write(path, u->all, err);
+  int n = satf_strand_set_count(u->all);
+  if (n == 0 || satf_strand_set_thickness(u->all, 0) || !u->fits || !u->labels)
+    return satf_hair_write(path, u->all, err);
+  size_t points = satf_strand_set_point_count(u->all);
+  int *counts = malloc((size_t)n * sizeof(int));
+  float *xyz = malloc(3 * points * sizeof(float));
+  float *th = malloc(points * sizeof(float));
+  satf_status st = SATF_OK;
+  if (!counts || !xyz || !th)
+    st = satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
+  size_t at = 0;
+  for (int i = 0; i < n && st == SATF_OK; i++) {
+    const float *p = satf_strand_set_strand(u->all, i, &counts[i]);
+    const satf_import_fit *f = &u->fits[u->labels[i]];
+    float w = f->strand_width * f->radius;
+    memcpy(xyz + 3 * at, p, 3 * (size_t)counts[i] * sizeof(float));
+    for (int k = 0; k < counts[i]; k++)
+      th[at + (size_t)k] = w > 0.0f ? w : 1.0f;
+    at += (size_t)counts[i];
+  }
+  satf_strand_set *s = NULL;
+  if (st == SATF_OK)
+    st = satf_strand_set_create(n, counts, xyz, th, &s, err);
+  if (st == SATF_OK)
+    st = satf_hair_write(path, s, err);
+  satf_strand_set_destroy(s);
+  free(counts);
+  free(xyz);
+  free(th);
+  return st;
 }
 
 /* A path given on the command line, made absolute against the working
