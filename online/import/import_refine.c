@@ -220,8 +220,8 @@ typedef struct refine {
   groups g;
   satf_error *errs;
   /* per round */
-  int *todo;
-  int n_todo;
+  int *batch;
+  int n_batch;
   int *sides;      /* n_strands: the side of each member in a split */
   int *split_ones; /* parts each split made */
   int *split_want; /* parts each split is asked for */
@@ -229,11 +229,11 @@ typedef struct refine {
 
 enum { STALE = 0, FITTED, FINAL };
 
-/* Fits cluster todo[i] with its own control point count. */
+/* Fits cluster batch[i] with its own control point count. */
 static int fit_job(void *vctx, size_t i, int thread) {
   (void)thread;
   refine *r = vctx;
-  int c = r->todo[i];
+  int c = r->batch[i];
   satf_import_fit_params fp = *r->fp;
   fp.n_ctrl = r->ctrl[c];
   /* sparse strands: a cluster of one or a few is as thin as they are */
@@ -250,11 +250,11 @@ static int fit_job(void *vctx, size_t i, int thread) {
   return 0;
 }
 
-/* Splits cluster todo[i]: r->sides over its members' slots. */
+/* Splits cluster batch[i]: r->sides over its members' slots. */
 static int split_job(void *vctx, size_t i, int thread) {
   (void)thread;
   refine *r = vctx;
-  int c = r->todo[i];
+  int c = r->batch[i];
   const int *m = r->g.idx + r->g.off[c];
   int n = r->g.off[c + 1] - r->g.off[c];
   r->split_ones[i] =
@@ -262,7 +262,7 @@ static int split_job(void *vctx, size_t i, int thread) {
   return r->split_ones[i] < 0;
 }
 
-/* Density estimates of cluster todo[i] (as satf_import_fit_all does). */
+/* Density estimates of cluster batch[i] (as satf_import_fit_all does). */
 static int density_job(void *vctx, size_t i, int thread) {
   (void)thread;
   refine *r = vctx;
@@ -326,25 +326,25 @@ static satf_status round_once(refine *r, int *changed, satf_error *err) {
   groups_free(&r->g);
   if (groups_build(r->labels, r->n_strands, r->k, &r->g))
     return satf_error_set(err, SATF_ERR_NOMEM, "clustering: out of memory");
-  r->n_todo = 0;
+  r->n_batch = 0;
   for (int c = 0; c < r->k; c++)
     if (r->state[c] == STALE)
-      r->todo[r->n_todo++] = c;
-  satf_status st = run_jobs(r, (size_t)r->n_todo, fit_job, err);
+      r->batch[r->n_batch++] = c;
+  satf_status st = run_jobs(r, (size_t)r->n_batch, fit_job, err);
   if (st != SATF_OK)
     return st;
-  for (int i = 0; i < r->n_todo; i++)
-    r->state[r->todo[i]] = FITTED;
+  for (int i = 0; i < r->n_batch; i++)
+    r->state[r->batch[i]] = FITTED;
   /* the failing clusters, worst first */
-  r->n_todo = 0;
+  r->n_batch = 0;
   for (int c = 0; c < r->k; c++)
     if (r->state[c] == FITTED && r->score[c] > 1.0f)
-      r->todo[r->n_todo++] = c;
-  sort_by_score(r->todo, r->n_todo, r->score);
+      r->batch[r->n_batch++] = c;
+  sort_by_score(r->batch, r->n_batch, r->score);
   /* those whose trajectory is what fails get more control points first */
   int split_n = 0, new_k = 0;
-  for (int i = 0; i < r->n_todo; i++) {
-    int c = r->todo[i];
+  for (int i = 0; i < r->n_batch; i++) {
+    int c = r->batch[i];
     const satf_import_fit_measures *m = &r->fits[c].measures;
     float traj = m->trajectory[1] / r->rp->tolerance;
     int more = !r->ctrl_tried[c] && r->ctrl[c] < r->rp->max_ctrl &&
@@ -374,14 +374,14 @@ static satf_status round_once(refine *r, int *changed, satf_error *err) {
       break;
     r->split_want[split_n] = want;
     new_k += want - 1;
-    r->todo[split_n++] = c;
+    r->batch[split_n++] = c;
   }
-  r->n_todo = split_n;
+  r->n_batch = split_n;
   st = run_jobs(r, (size_t)split_n, split_job, err);
   if (st != SATF_OK)
     return st;
   for (int i = 0; i < split_n; i++) {
-    int c = r->todo[i];
+    int c = r->batch[i];
     int parts = r->split_ones[i];
     if (parts < 2) {
       r->state[c] = FINAL;
@@ -411,7 +411,7 @@ static void refine_free(refine *r) {
   free(r->score);
   free(r->ctrl_tried);
   free(r->errs);
-  free(r->todo);
+  free(r->batch);
   free(r->sides);
   free(r->split_ones);
   free(r->split_want);
@@ -474,12 +474,12 @@ satf_status satf_import_refine(const satf_strand_set *s,
   r.score = calloc(cap, sizeof(float));
   r.ctrl_tried = calloc(cap, sizeof(int));
   r.errs = calloc(cap, sizeof *r.errs);
-  r.todo = malloc(cap * sizeof(int));
+  r.batch = malloc(cap * sizeof(int));
   r.sides = malloc((size_t)n * sizeof(int));
   r.split_ones = malloc(cap * sizeof(int));
   r.split_want = malloc(cap * sizeof(int));
   if (!r.fits || !r.ctrl || !r.state || !r.score || !r.ctrl_tried || !r.errs ||
-      !r.todo || !r.sides || !r.split_ones || !r.split_want) {
+      !r.batch || !r.sides || !r.split_ones || !r.split_want) {
     free(r.fits);
     refine_free(&r);
     return satf_error_set(err, SATF_ERR_NOMEM, "clustering: out of memory");

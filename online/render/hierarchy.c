@@ -28,9 +28,7 @@
  * from them directly), (A, B, theta, |dT/dt|), the unit tangent of T. */
 enum { PROXY_FLOATS = 24 };
 
-/* The scene gives A, B and twist as separate curves; the cluster takes one
- * control polygon for the three, so shorter ones are resampled linearly. */
-static void resample_curve(const satf_scene_curve *c, int n, float *out) {
+void hierarchy_resample_curve(const satf_scene_curve *c, int n, float *out) {
   for (int i = 0; i < n; i++) {
     if (c->count == 1 || n == 1) {
       out[i] = c->values[0];
@@ -174,9 +172,9 @@ static satf_status build_geometry(satf_renderer *r, int index,
   float *radii = malloc(3 * (size_t)n * sizeof(float));
   if (!radii)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  resample_curve(&c->a, n, radii);
-  resample_curve(&c->b, n, radii + n);
-  resample_curve(&c->twist, n, radii + 2 * n);
+  hierarchy_resample_curve(&c->a, n, radii);
+  hierarchy_resample_curve(&c->b, n, radii + n);
+  hierarchy_resample_curve(&c->twist, n, radii + 2 * n);
   satf_cluster_desc desc = {c->n_points, c->trajectory, n,
                             radii,       radii + n,     radii + 2 * n};
   satf_error cerr;

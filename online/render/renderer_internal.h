@@ -104,6 +104,10 @@ static inline const char *scene_name(const satf_scene *scene) {
 
 /* ---- hierarchy.c: prototypes and instances ---------------------------- */
 
+/* The scene gives A, B and twist as separate curves; the cluster takes one
+ * control polygon for the three, so shorter ones are resampled linearly
+ * to n values. */
+void hierarchy_resample_curve(const satf_scene_curve *c, int n, float *out);
 /* Builds every prototype and instance of r->scene. */
 satf_status hierarchy_build(satf_renderer *r, satf_progress_fn progress,
                             void *progress_ctx, satf_error *err);

@@ -22,6 +22,7 @@
 
 #include "maps.h"
 #include "mat4.h"
+#include "renderer_internal.h"
 #include "satf/common.h"
 #include "satf/density.h"
 #include "satf/math.h"
@@ -98,21 +99,6 @@ static int heldout(const satf_db *db, int sectors) {
 }
 
 /* ---- maps: seams and time ---------------------------------------------- */
-
-static void resample_curve(const satf_scene_curve *c, int n, float *out) {
-  for (int i = 0; i < n; i++) {
-    if (c->count == 1 || n == 1) {
-      out[i] = c->values[0];
-      continue;
-    }
-    float x = (float)i / (float)(n - 1) * (float)(c->count - 1);
-    int k = (int)x;
-    if (k > c->count - 2)
-      k = c->count - 2;
-    float f = x - (float)k;
-    out[i] = c->values[k] + f * (c->values[k + 1] - c->values[k]);
-  }
-}
 
 /* The density queries of satf_sector_features on grid x grid nodes, one
  * satf_strands_density call each (strand positions computed per query, as
@@ -218,9 +204,9 @@ static int maps_bench(const satf_db *db, const char *path, int frames) {
     if (c->twist.count > n)
       n = c->twist.count;
     float *radii = malloc(3 * (size_t)n * sizeof(float));
-    resample_curve(&c->a, n, radii);
-    resample_curve(&c->b, n, radii + n);
-    resample_curve(&c->twist, n, radii + 2 * n);
+    hierarchy_resample_curve(&c->a, n, radii);
+    hierarchy_resample_curve(&c->b, n, radii + n);
+    hierarchy_resample_curve(&c->twist, n, radii + 2 * n);
     satf_cluster_desc desc = {c->n_points, c->trajectory, n,
                               radii,       radii + n,     radii + 2 * n};
     if (satf_cluster_create(&desc, &b->cluster, &err) != SATF_OK)
