@@ -25,20 +25,33 @@ double satf_frontend_memory_estimate(const satf_scene *scene, long width,
          px * (64.0 * 16.0 + 64.0 * 4.0 + 64.0);
 }
 
+/* The set-up bar appears only once the set-up has taken a second: the
+ * samples set up in a fraction of one, and a line each would clutter
+ * batch logs and the Table 1 rows. */
+typedef struct setup_bar {
+  satf_progress prog;
+  int shown;
+} setup_bar;
+
 static void setup_progress(void *ctx, size_t done, size_t total) {
-  satf_progress_update(ctx, done, total);
+  setup_bar *b = ctx;
+  if (!b->shown && satf_now_seconds() - b->prog.start < 1.0)
+    return;
+  b->shown = 1;
+  satf_progress_update(&b->prog, done, total);
 }
 
 satf_status satf_frontend_create_renderer(const satf_frontend *fe, int width,
                                           int height, int threads, int quiet,
                                           satf_renderer **out,
                                           satf_error *err) {
-  satf_progress prog;
-  satf_progress_begin(&prog, stderr, "set-up", "clusters", 1, quiet);
+  setup_bar bar = {.shown = 0};
+  satf_progress_begin(&bar.prog, stderr, "set-up", "clusters", 1, quiet);
   satf_status st =
       satf_renderer_create_progress(fe->scene, fe->db, width, height, threads,
-                                    setup_progress, &prog, out, err);
-  satf_progress_end(&prog);
+                                    setup_progress, &bar, out, err);
+  if (bar.shown)
+    satf_progress_end(&bar.prog);
   return st;
 }
 
