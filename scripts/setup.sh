@@ -9,6 +9,7 @@ PACKAGES=(
   libopenmesh-dev libopenexr-dev libimath-dev libpng-dev zlib1g-dev
   libglfw3-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   xvfb xauth libcjson-dev libcmocka-dev clang clang-format libclang-rt-dev python3
+  libopenmpi-dev openmpi-bin
 )
 
 missing=()
