@@ -19,7 +19,7 @@ ROOT = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else
 
 # folder -> (public headers it owns, public headers it may include)
 LIBS = {
-    'common': ({'satf', 'common', 'math'}, set()),
+    'common': ({'satf', 'common', 'math', 'fiber'}, set()),
     'db': ({'db'}, {'common'}),
     'offline': ({'offline'}, {'db'}),
     'online/geometry': ({'geometry'}, {'common'}),

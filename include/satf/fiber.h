@@ -1,0 +1,164 @@
+/* fiber.h - the physically based hair fibre model of satf (part of the
+ * common library): d'Eon et al. 2011 (paper 003) with the Chiang et al.
+ * 2016 roughness mappings, the parameter meanings of Blender Cycles'
+ * Principled Hair BSDF (melanin mode) and pbrt-v4's HairBxDF, so a user sets
+ * the same numbers in satf and in either peer. It owns the scattering
+ * function of one fibre (longitudinal M_p, azimuthal N_p, attenuation A_p for
+ * the lobes R, TT, TRT and the remainder) and the dual-scattering tables of
+ * Zinke et al. 2008 (paper 004) computed from it.
+ *
+ * Frame (pbrt's): x along the fibre from root to tip, y and z span the
+ * fibre's normal plane. A direction w has sin(theta) = w[0] and azimuth
+ * phi = atan2(w[2], w[1]). h in [-1, 1] is where the ray from wo meets the
+ * fibre's circular cross-section (radius 1): the hit point's coordinate
+ * along (sin phi_o, -cos phi_o) in the y-z plane (for a viewer on +z, the
+ * hit point's y), so gamma_o = asin(h).
+ *
+ * Units: sigma_a is an absorption coefficient per unit fibre radius (one
+ * internal pass at h = 0, theta = 0 has length 2). The BCSDF S = sum_p M_p
+ * A_p N_p is normalised as pbrt's and Cycles' (d'Eon's M_p integrates to 1
+ * against cos(theta_i) d theta_i): a directional light of irradiance E
+ * (measured perpendicular to the light, as a Cycles sun's strength) gives
+ * the radiance L_o = E S(wo, wi) towards wo. With nothing absorbed,
+ * int over the sphere of S d omega_i = 1 (pbrt's white furnace). */
+#ifndef SATF_FIBER_H
+#define SATF_FIBER_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The lobes: p = 0 R, 1 TT, 2 TRT, 3 the remainder p >= 3 (pbrt's pMax). */
+#define SATF_FIBER_LOBES 4
+
+/* Cycles' melanin mode (node "Principled Hair", parametrisation
+ * "Melanin Concentration"; the random and tint inputs at their neutral
+ * values): quantity = -log(max(1 - melanin, 1e-4)), eumelanin = q (1 -
+ * redness), pheomelanin = q redness, sigma_a = eumelanin (0.506, 0.841,
+ * 1.653) + pheomelanin (0.343, 0.733, 1.924) per unit fibre radius. These
+ * are Cycles' RGB cross-sections (bsdf_principled_hair_sigma_from_
+ * concentration); pbrt-v4's spectral d'Eon cross-sections, turned into RGB
+ * by pbrt's own spectral upsampling, read (0.419, 0.697, 1.37) and (0.187,
+ * 0.4, 1.05): satf_fiber_sigma_a_concentration_pbrt gives those. */
+void satf_fiber_sigma_a_melanin(float melanin, float redness, float sigma_a[3]);
+
+/* pbrt-v4's SigmaAFromConcentration(ce, cp): eumelanin ce and pheomelanin
+ * cp concentrations with pbrt's cross-sections. */
+void satf_fiber_sigma_a_concentration_pbrt(float eumelanin, float pheomelanin,
+                                           float sigma_a[3]);
+
+/* Chiang et al. 2016 eq. 7: the variance v of M_0 (the R lobe) for the
+ * longitudinal roughness beta_m in [0, 1]; the lobes use v[0] = v,
+ * v[1] = v / 4, v[2] = v[3] = 4 v (pbrt, Cycles). */
+float satf_fiber_longitudinal_variance(float beta_m);
+
+/* Chiang et al. 2016 eq. 8: the logistic scale s of N_p for the azimuthal
+ * (radial) roughness beta_n in [0, 1]. */
+float satf_fiber_azimuthal_scale(float beta_n);
+
+/* Unpolarised Fresnel reflectance of a dielectric of relative index eta for
+ * light arriving at cos_theta_i from outside (negative: from inside). */
+float satf_fiber_fresnel(float cos_theta_i, float eta);
+
+/* d'Eon 2011 eq. 7: M_p(theta_i, theta_o) = csch(1/v) / (2 v)
+ * exp(-sin_ti sin_to / v) I0(cos_ti cos_to / v), normalised so that
+ * int M_p cos(theta_i) d theta_i = 1 over [-pi/2, pi/2]; for v <= 0.1 in the
+ * log-I0 form (d'Eon's appendix) that does not overflow. Symmetric in i, o. */
+float satf_fiber_mp(float cos_ti, float cos_to, float sin_ti, float sin_to,
+                    float v);
+
+/* The exit azimuth of lobe p relative to the entry (d'Eon 2011 eq. 9,
+ * Marschner 2003 eq. 3): 2 p gamma_t - 2 gamma_o + p pi. */
+float satf_fiber_phi(int p, float gamma_o, float gamma_t);
+
+/* The logistic distribution of scale s trimmed and renormalised to
+ * [-pi, pi] (Chiang 2016 eq. 11); integrates to 1 over [-pi, pi]. */
+float satf_fiber_trimmed_logistic(float x, float s);
+
+/* Its inverse CDF: a sample in [-pi, pi] for u in [0, 1). */
+float satf_fiber_sample_trimmed_logistic(float u, float s);
+
+/* N_p(phi) of one offset h (Chiang 2016 eq. 10): the trimmed logistic
+ * around the lobe's exit azimuth, phi = phi_i - phi_o; integrates to 1 over
+ * any 2 pi interval. */
+float satf_fiber_np(float phi, int p, float s, float gamma_o, float gamma_t);
+
+/* A_p for one colour channel (d'Eon 2011 eq. 12-14 with pbrt's closed form
+ * for the remainder): f = Fresnel(cos_theta_o cos_gamma_o, eta),
+ * A_0 = f, A_1 = (1 - f)^2 T, A_2 = A_1 T f, A_3 = A_2 T f / (1 - T f), with T
+ * the transmittance of one internal pass. sum_p A_p = 1 when T = 1. */
+void satf_fiber_ap(float cos_theta_o, float eta, float h, float T,
+                   float ap[SATF_FIBER_LOBES]);
+
+/* T of one internal pass: exp(-sigma_a 2 cos(gamma_t) / cos(theta_t)), with
+ * sin(theta_t) = sin(theta_o) / eta and sin(gamma_t) = h / eta', eta' =
+ * sqrt(eta^2 - sin^2 theta_o) / cos(theta_o) (Bravais' index). */
+float satf_fiber_transmittance(float sigma_a, float h, float eta,
+                               float sin_theta_o);
+
+/* Bravais' index eta' of the fibre's normal plane for sin(theta_o). */
+float satf_fiber_eta_prime(float eta, float sin_theta_o);
+
+/* The material in the peers' terms. */
+typedef struct satf_fiber_material {
+  float melanin;          /* [0, 1], Cycles' Melanin */
+  float redness;          /* [0, 1], Cycles' Melanin Redness */
+  float roughness;        /* beta_m in [0, 1], Cycles' Roughness */
+  float radial_roughness; /* beta_n in [0, 1], Cycles' Radial Roughness */
+  float cuticle_tilt;     /* alpha, radians; Cycles' Offset (2 degrees) */
+  float ior;              /* eta, 1.55 */
+} satf_fiber_material;
+
+/* Cycles' node defaults except melanin (0.8 there; 0.6 here, the issue's
+ * brown) and redness (1.0 there; 0 here, a neutral brown): melanin 0.6,
+ * redness 0, roughness 0.3, radial roughness 0.3, tilt 2 degrees, ior
+ * 1.55. */
+satf_fiber_material satf_fiber_material_default(void);
+
+/* The prepared fibre: what every evaluation needs, computed once. */
+typedef struct satf_fiber {
+  float eta;
+  float v[SATF_FIBER_LOBES]; /* M_p variances */
+  float s;                   /* N_p logistic scale */
+  float sigma_a[3];          /* RGB, per unit radius */
+  float alpha;               /* cuticle tilt, radians */
+  /* sin and cos of 2^k alpha, k = 0, 1, 2: the lobes' longitudinal shifts
+   * (TT by alpha, R by 2 alpha, TRT by 4 alpha, Marschner 2003 Table 1). */
+  float sin_2k_alpha[3], cos_2k_alpha[3];
+} satf_fiber;
+
+/* From the material (sigma_a from melanin and redness). */
+void satf_fiber_init(satf_fiber *f, const satf_fiber_material *m);
+
+/* From an RGB absorption coefficient directly (Cycles' "Absorption
+ * Coefficient" mode, pbrt's sigma_a). */
+void satf_fiber_init_sigma_a(satf_fiber *f, const float sigma_a[3],
+                             float beta_m, float beta_n, float alpha,
+                             float eta);
+
+/* The cuticle tilt of lobe p applied to theta_i (p = 3 is not shifted),
+ * as Cycles does: R evaluates M_0 at theta_i + 2 alpha, TT at
+ * theta_i - alpha, TRT at theta_i - 4 alpha (Marschner 2003 Table 1 shifts,
+ * M_p peaking near theta_i + theta_o = -2 alpha for R). With x from root to
+ * tip and alpha > 0 the R highlight moves towards the root, as Marschner's
+ * alpha_R = -2 alpha; pbrt-v4 rotates theta_o instead, the same shift to
+ * first order. cos_p is returned non-negative. */
+void satf_fiber_tilt(const satf_fiber *f, int p, float sin_theta_i,
+                     float cos_theta_i, float *sin_p, float *cos_p);
+
+/* The BCSDF per lobe: out[p][c] = M_p A_p N_p for lobe p, channel c (the
+ * remainder with N_3 = 1 / (2 pi)). wo, wi unit vectors in the fibre frame
+ * above, h in [-1, 1]. */
+void satf_fiber_eval_lobes(const satf_fiber *f, const float wo[3],
+                           const float wi[3], float h,
+                           float out[SATF_FIBER_LOBES][3]);
+
+/* The BCSDF: out = sum_p M_p A_p N_p (RGB). */
+void satf_fiber_eval(const satf_fiber *f, const float wo[3], const float wi[3],
+                     float h, float out[3]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
