@@ -149,8 +149,27 @@ typedef struct satf_scene_macro_cluster {
   satf_scene_instance *instances;
 } satf_scene_macro_cluster;
 
-/* Shading parameters (SATF eq. 9-12, Scheuermann 2004). */
+/* Which shading the hair gets: the paper's Kajiya-Kay lighting of the
+ * maps (SATF eq. 9-11) or the physically based fibre model (d'Eon 2011,
+ * Chiang 2016; satf/fiber.h) with the fibre database's per-lobe records. */
+typedef enum satf_material_model {
+  SATF_MATERIAL_KK = 0,
+  SATF_MATERIAL_PHYSICAL,
+  SATF_MATERIAL_MODEL_COUNT
+} satf_material_model;
+
+/* Shading parameters (SATF eq. 9-12, Scheuermann 2004), and the fibre of
+ * the physical model with the meanings of Blender Cycles' Principled Hair
+ * BSDF (melanin mode) and pbrt-v4's HairBxDF. */
 typedef struct satf_scene_material {
+  satf_material_model model;
+  float melanin, redness; /* [0, 1]: melanin amount and its pheomelanin share */
+  float roughness;        /* longitudinal roughness beta_m, [0, 1] */
+  float radial_roughness; /* azimuthal roughness beta_n, [0, 1] */
+  float cuticle_tilt;     /* alpha, degrees (Cycles' "Offset") */
+  float ior;              /* eta of the fibre */
+  int has_absorption;     /* absorption below replaces the melanin */
+  float absorption[3];    /* sigma_a per unit fibre radius, RGB */
   float k_dif, k_speI, k_speII;  /* eq. 9, 10, 11 coefficients */
   float exponent_I, exponent_II; /* Phong exponents k_h of eq. 10 and 11 */
   float shift_I;                 /* eq. 10: t~ = normalize(t + shift_I n) */

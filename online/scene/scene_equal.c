@@ -210,6 +210,14 @@ static int materials_equal(const satf_scene_material *a,
   const float vb[] = {b->k_dif,      b->k_speI,      b->k_speII,
                       b->exponent_I, b->exponent_II, b->shift_I,
                       b->shift_II,   b->k_shadow,    b->noise};
+  const float fa[] = {a->melanin,          a->redness,      a->roughness,
+                      a->radial_roughness, a->cuticle_tilt, a->ior};
+  const float fb[] = {b->melanin,          b->redness,      b->roughness,
+                      b->radial_roughness, b->cuticle_tilt, b->ior};
+  if (a->model != b->model || a->has_absorption != b->has_absorption ||
+      !floats_equal(fa, fb, 6) ||
+      (a->has_absorption && !floats_equal(a->absorption, b->absorption, 3)))
+    return 0;
   return floats_equal(va, vb, 9) && floats_equal(a->f_dif, b->f_dif, 3) &&
          floats_equal(a->f_speI, b->f_speI, 3) &&
          floats_equal(a->f_speII, b->f_speII, 3);

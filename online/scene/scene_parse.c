@@ -19,12 +19,60 @@ static const float BACKGROUND[3] = {0.1f, 0.1f, 0.12f};
 static const float SKIN[3] = {0.55f, 0.42f, 0.36f};
 /* ---- material (SATF eq. 9-12, Scheuermann 2004) ---- */
 
+/* The fibre of the physical model: Cycles' Principled Hair defaults
+ * (melanin 0.8, redness 1, roughness and radial roughness 0.3, offset 2
+ * degrees, IOR 1.55), so a scene and a Cycles render given the same
+ * numbers show the same hair. */
+static satf_status
+parse_fiber(scene_ctx *ctx, const cJSON *obj, const char *const *models,
+            const scene_range *r_tilt, const scene_range *r_ior,
+            const scene_range *r_absorption, const float *no_absorption,
+            satf_scene_material *m) {
+  int model;
+  satf_status s =
+      scene_key_enum(ctx, obj, "model", models, SATF_MATERIAL_MODEL_COUNT,
+                     SATF_MATERIAL_KK, &model);
+  m->model = (satf_material_model)model;
+  if (s == SATF_OK)
+    s = scene_key_float(ctx, obj, "melanin", &R_UNIT, 0.8, &m->melanin);
+  if (s == SATF_OK)
+    s = scene_key_float(ctx, obj, "redness", &R_UNIT, 1.0, &m->redness);
+  if (s == SATF_OK)
+    s = scene_key_float(ctx, obj, "roughness", &R_UNIT, 0.3, &m->roughness);
+  if (s == SATF_OK)
+    s = scene_key_float(ctx, obj, "radial_roughness", &R_UNIT, 0.3,
+                        &m->radial_roughness);
+  if (s == SATF_OK)
+    s = scene_key_float(ctx, obj, "cuticle_tilt", r_tilt, 2.0,
+                        &m->cuticle_tilt);
+  if (s == SATF_OK)
+    s = scene_key_float(ctx, obj, "ior", r_ior, 1.55, &m->ior);
+  m->has_absorption =
+      cJSON_GetObjectItemCaseSensitive(obj, "absorption") != NULL;
+  if (s == SATF_OK)
+    s = scene_key_vec(ctx, obj, "absorption", 3, r_absorption, no_absorption,
+                      m->absorption);
+  return s;
+}
+
 static satf_status parse_material(scene_ctx *ctx, const cJSON *root,
                                   satf_scene_material *m) {
-  static const char *const keys[] = {
-      "k_dif",   "k_speI",   "k_speII",  "exponent_I", "exponent_II",
-      "shift",   "shift_I",  "shift_II", "f_dif",      "f_speI",
-      "f_speII", "k_shadow", "noise",    NULL};
+  static const char *const keys[] = {"k_dif",        "k_speI",
+                                     "k_speII",      "exponent_I",
+                                     "exponent_II",  "shift",
+                                     "shift_I",      "shift_II",
+                                     "f_dif",        "f_speI",
+                                     "f_speII",      "k_shadow",
+                                     "noise",        "model",
+                                     "melanin",      "redness",
+                                     "roughness",    "radial_roughness",
+                                     "cuticle_tilt", "ior",
+                                     "absorption",   NULL};
+  static const char *const models[] = {"kk", "physical"};
+  static const scene_range r_tilt = {-45, 45, 0, 0};
+  static const scene_range r_ior = {1, 3, 1, 0};
+  static const scene_range r_absorption = {0, 1e3, 0, 0};
+  static const float no_absorption[3] = {0.0f, 0.0f, 0.0f};
   static const scene_range r_exponent = {0, 1e4, 1, 0};
   static const scene_range r_shift = {-1, 1, 0, 0};
   static const float dark_brown[3] = {0.24f, 0.15f, 0.09f};
@@ -67,6 +115,9 @@ static satf_status parse_material(scene_ctx *ctx, const cJSON *root,
       (s = scene_key_float(ctx, obj, "k_shadow", &R_COEF, 0.6, &m->k_shadow)) ==
           SATF_OK)
     s = scene_key_float(ctx, obj, "noise", &R_UNIT, 0.5, &m->noise);
+  if (s == SATF_OK)
+    s = parse_fiber(ctx, obj, models, &r_tilt, &r_ior, &r_absorption,
+                    no_absorption, m);
   scene_pop(ctx, previous);
   return s;
 }

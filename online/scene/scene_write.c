@@ -501,6 +501,16 @@ static cJSON *material(writer *w, const satf_scene_material *m) {
   add(w, o, "f_speII", floats(w, m->f_speII, 3));
   add(w, o, "k_shadow", num_float(w, m->k_shadow));
   add(w, o, "noise", num_float(w, m->noise));
+  static const char *const models[] = {"kk", "physical"};
+  add_string(w, o, "model", models[m->model]);
+  add(w, o, "melanin", num_float(w, m->melanin));
+  add(w, o, "redness", num_float(w, m->redness));
+  add(w, o, "roughness", num_float(w, m->roughness));
+  add(w, o, "radial_roughness", num_float(w, m->radial_roughness));
+  add(w, o, "cuticle_tilt", num_float(w, m->cuticle_tilt));
+  add(w, o, "ior", num_float(w, m->ior));
+  if (m->has_absorption)
+    add(w, o, "absorption", floats(w, m->absorption, 3));
   return o;
 }
 

@@ -159,6 +159,13 @@ static void test_defaults(void **state) {
               m->f_dif[2] == 0.09f);
   assert_true(m->f_speI[0] == 1.0f && m->f_speII[0] == 0.55f);
   assert_true(m->k_shadow == 0.6f && m->noise == 0.5f);
+  /* The fibre takes Cycles' Principled Hair defaults; the paper's model
+   * stays the default shading. */
+  assert_int_equal(m->model, SATF_MATERIAL_KK);
+  assert_true(m->melanin == 0.8f && m->redness == 1.0f);
+  assert_true(m->roughness == 0.3f && m->radial_roughness == 0.3f);
+  assert_true(m->cuticle_tilt == 2.0f && m->ior == 1.55f);
+  assert_int_equal(m->has_absorption, 0);
   /* Dark brown: red > green > blue, all dark. */
   assert_true(m->f_dif[0] > m->f_dif[1] && m->f_dif[1] > m->f_dif[2] &&
               m->f_dif[0] < 0.35f);
@@ -421,6 +428,14 @@ static const bad_case bad_cases[] = {
      SATF_ERR_ARGUMENT,
      "macro_clusters[0].instances[0].translate[1]: 2000000 is out of range "
      "[-1000000, 1000000]"},
+    {SCENE_WITH(", \"material\": {\"model\": \"marschner\"}"),
+     SATF_ERR_ARGUMENT, "material.model"},
+    {SCENE_WITH(", \"material\": {\"melanin\": 1.2}"), SATF_ERR_ARGUMENT,
+     "material.melanin: 1.2 is out of range [0, 1]"},
+    {SCENE_WITH(", \"material\": {\"ior\": 1}"), SATF_ERR_ARGUMENT,
+     "material.ior: 1 is out of range (1, 3]"},
+    {SCENE_WITH(", \"material\": {\"absorption\": [0.1, -1, 0]}"),
+     SATF_ERR_ARGUMENT, "material.absorption"},
     {SCENE_WITH(", \"material\": {\"k_dif\": -0.1}"), SATF_ERR_ARGUMENT,
      "material.k_dif: -0.1 is out of range [0, 100]"},
     {SCENE_WITH(", \"material\": {\"exponent_II\": 0}"), SATF_ERR_ARGUMENT,

@@ -143,7 +143,10 @@ static const char KEYED[] =
     "    \"keys\": [{\"frame\": 2, \"position\": [4, 6, 6]},"
     "             {\"frame\": 3, \"intensity\": 7}]}],"
     " \"effects\": {\"self_shadow\": false},"
-    " \"material\": {\"shift_I\": 0.05, \"f_dif\": [0.3, 0.2, 0.1]},"
+    " \"material\": {\"shift_I\": 0.05, \"f_dif\": [0.3, 0.2, 0.1],"
+    "   \"model\": \"physical\", \"melanin\": 0.25, \"redness\": 0.5,"
+    "   \"roughness\": 0.2, \"radial_roughness\": 0.7,"
+    "   \"cuticle_tilt\": -3, \"ior\": 1.6, \"absorption\": [0.1, 0.2, 0.4]},"
     " \"macro_clusters\": [{\"name\": \"one\", \"prototype\": {"
     "   \"trajectory\": [[0, 0, 0], [0, -1, 0.2], [0.1, -2, 0.3]],"
     "   \"a\": [0.2, 0.15, 0.1], \"b\": 0.1, \"twist\": [0, 1, 2],"
@@ -179,6 +182,11 @@ static void test_every_key_round_trips(void **state) {
   assert_non_null(strstr(text, "\"strands\":\t\"hair.strands.hair\""));
   assert_non_null(strstr(text, "\"hair.vdb\""));
   assert_non_null(strstr(text, "\"/abs/head.obj\""));
+  assert_non_null(strstr(text, "\"model\":\t\"physical\""));
+  assert_int_equal(scene->material.model, SATF_MATERIAL_PHYSICAL);
+  assert_true(scene->material.has_absorption &&
+              scene->material.absorption[2] == 0.4f &&
+              scene->material.cuticle_tilt == -3.0f);
   if (satf_scene_parse(text, strlen(text), name, &again, &err) != SATF_OK)
     fail_msg("%s\n%s", text, err.message);
   if (!satf_scene_equal(scene, again))
