@@ -136,15 +136,18 @@ void satf_fiber_init_sigma_a(satf_fiber *f, const float sigma_a[3],
                              float beta_m, float beta_n, float alpha,
                              float eta);
 
-/* The cuticle tilt of lobe p applied to theta_i (p = 3 is not shifted),
- * as Cycles does: R evaluates M_0 at theta_i + 2 alpha, TT at
- * theta_i - alpha, TRT at theta_i - 4 alpha (Marschner 2003 Table 1 shifts,
- * M_p peaking near theta_i + theta_o = -2 alpha for R). With x from root to
- * tip and alpha > 0 the R highlight moves towards the root, as Marschner's
- * alpha_R = -2 alpha; pbrt-v4 rotates theta_o instead, the same shift to
- * first order. cos_p is returned non-negative. */
-void satf_fiber_tilt(const satf_fiber *f, int p, float sin_theta_i,
-                     float cos_theta_i, float *sin_p, float *cos_p);
+/* The cuticle tilt of lobe p (Marschner 2003 Table 1 shifts; p = 3 is not
+ * shifted), applied as pbrt-v4 applies it, to theta_o, which keeps M_p
+ * normalised (the white furnace holds with a tilt), in the direction
+ * Cycles' Offset shifts its lobes: M_0 is evaluated at theta_o + 2 alpha,
+ * M_1 at theta_o - alpha, M_2 at theta_o - 4 alpha. So the R highlight
+ * peaks near theta_i = -theta_o - 2 alpha, as Cycles' (which rotates
+ * theta_i by the same amounts instead): with x from root to tip and
+ * alpha > 0 it moves towards the root, Marschner's alpha_R = -2 alpha.
+ * pbrt-v4 rotates theta_o the other way (its alpha is this one negated).
+ * cos_p is returned non-negative. */
+void satf_fiber_tilt(const satf_fiber *f, int p, float sin_theta_o,
+                     float cos_theta_o, float *sin_p, float *cos_p);
 
 /* The BCSDF per lobe: out[p][c] = M_p A_p N_p for lobe p, channel c (the
  * remainder with N_3 = 1 / (2 pi)). wo, wi unit vectors in the fibre frame
