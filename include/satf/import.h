@@ -663,11 +663,17 @@ typedef struct satf_import_options {
   int sequence;
   long first, last;
   double fps;
+  /* the hair's fibre, written into the scene's material with the meanings
+   * of Cycles' Principled Hair (melanin mode): each < 0 keeps the scene's
+   * default (samples/README.md) */
+  double melanin, redness, roughness, radial_roughness;
+  int shading; /* satf_material_model, or -1: the scene's default */
 } satf_import_options;
 
 /* The command line's defaults: control 8, follow -1, follow_radius -1,
  * tip_separation 0.5, macro_tol 0.05, seed 1, memory_budget
- * SATF_IMPORT_DEFAULT_BUDGET, the rest 0. */
+ * SATF_IMPORT_DEFAULT_BUDGET, the material's fields and shading -1 (the
+ * scene's defaults), the rest 0. */
 satf_import_options satf_import_options_default(void);
 
 /* Whether importing `points` strand points fits o's memory budget; if

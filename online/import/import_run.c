@@ -325,6 +325,20 @@ static satf_status density_grid(const char *path, void *ctx, satf_error *err) {
   return st;
 }
 
+/* The material the command line gives (each value < 0: the default). */
+static void apply_material(const satf_import_options *o,
+                           satf_scene_material *m) {
+  if (o->shading >= 0 && o->shading < SATF_MATERIAL_MODEL_COUNT)
+    m->model = (satf_material_model)o->shading;
+  const double given[4] = {o->melanin, o->redness, o->roughness,
+                           o->radial_roughness};
+  float *field[4] = {&m->melanin, &m->redness, &m->roughness,
+                     &m->radial_roughness};
+  for (int k = 0; k < 4; k++)
+    if (given[k] >= 0.0)
+      *field[k] = (float)given[k];
+}
+
 /* The scene, with keys for a sequence. */
 static satf_status build_scene(run *u, satf_scene **scene, satf_error *err) {
   const satf_import_options *o = u->o;
@@ -340,6 +354,8 @@ static satf_status build_scene(run *u, satf_scene **scene, satf_error *err) {
       0,      o->seed,   o->mesh ? u->mesh_path : NULL};
   satf_status st = satf_import_scene_build(u->fits, u->r->n_clusters, &u->macro,
                                            &so, o->output, scene, err);
+  if (st == SATF_OK)
+    apply_material(o, &(*scene)->material);
   if (st == SATF_OK && o->sequence)
     st = satf_import_sequence_keys(*scene, o, u->labels, u->r->n_strands,
                                    &u->fp, &u->macro, err);

@@ -20,6 +20,8 @@ satf_import_options satf_import_options_default(void) {
   o.memory_budget = SATF_IMPORT_DEFAULT_BUDGET;
   o.mesh_axis[1] = 1.0;
   o.mesh_scale[0] = o.mesh_scale[1] = o.mesh_scale[2] = 1.0;
+  o.melanin = o.redness = o.roughness = o.radial_roughness = -1.0;
+  o.shading = -1;
   return o;
 }
 

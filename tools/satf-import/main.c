@@ -89,6 +89,15 @@ static void usage(FILE *out) {
       "128 bytes\n"
       "                         a strand point before anything is made "
       "(default 2)\n"
+      "  --melanin M            the hair's melanin, 0 (white) to 1 (black),"
+      " as\n"
+      "                         Cycles' Principled Hair (default 0.8)\n"
+      "  --redness R            pheomelanin share of it, 0 to 1 (default 1)\n"
+      "  --roughness B          longitudinal roughness, 0 to 1 (default 0.3)\n"
+      "  --radial-roughness N   azimuthal roughness, 0 to 1 (default 0.3)\n"
+      "  --shading S            kk (the paper's model) or physical (the fibre\n"
+      "                         model with a fibre database; default: the\n"
+      "                         scene's, samples/README.md)\n"
       "  --seed N               clustering and placement seed (default "
       "1)\n"
       "  --threads N            threads (0 = all cores)\n"
@@ -171,6 +180,29 @@ static int parse_mesh_transform(const char *text, satf_import_options *o) {
   return ok ? 0 : 2;
 }
 
+/* The hair's material (Cycles' Principled Hair meanings). */
+static int material_option(satf_cli_args *it, satf_import_options *o) {
+  static const char *const names[] = {"--melanin", "--redness", "--roughness",
+                                      "--radial-roughness"};
+  double *field[] = {&o->melanin, &o->redness, &o->roughness,
+                     &o->radial_roughness};
+  for (int k = 0; k < 4; k++)
+    if (satf_cli_is(it, NULL, names[k]))
+      return satf_cli_value_double(it, 0.0, 1.0, field[k]) ? 2 : 0;
+  if (satf_cli_is(it, NULL, "--shading")) {
+    const char *val;
+    if (satf_cli_value(it, &val))
+      return 2;
+    if (!strcmp(val, "kk") || !strcmp(val, "physical")) {
+      o->shading = val[0] == 'k' ? SATF_MATERIAL_KK : SATF_MATERIAL_PHYSICAL;
+      return 0;
+    }
+    fprintf(stderr, "%s: --shading '%s': kk or physical\n", PROG, val);
+    return 2;
+  }
+  return -1;
+}
+
 static int value_option(satf_cli_args *it, satf_import_options *o) {
   const char *val;
   if (satf_cli_is(it, "-o", "--output"))
@@ -244,7 +276,7 @@ static int value_option(satf_cli_args *it, satf_import_options *o) {
   }
   if (satf_cli_is(it, NULL, "--seed"))
     return satf_cli_value_u64(it, &o->seed) ? 2 : 0;
-  return -1;
+  return material_option(it, o);
 }
 
 /* A sequence: one INPUT pattern with one integer conversion and no other
