@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "satf/fiber.h"
 #include "satf/math.h"
 #include "scene_check.h"
 
@@ -19,10 +20,9 @@ static const float BACKGROUND[3] = {0.1f, 0.1f, 0.12f};
 static const float SKIN[3] = {0.55f, 0.42f, 0.36f};
 /* ---- material (SATF eq. 9-12, Scheuermann 2004) ---- */
 
-/* The fibre of the physical model: Cycles' Principled Hair defaults
- * (melanin 0.8, redness 1, roughness and radial roughness 0.3, offset 2
- * degrees, IOR 1.55), so a scene and a Cycles render given the same
- * numbers show the same hair. */
+/* The fibre of the physical model, with the meanings of Cycles' Principled
+ * Hair, so a scene and a Cycles render given the same numbers show the same
+ * hair; the defaults are satf_fiber_material_default's (satf/fiber.h). */
 static satf_status
 parse_fiber(scene_ctx *ctx, const cJSON *obj, const char *const *models,
             const scene_range *r_tilt, const scene_range *r_ior,
@@ -33,20 +33,23 @@ parse_fiber(scene_ctx *ctx, const cJSON *obj, const char *const *models,
       scene_key_enum(ctx, obj, "model", models, SATF_MATERIAL_MODEL_COUNT,
                      SATF_MATERIAL_KK, &model);
   m->model = (satf_material_model)model;
+  const satf_fiber_material def = satf_fiber_material_default();
   if (s == SATF_OK)
-    s = scene_key_float(ctx, obj, "melanin", &R_UNIT, 0.8, &m->melanin);
+    s = scene_key_float(ctx, obj, "melanin", &R_UNIT, def.melanin, &m->melanin);
   if (s == SATF_OK)
-    s = scene_key_float(ctx, obj, "redness", &R_UNIT, 1.0, &m->redness);
+    s = scene_key_float(ctx, obj, "redness", &R_UNIT, def.redness, &m->redness);
   if (s == SATF_OK)
-    s = scene_key_float(ctx, obj, "roughness", &R_UNIT, 0.3, &m->roughness);
+    s = scene_key_float(ctx, obj, "roughness", &R_UNIT, def.roughness,
+                        &m->roughness);
   if (s == SATF_OK)
-    s = scene_key_float(ctx, obj, "radial_roughness", &R_UNIT, 0.3,
-                        &m->radial_roughness);
-  if (s == SATF_OK)
-    s = scene_key_float(ctx, obj, "cuticle_tilt", r_tilt, 2.0,
+    s = scene_key_float(ctx, obj, "radial_roughness", &R_UNIT,
+                        def.radial_roughness, &m->radial_roughness);
+  if (s == SATF_OK) /* degrees in the scene, as Cycles' Offset */
+    s = scene_key_float(ctx, obj, "cuticle_tilt", r_tilt,
+                        round(def.cuticle_tilt * 180.0 / SATF_PI * 1e4) / 1e4,
                         &m->cuticle_tilt);
   if (s == SATF_OK)
-    s = scene_key_float(ctx, obj, "ior", r_ior, 1.55, &m->ior);
+    s = scene_key_float(ctx, obj, "ior", r_ior, def.ior, &m->ior);
   m->has_absorption =
       cJSON_GetObjectItemCaseSensitive(obj, "absorption") != NULL;
   if (s == SATF_OK)

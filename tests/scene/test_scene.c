@@ -162,7 +162,7 @@ static void test_defaults(void **state) {
   /* The fibre takes Cycles' Principled Hair defaults; the paper's model
    * stays the default shading. */
   assert_int_equal(m->model, SATF_MATERIAL_KK);
-  assert_true(m->melanin == 0.8f && m->redness == 1.0f);
+  assert_true(m->melanin == 0.6f && m->redness == 0.0f);
   assert_true(m->roughness == 0.3f && m->radial_roughness == 0.3f);
   assert_true(m->cuticle_tilt == 2.0f && m->ior == 1.55f);
   assert_int_equal(m->has_absorption, 0);
