@@ -17,6 +17,8 @@ satf_build_params satf_build_params_default(void) {
   p.grid = 32;
   p.shape = satf_sector_shape_default();
   p.trace = satf_trace_params_default();
+  p.kind = SATF_RECORD_PHONG;
+  p.fiber = satf_fiber_trace_params_default(); /* for --kind fiber */
   return p;
 }
 
@@ -36,11 +38,17 @@ satf_status satf_build_params_check(const satf_build_params *p,
   satf_status st = satf_sector_shape_check(&p->shape, err);
   if (st == SATF_OK)
     st = satf_trace_params_check(&p->trace, err);
+  if (st == SATF_OK && p->kind != SATF_RECORD_PHONG &&
+      p->kind != SATF_RECORD_FIBER)
+    st = satf_error_set(err, SATF_ERR_ARGUMENT, "record kind %d is unknown",
+                        (int)p->kind);
+  if (st == SATF_OK && p->kind == SATF_RECORD_FIBER)
+    st = satf_fiber_trace_params_check(&p->fiber, err);
   if (st != SATF_OK)
     return st;
-  /* Two channels of 4-byte floats in memory; refuse what cannot fit. */
-  double bytes =
-      8.0 * p->samples * (double)p->n_view * p->n_light * p->trace.width;
+  /* The channels of 4-byte floats in memory; refuse what cannot fit. */
+  double bytes = 4.0 * satf_build_params_channels(p) * p->samples *
+                 (double)p->n_view * p->n_light * p->trace.width;
   if (bytes > 16e9)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "a database of %d samples x %d x %d angles x %d "
@@ -50,8 +58,10 @@ satf_status satf_build_params_check(const satf_build_params *p,
   return SATF_OK;
 }
 
+/* Every channel of every record of one sample. */
 static size_t values_per_sample(const satf_build_params *p) {
-  return (size_t)p->n_view * (size_t)p->n_light * (size_t)p->trace.width;
+  return (size_t)satf_build_params_channels(p) * (size_t)p->n_view *
+         (size_t)p->n_light * (size_t)p->trace.width;
 }
 
 satf_status satf_db_create(const satf_build_params *p, satf_db **out,
@@ -65,13 +75,15 @@ satf_status satf_db_create(const satf_build_params *p, satf_db **out,
     return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate a database");
   db->p = *p;
   size_t n = values_per_sample(p) * (size_t)p->samples;
-  db->rec = calloc(2 * n, sizeof(float));
+  db->rec = calloc(n, sizeof(float));
   db->features = calloc((size_t)p->samples * SATF_FEATURES, sizeof(float));
   if (!db->rec || !db->features) {
     satf_db_destroy(db);
     return satf_error_set(err, SATF_ERR_NOMEM,
                           "cannot allocate %zu records of %d samples",
-                          n / (size_t)p->trace.width, p->trace.width);
+                          n / values_per_sample(p) * (size_t)p->n_view *
+                              (size_t)p->n_light,
+                          p->trace.width);
   }
   *out = db;
   return SATF_OK;
@@ -103,6 +115,15 @@ void satf_db_destroy(satf_db *db) {
 }
 
 const satf_build_params *satf_db_params(const satf_db *db) { return &db->p; }
+int satf_db_channels(const satf_db *db) {
+  return satf_build_params_channels(&db->p);
+}
+satf_record_kind satf_db_kind(const satf_db *db) { return db->p.kind; }
+const float *satf_db_absorption_levels(const satf_db *db, int *count) {
+  int fiber = db->p.kind == SATF_RECORD_FIBER;
+  *count = fiber ? db->p.fiber.levels : 0;
+  return fiber ? db->p.fiber.sigma_a : NULL;
+}
 int satf_db_width(const satf_db *db) { return db->p.trace.width; }
 int satf_db_samples(const satf_db *db) { return db->p.samples; }
 
@@ -110,8 +131,9 @@ float *satf_db_sample_features(satf_db *db, int i) {
   return db->features + (size_t)i * SATF_FEATURES;
 }
 size_t satf_db_record_offset(const satf_db *db, int sample, int iv, int il) {
-  return (size_t)sample * 2 * values_per_sample(&db->p) +
-         ((size_t)il * (size_t)db->p.n_view + (size_t)iv) * 2 *
+  return (size_t)sample * values_per_sample(&db->p) +
+         ((size_t)il * (size_t)db->p.n_view + (size_t)iv) *
+             (size_t)satf_build_params_channels(&db->p) *
              (size_t)db->p.trace.width;
 }
 
@@ -119,6 +141,15 @@ void satf_db_record_mut(satf_db *db, int sample, int iv, int il, float **re,
                         float **alpha) {
   *re = db->rec + satf_db_record_offset(db, sample, iv, il);
   *alpha = *re + db->p.trace.width;
+}
+
+float *satf_db_record_channels_mut(satf_db *db, int sample, int iv, int il) {
+  return db->rec + satf_db_record_offset(db, sample, iv, il);
+}
+
+const float *satf_db_record_channels(const satf_db *db, int sample, int iv,
+                                     int il) {
+  return db->rec + satf_db_record_offset(db, sample, iv, il);
 }
 
 static float round_to_half(float x) {
@@ -161,8 +192,29 @@ satf_status satf_db_index(satf_db *db, satf_error *err) {
   return SATF_OK;
 }
 
+/* A fibre record's reflectance channel is the total at the first level,
+ * R + TT[0] + TRT[0] + MS[0] (satf/db.h), for callers that read
+ * reflectance and alpha only. */
+static void fiber_reflectance(satf_db *db) {
+  const satf_build_params *p = &db->p;
+  if (p->kind != SATF_RECORD_FIBER)
+    return;
+  int K = p->fiber.levels;
+  size_t w = (size_t)p->trace.width;
+  for (int i = 0; i < p->samples; i++)
+    for (int il = 0; il < p->n_light; il++)
+      for (int iv = 0; iv < p->n_view; iv++) {
+        float *r = db->rec + satf_db_record_offset(db, i, iv, il);
+        for (size_t j = 0; j < w; j++)
+          r[j] = r[SATF_DB_CH_R * w + j] + r[SATF_DB_CH_TT(0) * w + j] +
+                 r[SATF_DB_CH_TRT(0, K) * w + j] +
+                 r[SATF_DB_CH_MS(0, K) * w + j];
+      }
+}
+
 satf_status satf_db_finalize(satf_db *db, satf_error *err) {
-  size_t n = 2 * values_per_sample(&db->p) * (size_t)db->p.samples;
+  size_t n = values_per_sample(&db->p) * (size_t)db->p.samples;
+  fiber_reflectance(db);
   for (size_t i = 0; i < n; i++)
     db->rec[i] = round_to_half(db->rec[i]);
   return satf_db_index(db, err);
@@ -267,6 +319,31 @@ void satf_db_lookup_neighbors(const satf_db *db, const satf_db_neighbors *nb,
   }
 }
 
+void satf_db_lookup_neighbors_channels(const satf_db *db,
+                                       const satf_db_neighbors *nb,
+                                       float theta_v, float theta_l,
+                                       float *out) {
+  int w = db->p.trace.width, nc = satf_db_channels(db);
+  int v0, v1, l0, l1;
+  float fv, fl;
+  angle_cell(theta_v, db->p.n_view, &v0, &v1, &fv);
+  angle_cell(theta_l, db->p.n_light, &l0, &l1, &fl);
+  float bw[4] = {(1 - fv) * (1 - fl), fv * (1 - fl), (1 - fv) * fl, fv * fl};
+  for (int n = 0; n < nb->count; n++) {
+    const float *r[4] = {satf_db_record_channels(db, nb->index[n], v0, l0),
+                         satf_db_record_channels(db, nb->index[n], v1, l0),
+                         satf_db_record_channels(db, nb->index[n], v0, l1),
+                         satf_db_record_channels(db, nb->index[n], v1, l1)};
+    float s = nb->weight[n];
+    float c[4] = {s * bw[0], s * bw[1], s * bw[2], s * bw[3]};
+    for (int ch = 0; ch < nc; ch++) {
+      const float *src[4] = {r[0] + ch * w, r[1] + ch * w, r[2] + ch * w,
+                             r[3] + ch * w};
+      blend4(out + ch * w, src, c, w, n > 0);
+    }
+  }
+}
+
 void satf_db_lookup(const satf_db *db, const float feature[SATF_FEATURES],
                     float theta_v, float theta_l, int k, float *re,
                     float *alpha) {
@@ -287,8 +364,21 @@ static uint64_t fnv_words(uint64_t h, const void *data, size_t bytes) {
   return h;
 }
 
-uint64_t satf_db_payload_hash(const satf_db *db) {
-  const satf_build_params *p = &db->p;
+uint64_t satf_db_fnv(uint64_t h, const void *data, size_t bytes) {
+  return fnv_words(h, data, bytes);
+}
+
+/* Version 2 (fibre records) adds the fibre tracer's parameters. */
+static uint64_t fiber_params_hash(uint64_t h, const satf_fiber_trace_params *f) {
+  int32_t ints[3] = {f->levels, f->sub_rays, f->max_bounces};
+  float floats[2 + SATF_DB_LEVELS_MAX] = {f->eta, f->beta_n};
+  for (int k = 0; k < f->levels && k < SATF_DB_LEVELS_MAX; k++)
+    floats[2 + k] = f->sigma_a[k];
+  h = fnv_words(h, ints, sizeof ints);
+  return fnv_words(h, floats, sizeof floats);
+}
+
+uint64_t satf_db_params_hash(const satf_build_params *p) {
   uint64_t h = 0xCBF29CE484222325ull;
   int32_t ints[7] = {p->samples,
                      p->n_view,
@@ -296,7 +386,7 @@ uint64_t satf_db_payload_hash(const satf_db *db) {
                      p->grid,
                      p->trace.width,
                      p->trace.self_shadow,
-                     SATF_DB_FORMAT_VERSION};
+                     satf_build_params_version(p)};
   float floats[11] = {p->shape.r_inner,
                       p->shape.r_outer,
                       p->shape.phase_span,
@@ -312,9 +402,15 @@ uint64_t satf_db_payload_hash(const satf_db *db) {
   h = fnv_words(h, ints, sizeof ints);
   h = fnv_words(h, floats, sizeof floats);
   h = fnv_words(h, seed, sizeof seed);
+  return p->kind == SATF_RECORD_FIBER ? fiber_params_hash(h, &p->fiber) : h;
+}
+
+uint64_t satf_db_payload_hash(const satf_db *db) {
+  const satf_build_params *p = &db->p;
+  uint64_t h = satf_db_params_hash(p);
   size_t n = values_per_sample(p) * (size_t)p->samples;
   h = fnv_words(h, db->features,
                 (size_t)p->samples * SATF_FEATURES * sizeof(float));
-  h = fnv_words(h, db->rec, 2 * n * sizeof(float));
+  h = fnv_words(h, db->rec, n * sizeof(float));
   return h;
 }

@@ -4,6 +4,7 @@
 #define SATF_DB_HRIR_DB_INTERNAL_H
 
 #include "kdtree.h"
+#include "satf/common.h"
 #include "satf/db.h"
 
 struct satf_db {
@@ -22,5 +23,36 @@ satf_status satf_db_adopt(const satf_build_params *p, float *rec,
 size_t satf_db_record_offset(const satf_db *db, int sample, int iv, int il);
 /* Builds the feature ranges and the k-d tree. */
 satf_status satf_db_index(satf_db *db, satf_error *err);
+
+/* Shared by the database file and the shard file (part_file.c). */
+/* The FNV-1a of satf_db_payload_hash, continued from h over more bytes, and
+ * its first step: the build parameters and seed. */
+uint64_t satf_db_fnv(uint64_t h, const void *data, size_t bytes);
+uint64_t satf_db_params_hash(const satf_build_params *p);
+/* Copies `samples` samples' records between memory (rec, the database's
+ * layout) and image planes (the file's pixel layout). */
+void satf_db_planes_copy(const satf_build_params *p, int samples, float *rec,
+                         float *re, float *alpha, int to_planes);
+/* Header attributes: satf:format, version, generator and hash; the build
+ * parameters and seed; their readers, which name path in errors (`what`
+ * says what a file of `format` is). */
+exr_result_t satf_db_format_attrs_write(exr_context_t exr, int part,
+                                        const char *format, uint64_t hash);
+exr_result_t satf_db_params_attrs_write(exr_context_t exr, int part,
+                                        const satf_build_params *p);
+satf_status satf_db_format_attrs_read(const char *path, exr_const_context_t exr,
+                                      int part, const char *format,
+                                      const char *what, satf_error *err);
+satf_status satf_db_params_attrs_read(const char *path, exr_const_context_t exr,
+                                      int part, satf_build_params *p,
+                                      satf_error *err);
+satf_status satf_db_hex_attr_read(const char *path, exr_const_context_t exr,
+                                  int part, const char *name, uint64_t *out,
+                                  satf_error *err);
+/* satf:features of `samples` samples, into a new array. */
+satf_status satf_db_features_attr_read(const char *path,
+                                       exr_const_context_t exr, int part,
+                                       int samples, float **out,
+                                       satf_error *err);
 
 #endif

@@ -25,7 +25,9 @@ typedef struct worker_buf {
 
 typedef struct build_ctx {
   const satf_build_params *p;
-  satf_db *db;
+  int first;       /* sample of item 0 */
+  float *rec;      /* the range's values, satf_db_sample_floats per sample */
+  float *features; /* the range's features */
   worker_buf *bufs;
 } build_ctx;
 
@@ -34,41 +36,52 @@ static int build_one(void *vctx, size_t i, int thread) {
   const satf_build_params *p = c->p;
   worker_buf *b = &c->bufs[thread];
   satf_sector *sec = NULL;
-  if (satf_build_sector(p, p->seed, i, &sec, &b->err) != SATF_OK)
+  if (satf_build_sector(p, p->seed, (uint64_t)c->first + i, &sec, &b->err) !=
+      SATF_OK)
     return 1;
   satf_density_features(sec->density, sec->ns, sec->nt,
-                        satf_db_sample_features(c->db, (int)i));
+                        c->features + i * SATF_FEATURES);
   satf_status st = satf_trace_all(sec, &p->trace, p->n_view, p->n_light, b->re,
                                   b->alpha, &b->err);
   satf_sector_destroy(sec);
   if (st != SATF_OK)
     return 1;
-  size_t w = (size_t)p->trace.width;
+  size_t w = (size_t)p->trace.width, per = satf_db_sample_floats(p);
+  float *sample = c->rec + i * per;
   for (int iv = 0; iv < p->n_view; iv++)
     for (int il = 0; il < p->n_light; il++) {
       size_t src = ((size_t)iv * (size_t)p->n_light + (size_t)il) * w;
-      float *re, *alpha;
-      satf_db_record_mut(c->db, (int)i, iv, il, &re, &alpha);
+      /* the database's record layout (satf_db_record_mut): light-major,
+       * reflectance then alpha */
+      float *re =
+          sample + ((size_t)il * (size_t)p->n_view + (size_t)iv) * 2 * w;
       memcpy(re, b->re + src, w * sizeof(float));
-      memcpy(alpha, b->alpha + src, w * sizeof(float));
+      memcpy(re + w, b->alpha + src, w * sizeof(float));
     }
+  satf_db_round_half(sample, per);
   return 0;
 }
 
-satf_status satf_build(const satf_build_params *p, int threads,
-                       satf_build_progress progress, void *progress_ctx,
-                       satf_db **out, satf_error *err) {
-  *out = NULL;
-  satf_db *db = NULL;
-  satf_status st = satf_db_create(p, &db, err);
+satf_status satf_build_range(const satf_build_params *p, int first, int count,
+                             int threads, satf_build_progress progress,
+                             void *progress_ctx, float *rec, float *features,
+                             satf_error *err) {
+  satf_status st = satf_build_params_check(p, err);
   if (st != SATF_OK)
     return st;
+  if (first < 0 || count < 0 || count > p->samples - first)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "samples %d..%d are outside the build's %d", first,
+                          first + count - 1, p->samples);
+  if (count == 0)
+    return SATF_OK;
   if (threads <= 0)
     threads = satf_cpu_count();
-  if (threads > p->samples)
-    threads = p->samples;
+  if (threads > count)
+    threads = count;
   size_t per = (size_t)p->n_view * (size_t)p->n_light * (size_t)p->trace.width;
-  build_ctx c = {p, db, calloc((size_t)threads, sizeof(worker_buf))};
+  build_ctx c = {p, first, rec, features,
+                 calloc((size_t)threads, sizeof(worker_buf))};
   int ok = c.bufs != NULL;
   for (int t = 0; ok && t < threads; t++) {
     c.bufs[t].re = malloc(per * sizeof(float));
@@ -77,8 +90,8 @@ satf_status satf_build(const satf_build_params *p, int threads,
   }
   if (!ok) {
     st = satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate build buffers");
-  } else if (satf_parallel_for((size_t)p->samples, threads, build_one, &c,
-                               progress, progress_ctx) != 0) {
+  } else if (satf_parallel_for((size_t)count, threads, build_one, &c, progress,
+                               progress_ctx) != 0) {
     st = SATF_ERR_INTERNAL;
     for (int t = 0; t < threads; t++)
       if (c.bufs[t].err.status != SATF_OK) {
@@ -94,6 +107,19 @@ satf_status satf_build(const satf_build_params *p, int threads,
     free(c.bufs[t].alpha);
   }
   free(c.bufs);
+  return st;
+}
+
+satf_status satf_build(const satf_build_params *p, int threads,
+                       satf_build_progress progress, void *progress_ctx,
+                       satf_db **out, satf_error *err) {
+  *out = NULL;
+  satf_db *db = NULL;
+  satf_status st = satf_db_create(p, &db, err);
+  if (st == SATF_OK)
+    st = satf_build_range(p, 0, p->samples, threads, progress, progress_ctx,
+                          satf_db_samples_mut(db, 0),
+                          satf_db_sample_features(db, 0), err);
   if (st == SATF_OK)
     st = satf_db_finalize(db, err);
   if (st != SATF_OK) {
@@ -102,4 +128,21 @@ satf_status satf_build(const satf_build_params *p, int threads,
   }
   *out = db;
   return SATF_OK;
+}
+
+satf_status satf_build_part(const satf_build_params *p, int index, int parts,
+                            int threads, satf_build_progress progress,
+                            void *progress_ctx, satf_db_part **out,
+                            satf_error *err) {
+  satf_db_part *part = NULL;
+  satf_status st = satf_db_part_create(p, index, parts, &part, err);
+  if (st == SATF_OK)
+    st = satf_build_range(p, part->first, part->count, threads, progress,
+                          progress_ctx, part->rec, part->features, err);
+  if (st != SATF_OK) {
+    satf_db_part_destroy(part);
+    part = NULL;
+  }
+  *out = part;
+  return st;
 }

@@ -15,7 +15,9 @@
 extern "C" {
 #endif
 
-#define SATF_DB_FORMAT_VERSION 1
+/* The newest format this satf reads and writes: 2 (fibre records);
+ * Phong databases are still written, and read, as version 1. */
+#define SATF_DB_FORMAT_VERSION 2
 #define SATF_FEATURES 3 /* rho_st, rho_s, rho_t */
 
 /* The record contract: what a database records and what a renderer must
@@ -95,6 +97,63 @@ void satf_trace_extent(const satf_sector_shape *shape, float theta_v,
 void satf_density_features(const float *density, int ns, int nt,
                            float out[SATF_FEATURES]);
 
+/* ---- Record kinds (format version 2) ----
+ * A database holds records of one kind. Phong records (format version 1,
+ * the paper's planar ray tracing) hold reflectance and alpha. Fibre records
+ * (format version 2, issue 11) come from 2-D Monte Carlo path tracing of the
+ * sector's strands as circular fibres with the d'Eon/Chiang azimuthal
+ * scattering (papers 003 and satf/fiber.h) in the fibres' normal plane:
+ * theta_i = theta_o = 0, so a record holds the lateral response N_p A_p only
+ * and the renderer multiplies the longitudinal M_p in.
+ *
+ * Fibre record channels (per record sample, each the mean over the
+ * sample's sub-rays, misses counting 0, i.e. premultiplied by coverage):
+ * radiance per unit irradiance of the light and per unit M_p, so that a
+ * renderer computes
+ *   L = E (M_R R + M_TT TT(sigma) + M_TRT TRT(sigma) + M_MS MS(sigma)).
+ * R is single scattering by lobe p = 0 (absorption-free); TT[k] lobe p = 1
+ * and TRT[k] lobes p >= 2 (pbrt's remainder, azimuthally uniform) of single
+ * scattering, MS[k] every path of two or more fibre interactions, each at
+ * absorption level k (sigma_a per unit fibre radius, satf_db_absorption_
+ * levels); between levels a renderer interpolates log-linearly in sigma.
+ * The radial roughness beta_n and eta are baked into the records. */
+typedef enum satf_record_kind {
+  SATF_RECORD_PHONG = 0, /* reflectance + alpha, format version 1 */
+  SATF_RECORD_FIBER = 1  /* alpha + lobes x absorption levels, version 2 */
+} satf_record_kind;
+
+#define SATF_DB_LEVELS_MAX 8
+
+/* Channels of a record, channel-major (channel c of a record's samples at
+ * c * width). Both kinds: 0 reflectance, 1 alpha; for fibre records the
+ * reflectance is R + TT[0] + TRT[0] + MS[0] (the total at the first,
+ * lowest absorption level), so callers of satf_db_record and satf_db_lookup
+ * keep working. Then, for fibre records with `levels` absorption levels: */
+#define SATF_DB_CH_REFLECTANCE 0
+#define SATF_DB_CH_ALPHA 1
+#define SATF_DB_CH_R 2
+#define SATF_DB_CH_TT(k) (3 + (k))
+#define SATF_DB_CH_TRT(k, levels) (3 + (levels) + (k))
+#define SATF_DB_CH_MS(k, levels) (3 + 2 * (levels) + (k))
+#define SATF_DB_FIBER_CHANNELS(levels) (3 + 3 * (levels))
+
+/* The fibre tracer's parameters (offline/trace_fiber.c). */
+typedef struct satf_fiber_trace_params {
+  float eta;    /* index of refraction (1.55) */
+  float beta_n; /* radial (azimuthal) roughness, Chiang 2016 (0.3) */
+  int levels;   /* absorption levels K, 1..SATF_DB_LEVELS_MAX */
+  float sigma_a[SATF_DB_LEVELS_MAX]; /* per unit fibre radius, ascending */
+  int sub_rays;    /* eye rays per record sample */
+  int max_bounces; /* fibre interactions followed per path */
+} satf_fiber_trace_params;
+
+satf_fiber_trace_params satf_fiber_trace_params_default(void);
+satf_status satf_fiber_trace_params_check(const satf_fiber_trace_params *p,
+                                          satf_error *err);
+const char *satf_record_kind_name(satf_record_kind kind);
+/* "phong" or "fiber"; returns -1 for anything else. */
+int satf_record_kind_parse(const char *name, satf_record_kind *kind);
+
 /* Everything a build depends on; stored in the file. */
 typedef struct satf_build_params {
   uint64_t seed;
@@ -103,10 +162,18 @@ typedef struct satf_build_params {
   int n_light; /* light azimuths over the full circle */
   int grid;    /* density grid nodes along s and t */
   satf_sector_shape shape;
-  satf_trace_params trace;
+  satf_trace_params trace; /* width for both kinds; the rest Phong only */
+  satf_record_kind kind;   /* SATF_RECORD_PHONG unless asked */
+  satf_fiber_trace_params fiber; /* fibre records only */
 } satf_build_params;
 
 satf_build_params satf_build_params_default(void);
+/* The default fibre database (satf-build --kind fiber): see README. */
+satf_build_params satf_build_params_default_fiber(void);
+/* Channels of a record of a build: 2 for Phong, SATF_DB_FIBER_CHANNELS. */
+int satf_build_params_channels(const satf_build_params *p);
+/* The format version a build's file has: 1 for Phong, 2 for fibre. */
+int satf_build_params_version(const satf_build_params *p);
 satf_status satf_build_params_check(const satf_build_params *p,
                                     satf_error *err);
 
@@ -120,6 +187,12 @@ void satf_db_destroy(satf_db *db);
 const satf_build_params *satf_db_params(const satf_db *db);
 int satf_db_width(const satf_db *db);
 int satf_db_samples(const satf_db *db);
+/* Channels per record (SATF_DB_CH_*): 2 for a Phong database. */
+int satf_db_channels(const satf_db *db);
+satf_record_kind satf_db_kind(const satf_db *db);
+/* The absorption levels of a fibre database (sigma_a per unit fibre
+ * radius, ascending); NULL and *count = 0 for Phong. */
+const float *satf_db_absorption_levels(const satf_db *db, int *count);
 
 /* Writable storage for builders: the features[3] of sample i, and record
  * (sample, iv, il). In memory a record's reflectance and alpha are
@@ -128,6 +201,11 @@ int satf_db_samples(const satf_db *db);
 float *satf_db_sample_features(satf_db *db, int i);
 void satf_db_record_mut(satf_db *db, int sample, int iv, int il, float **re,
                         float **alpha);
+/* Every channel of record (sample, iv, il): satf_db_channels x width
+ * values, channel-major (SATF_DB_CH_*). */
+float *satf_db_record_channels_mut(satf_db *db, int sample, int iv, int il);
+const float *satf_db_record_channels(const satf_db *db, int sample, int iv,
+                                     int il);
 
 /* Rounds every stored value to what the file keeps (half floats) and builds
  * the look-up index. Call after filling, before look-ups or writing. */
@@ -172,6 +250,12 @@ void satf_db_neighbors_find(const satf_db *db,
 void satf_db_lookup_neighbors(const satf_db *db, const satf_db_neighbors *nb,
                               float theta_v, float theta_l, float *re,
                               float *alpha);
+/* The same blend over every channel: out holds satf_db_channels x width
+ * values, channel-major (channel c at c * width, SATF_DB_CH_*). */
+void satf_db_lookup_neighbors_channels(const satf_db *db,
+                                       const satf_db_neighbors *nb,
+                                       float theta_v, float theta_l,
+                                       float *out);
 
 /* File I/O. Writing goes through a temporary file renamed into place. */
 satf_status satf_db_write(const satf_db *db, const char *path, satf_error *err);
@@ -184,6 +268,59 @@ satf_status satf_db_write_atlas(const satf_db *db, const char *path,
  * a mismatch; this is the hash it computes: 64-bit FNV-1a over the build
  * parameters, the features and every stored value. */
 uint64_t satf_db_payload_hash(const satf_db *db);
+
+/* ---- Parts: one build made in pieces (db/part.c, db/part_file.c) ----
+ * Part I of N holds samples [first, first + count) of a build, first =
+ * floor(samples * I / N). Sample i depends only on (seed, i), so parts built
+ * by separate processes (MPI ranks, farm-queue shards) assemble into the
+ * bytes of a one-process build. A part's values are laid out as a
+ * database's samples (satf_db_samples_mut) and rounded to half floats, as
+ * the file keeps them.
+ *
+ * The shard file is an OpenEXR image like the database's (same pixel
+ * layout, count samples tall) whose header names it a shard
+ * (satf:format "satf-hrirdb-shard"), holds the WHOLE build's parameters
+ * and seed, satf:shardIndex, satf:shardCount, satf:first, satf:count, the
+ * part's features and its own integrity hash (satf_db_part_hash). */
+typedef struct satf_db_part {
+  satf_build_params p; /* the whole build's parameters */
+  int index, parts;    /* part I of N, 0 <= I < N */
+  int first, count;    /* its samples */
+  float *rec;          /* count * satf_db_sample_floats(&p) values, owned */
+  float *features;     /* count * SATF_FEATURES values, owned */
+} satf_db_part;
+
+/* Values (reflectance and alpha) stored per sample. */
+size_t satf_db_sample_floats(const satf_build_params *p);
+/* The samples of part I of N of a build of `samples` samples. */
+void satf_db_part_range(int samples, int index, int parts, int *first,
+                        int *count);
+/* Rounds n values to what the file keeps (half floats). */
+void satf_db_round_half(float *values, size_t n);
+/* Writable values of samples first.. of a database, contiguous, in the part
+ * layout (satf_db_sample_floats each). */
+float *satf_db_samples_mut(satf_db *db, int first);
+
+/* A zero-filled part I of N (1 <= N <= p->samples). */
+satf_status satf_db_part_create(const satf_build_params *p, int index,
+                                int parts, satf_db_part **out, satf_error *err);
+void satf_db_part_destroy(satf_db_part *part);
+/* 64-bit FNV-1a over the parameters, the part's place, features and
+ * values (the shard file's satf:hash). */
+uint64_t satf_db_part_hash(const satf_db_part *part);
+/* Rounds the part's values to half floats (what the file keeps) and
+ * writes the shard file through a temporary file renamed into place. */
+satf_status satf_db_part_write(satf_db_part *part, const char *path,
+                               satf_error *err);
+/* Reads a shard file and checks its header and integrity hash. */
+satf_status satf_db_part_read(const char *path, satf_db_part **out,
+                              satf_error *err);
+/* Reads n shard files, checks that they are parts of one build (same
+ * parameters and seed, same N) covering every part exactly once, and
+ * assembles the finalized database: the one-process build's values. Errors
+ * name the file at fault. */
+satf_status satf_db_merge(const char *const *paths, int n, satf_db **out,
+                          satf_error *err);
 
 /* atlas.c - the image size of the database file and of its atlas: one row
  * per sample and light azimuth, one record of width values per view

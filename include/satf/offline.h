@@ -23,6 +23,13 @@ typedef struct satf_sector {
   float strand_sigma; /* Gaussian width of the strands, sector units */
   float *density;     /* ns * nt values, owned */
   float *node_xy;     /* plane positions of the grid nodes, 2*ns*nt, owned */
+  /* The strands as fibres with circular cross-sections, for the fibre
+   * tracer (offline/trace_fiber.c): 3 values each, the plane position of
+   * the strand's centre and its radius = strand_sigma (a disc of radius
+   * sigma covers pi sigma^2, the mass of the strand's density). */
+  int fiber_count, fiber_cap;
+  float *fibers;    /* 3 * fiber_count values, owned */
+  int fiber_failed; /* a fibre could not be stored (out of memory) */
 } satf_sector;
 
 /* Allocates an empty (zero-density) sector. */
@@ -38,7 +45,8 @@ void satf_sector_point(const satf_sector_shape *shape, float s, float t,
 int satf_sector_param(const satf_sector_shape *shape, const float xy[2],
                       float st[2]);
 
-/* Adds one strand's circular Gaussian centred at (s, t) (SATF sec. 3.3). */
+/* Adds one strand's circular Gaussian centred at (s, t) (SATF sec. 3.3),
+ * and the strand to the fibre list. */
 void satf_sector_add_strand(satf_sector *sector, float s, float t);
 /* Multiplies every density value by k. */
 void satf_sector_scale(satf_sector *sector, float k);
@@ -100,6 +108,19 @@ satf_status satf_trace_all(const satf_sector *sector,
                            const satf_trace_params *p, int n_view, int n_light,
                            float *re, float *alpha, satf_error *err);
 
+/* Fibre records (format version 2, offline/trace_fiber.c; satf/db.h
+ * "Record kinds"): 2-D Monte Carlo path tracing of the sector's fibres
+ * (sector->fibers) under every view x light azimuth pair of uniform grids
+ * (k * 2 pi / n). Writes n_view x n_light records of
+ * SATF_DB_FIBER_CHANNELS(p->levels) x width values to out, record (iv, il)
+ * at (iv * n_light + il) * channels * width, channel-major (SATF_DB_CH_*).
+ * Sample j of view iv draws its random numbers from stream (sample, iv, j)
+ * of `seed` only, so records do not depend on threads or call order. */
+satf_status satf_trace_fiber_all(const satf_sector *sector,
+                                 const satf_fiber_trace_params *p, int width,
+                                 int n_view, int n_light, uint64_t seed,
+                                 uint64_t sample, float *out, satf_error *err);
+
 /* ---- Builds ----
  * building an HRIR database (SATF sec. 5): random generalized
  * sectors, planar ray traced under every view x light azimuth pair. */
@@ -113,6 +134,23 @@ typedef void (*satf_build_progress)(void *ctx, size_t done, size_t total);
 satf_status satf_build(const satf_build_params *p, int threads,
                        satf_build_progress progress, void *progress_ctx,
                        satf_db **out, satf_error *err);
+
+/* Builds samples [first, first + count) of the build p into rec and
+ * features (the part layout of satf/db.h: satf_db_sample_floats values and
+ * SATF_FEATURES features per sample, values rounded to half floats). The
+ * values are those satf_build stores for these samples: a build may be cut
+ * into ranges made anywhere (MPI ranks, shards). */
+satf_status satf_build_range(const satf_build_params *p, int first, int count,
+                             int threads, satf_build_progress progress,
+                             void *progress_ctx, float *rec, float *features,
+                             satf_error *err);
+
+/* Builds part I of N of the build p (satf_db_part_range); destroy with
+ * satf_db_part_destroy. */
+satf_status satf_build_part(const satf_build_params *p, int index, int parts,
+                            int threads, satf_build_progress progress,
+                            void *progress_ctx, satf_db_part **out,
+                            satf_error *err);
 
 /* The sector of sample i of a build (for tests and held-out checks);
  * destroy with satf_sector_destroy. */
