@@ -282,3 +282,29 @@ void satf_fiber_eval(const satf_fiber *f, const float wo[3], const float wi[3],
       out[c] += lobes[p][c];
   }
 }
+
+/* The trimmed logistic's CDF on [-pi, pi]. */
+static float trimmed_logistic_cdf(float x, float s) {
+  float lo = logistic_cdf(-SATF_PI_F, s);
+  return (logistic_cdf(x, s) - lo) / (1.0f - 2.0f * lo);
+}
+
+float satf_fiber_np_integral(float phi0, float phi1, int p, float s,
+                             float gamma_o, float gamma_t) {
+  float len = phi1 - phi0;
+  if (len <= 0.0f)
+    return 0.0f;
+  if (len >= SATF_TWO_PI_F)
+    return 1.0f;
+  /* the arc's start relative to the lobe's centre, wrapped to [-pi, pi) */
+  float a = phi0 - satf_fiber_phi(p, gamma_o, gamma_t);
+  a = fmodf(a + SATF_PI_F, SATF_TWO_PI_F);
+  if (a < 0.0f)
+    a += SATF_TWO_PI_F;
+  a -= SATF_PI_F;
+  float b = a + len;
+  if (b <= SATF_PI_F)
+    return trimmed_logistic_cdf(b, s) - trimmed_logistic_cdf(a, s);
+  return 1.0f - trimmed_logistic_cdf(a, s) +
+         trimmed_logistic_cdf(b - SATF_TWO_PI_F, s);
+}

@@ -160,6 +160,60 @@ void satf_fiber_eval_lobes(const satf_fiber *f, const float wo[3],
 void satf_fiber_eval(const satf_fiber *f, const float wo[3], const float wi[3],
                      float h, float out[3]);
 
+/* int over [phi0, phi1] of N_p(phi) (phi1 - phi0 in [0, 2 pi]), from the
+ * trimmed logistic's CDF with N_p's 2 pi periodicity. */
+float satf_fiber_np_integral(float phi0, float phi1, int p, float s,
+                             float gamma_o, float gamma_t);
+
+/* Dual scattering (Zinke et al. 2008, paper 004): per inclination bin and
+ * RGB channel, from the fibre's own lobes. Bin k of n holds |theta| =
+ * (k + 0.5) / n * pi / 2, the inclination of the light at the scattering
+ * fibre (the tables are even in theta). The shifts are of theta_i +
+ * theta_o (radians, the convention of satf_fiber_tilt: R -2 alpha, TT
+ * +alpha, TRT +4 alpha, the remainder 0); the variances are d'Eon's v_p
+ * (beta_p^2). Forward means the exit azimuth more than pi / 2 from the
+ * light's (the light goes on), backward within pi / 2 (it returns). */
+enum {
+  SATF_FIBER_DUAL_AF = 0,   /* a_f: forward-scattered fraction, eq. 6 */
+  SATF_FIBER_DUAL_AB,       /* a_b: backward-scattered fraction, eq. 12 */
+  SATF_FIBER_DUAL_ALPHA_F,  /* alpha_f: mean forward shift */
+  SATF_FIBER_DUAL_ALPHA_B,  /* alpha_b: mean backward shift */
+  SATF_FIBER_DUAL_BETA_F2,  /* beta_f^2: mean forward variance */
+  SATF_FIBER_DUAL_BETA_B2,  /* beta_b^2: mean backward variance */
+  SATF_FIBER_DUAL_A_B,      /* A_b = A_1 + A_3, eq. 11, 13, 14 */
+  SATF_FIBER_DUAL_DELTA_B,  /* Delta_b, eq. 16 */
+  SATF_FIBER_DUAL_SIGMA_B2, /* sigma_b^2, eq. 17 squared */
+  SATF_FIBER_DUAL_FIELDS
+};
+
+/* Zinke's density factors d_f = d_b (eq. 5, 9): 0.7, the paper's value for
+ * human hair. */
+#define SATF_FIBER_DUAL_DENSITY 0.7f
+
+/* Fills out[(k * SATF_FIBER_DUAL_FIELDS + field) * 3 + c] for k < n (so an
+ * RGB texture of SATF_FIBER_DUAL_FIELDS x n texels), by quadrature over h
+ * and the lobes' azimuthal CDFs. n >= 1. */
+void satf_fiber_dual_tables(const satf_fiber *f, int n, float *out);
+
+/* Linear interpolation of one field and channel of the tables at |theta|
+ * (clamped to the bin centres). */
+float satf_fiber_dual_lookup(const float *tables, int n, int field, int c,
+                             float theta);
+
+/* The local back-scattering BCSDF f_back (Zinke eq. 10, 15) in this
+ * header's normalisation, one channel: A_b (1 / pi on the backward
+ * half-circle |phi_i - phi_o| < pi / 2) times the longitudinal spread
+ * around theta_i + theta_o = Delta_b of variance sigma_b^2 + extra_var,
+ * looked up at theta_d = (theta_o - theta_i) / 2. The spread is Zinke's
+ * Gaussian g(theta_i + theta_o - Delta_b) / cos(theta_d) written as d'Eon's
+ * M_p of that variance (equal for narrow lobes, normalised on the sphere
+ * for wide ones), so f_back integrates over omega_i to A_b (Zinke's factor
+ * 2 in eq. 10 left out: A_b is already the returned fraction). extra_var
+ * is the global spread sigma_f^2 when the light arrives forward-scattered
+ * (eq. 24). */
+float satf_fiber_dual_back(const float *tables, int n, int c, const float wo[3],
+                           const float wi[3], float extra_var);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,190 @@
+/* test_fiber_dual.c - the dual-scattering tables (Zinke et al. 2008) from
+ * the fibre model: energy (a_f + a_b = 1 without absorption, less with),
+ * the fractions against a quadrature of the lobes, the closed forms of eq.
+ * 11 and 13 against their sums, and f_back integrating to A_b. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "satf/fiber.h"
+#include "satf/math.h"
+#include "test_util.h"
+
+#define NB 16
+
+static float field(const float *t, int k, int fld, int c) {
+  return t[((size_t)k * SATF_FIBER_DUAL_FIELDS + fld) * 3 + c];
+}
+
+static void np_integral_matches_quadrature(void **state) {
+  (void)state;
+  const float scales[] = {0.05f, 0.25f, 1.0f};
+  for (int k = 0; k < 3; k++)
+    for (int p = 0; p < 3; p++)
+      for (double a = -7; a < 7; a += 1.3)
+        for (double len = 0.4; len < 6.3; len += 1.9) {
+          float s = scales[k], go = 0.4f, gt = 0.25f;
+          double q = 0;
+          const int n = 4000;
+          for (int i = 0; i < n; i++)
+            q += satf_fiber_np((float)(a + len * (i + 0.5) / n), p, s, go, gt);
+          q *= len / n;
+          assert_near(
+              satf_fiber_np_integral((float)a, (float)(a + len), p, s, go, gt),
+              q, 2e-4);
+        }
+}
+
+static void lossless_fractions_sum_to_one(void **state) {
+  (void)state;
+  const float zero[3] = {0, 0, 0};
+  const float beta_ns[] = {0.1f, 0.3f, 0.8f};
+  for (int b = 0; b < 3; b++) {
+    satf_fiber f;
+    satf_fiber_init_sigma_a(&f, zero, 0.3f, beta_ns[b], 0.035f, 1.55f);
+    float *t = malloc(sizeof(float) * NB * SATF_FIBER_DUAL_FIELDS * 3);
+    assert_non_null(t);
+    satf_fiber_dual_tables(&f, NB, t);
+    for (int k = 0; k < NB; k++)
+      for (int c = 0; c < 3; c++) {
+        float af = field(t, k, SATF_FIBER_DUAL_AF, c);
+        float ab = field(t, k, SATF_FIBER_DUAL_AB, c);
+        assert_near(af + ab, 1.0, 1e-3);
+        /* without absorption, TT carries most light forward (up to 45
+         * degrees; at grazing light R's Fresnel takes over) */
+        assert_true(ab > 0.02f && (k >= NB / 2 || af > 2 * ab));
+        assert_true(field(t, k, SATF_FIBER_DUAL_A_B, c) >= 0);
+        assert_true(field(t, k, SATF_FIBER_DUAL_SIGMA_B2, c) > 0);
+        assert_true(isfinite(field(t, k, SATF_FIBER_DUAL_DELTA_B, c)));
+      }
+    free(t);
+  }
+}
+
+/* With melanin: a_f + a_b < 1, the darker channel (blue) loses more, and
+ * a_f against a brute-force quadrature of sum_p A_p N_p over the forward
+ * half-circle and over h. */
+static void absorbing_fractions(void **state) {
+  (void)state;
+  satf_fiber_material m = satf_fiber_material_default();
+  m.melanin = 0.3f;
+  satf_fiber f;
+  satf_fiber_init(&f, &m);
+  float t[NB * SATF_FIBER_DUAL_FIELDS * 3];
+  satf_fiber_dual_tables(&f, NB, t);
+  for (int k = 0; k < NB; k++) {
+    for (int c = 0; c < 3; c++) {
+      float af = field(t, k, SATF_FIBER_DUAL_AF, c);
+      float ab = field(t, k, SATF_FIBER_DUAL_AB, c);
+      assert_true(af + ab < 1.0f && af > 0 && ab > 0);
+    }
+    assert_true(field(t, k, SATF_FIBER_DUAL_AF, 2) <
+                field(t, k, SATF_FIBER_DUAL_AF, 0));
+  }
+  const int ks[] = {0, 7, 15};
+  for (int i = 0; i < 3; i++) {
+    int k = ks[i];
+    double theta = (k + 0.5) / NB * SATF_PI / 2;
+    float sin_t = (float)sin(theta), cos_t = (float)cos(theta);
+    float etap = satf_fiber_eta_prime(f.eta, sin_t);
+    for (int c = 0; c < 3; c++) {
+      double fwd = 0;
+      const int nh = 500, nphi = 1000;
+      for (int j = 0; j < nh; j++) {
+        float h = (float)(-1 + 2 * (j + 0.5) / nh);
+        float ap[SATF_FIBER_LOBES];
+        satf_fiber_ap(cos_t, f.eta, h,
+                      satf_fiber_transmittance(f.sigma_a[c], h, f.eta, sin_t),
+                      ap);
+        for (int q = 0; q < nphi; q++) {
+          double phi = SATF_PI / 2 + SATF_PI * (q + 0.5) / nphi;
+          for (int p = 0; p < 3; p++)
+            fwd += ap[p] *
+                   satf_fiber_np((float)phi, p, f.s, asinf(h), asinf(h / etap));
+          fwd += ap[3] / (2 * SATF_PI);
+        }
+      }
+      fwd *= SATF_PI / nphi / nh;
+      assert_near(field(t, k, SATF_FIBER_DUAL_AF, c), fwd, 2e-3 * fwd + 1e-5);
+    }
+  }
+}
+
+/* Eq. 11 and 13's closed forms against their sums, term by term. */
+static void closed_forms_match_sums(void **state) {
+  (void)state;
+  satf_fiber_material m = satf_fiber_material_default();
+  m.melanin = 0.15f;
+  satf_fiber f;
+  satf_fiber_init(&f, &m);
+  float t[NB * SATF_FIBER_DUAL_FIELDS * 3];
+  satf_fiber_dual_tables(&f, NB, t);
+  for (int k = 0; k < NB; k += 5)
+    for (int c = 0; c < 3; c++) {
+      double af = field(t, k, SATF_FIBER_DUAL_AF, c);
+      double ab = field(t, k, SATF_FIBER_DUAL_AB, c);
+      double a1 = 0, a3 = 0;
+      /* af <= 0.65 here: 200 terms leave < 1e-30 */
+      for (int i = 1; i < 200; i++) {
+        a1 += ab * pow(af, 2 * i);
+        for (int j = 0; j < i; j++) {
+          double term = ab * ab * ab * pow(af, 2 * i); /* kk = j + 1 */
+          for (int kk = j + 1; kk < j + 200; kk++, term *= af * af)
+            a3 += term;
+        }
+      }
+      assert_near(field(t, k, SATF_FIBER_DUAL_A_B, c), a1 + a3,
+                  1e-4 * (a1 + a3) + 1e-7);
+    }
+}
+
+/* f_back integrates over the sphere of incident directions to A_b. */
+static void back_integrates_to_ab(void **state) {
+  (void)state;
+  satf_fiber_material m = satf_fiber_material_default();
+  m.melanin = 0.2f;
+  satf_fiber f;
+  satf_fiber_init(&f, &m);
+  float t[NB * SATF_FIBER_DUAL_FIELDS * 3];
+  satf_fiber_dual_tables(&f, NB, t);
+  const double thetas[] = {0.0, 0.5, -0.9};
+  for (int i = 0; i < 3; i++) {
+    double to = thetas[i];
+    float wo[3] = {(float)sin(to), (float)(cos(to) * cos(0.3)),
+                   (float)(cos(to) * sin(0.3))};
+    const int nt = 800, np = 400;
+    double sum = 0;
+    for (int a = 0; a < nt; a++) {
+      double ti = -SATF_PI / 2 + SATF_PI * (a + 0.5) / nt;
+      for (int b = 0; b < np; b++) {
+        double pi = -SATF_PI + 2 * SATF_PI * (b + 0.5) / np;
+        float wi[3] = {(float)sin(ti), (float)(cos(ti) * cos(pi)),
+                       (float)(cos(ti) * sin(pi))};
+        sum += satf_fiber_dual_back(t, NB, 1, wo, wi, 0.0f) * cos(ti);
+      }
+    }
+    sum *= (SATF_PI / nt) * (2 * SATF_PI / np);
+    float ab = satf_fiber_dual_lookup(t, NB, SATF_FIBER_DUAL_A_B, 1, (float)to);
+    assert_true(ab > 1e-3f);
+    /* 3%: A_b, Delta_b and sigma_b follow theta_d across the lobe */
+    assert_near(sum, ab, 0.03 * ab);
+  }
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(np_integral_matches_quadrature),
+      cmocka_unit_test(lossless_fractions_sum_to_one),
+      cmocka_unit_test(absorbing_fractions),
+      cmocka_unit_test(closed_forms_match_sums),
+      cmocka_unit_test(back_integrates_to_ab),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
