@@ -139,3 +139,69 @@ float satf_fiber_dual_back(const float *tables, int n, int c, const float wo[3],
   float mp = satf_fiber_mp(cosf(ti), fabsf(cosf(tc)), sinf(ti), sinf(tc), var);
   return Ab * mp / SATF_PI_F;
 }
+
+void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
+                           const float wo[3], const float wi[3], float h,
+                           float n_hairs, float out[3]) {
+  float single[SATF_FIBER_LOBES][3];
+  satf_fiber_eval_lobes(f, wo, wi, h, single);
+  h = fminf(fmaxf(h, -1.0f), 1.0f);
+  float sin_o = fminf(fmaxf(wo[0], -1.0f), 1.0f);
+  float cos_o = sqrtf(fmaxf(1.0f - sin_o * sin_o, 0.0f));
+  float theta_o = asinf(sin_o), phi_o = atan2f(wo[2], wo[1]);
+  float sin_i = fminf(fmaxf(wi[0], -1.0f), 1.0f);
+  float theta_i = asinf(sin_i), cos_i = cosf(theta_i);
+  float phi_i = atan2f(wi[2], wi[1]);
+  float gamma_o = asinf(h);
+  float gamma_t =
+      asinf(fminf(fmaxf(h / satf_fiber_eta_prime(f->eta, sin_o), -1.0f), 1.0f));
+  float nh = fmaxf(n_hairs, 0.0f);
+  float direct = expf(-nh);
+  float dphi = fabsf(remainderf(phi_i - phi_o, SATF_TWO_PI_F));
+  float theta_d = 0.5f * (theta_o - theta_i);
+  float ng[SATF_FIBER_LOBES];
+  for (int p = 0; p < SATF_FIBER_LOBES; p++)
+    ng[p] = p < 3 ? satf_fiber_np_integral(phi_i - 0.5f * SATF_PI_F - phi_o,
+                                           phi_i + 0.5f * SATF_PI_F - phi_o, p,
+                                           f->s, gamma_o, gamma_t) /
+                        SATF_PI_F
+                  : 0.5f / SATF_PI_F;
+  for (int c = 0; c < 3; c++) {
+    float af =
+        satf_fiber_dual_lookup(tables, n, SATF_FIBER_DUAL_AF, c, theta_i);
+    float bf2 =
+        satf_fiber_dual_lookup(tables, n, SATF_FIBER_DUAL_BETA_F2, c, theta_i);
+    float scattered = fmaxf(expf(-nh * (1.0f - af)) - direct, 0.0f);
+    float sf2 = fmaxf(nh, 1.0f) * bf2;
+    float ab =
+        satf_fiber_dual_lookup(tables, n, SATF_FIBER_DUAL_A_B, c, theta_d);
+    float delta =
+        satf_fiber_dual_lookup(tables, n, SATF_FIBER_DUAL_DELTA_B, c, theta_d);
+    float v = fmaxf(
+        satf_fiber_dual_lookup(tables, n, SATF_FIBER_DUAL_SIGMA_B2, c, theta_d),
+        1e-4f);
+    float tc = theta_o - delta;
+    float back =
+        dphi < 0.5f * SATF_PI_F
+            ? ab * satf_fiber_mp(cos_i, fabsf(cosf(tc)), sin_i, sinf(tc), v) /
+                  SATF_PI_F
+            : 0.0f;
+    float back_g =
+        ab * satf_fiber_mp(cos_i, fabsf(cosf(tc)), sin_i, sinf(tc), v + sf2) *
+        (SATF_PI_F - dphi) / (SATF_PI_F * SATF_PI_F);
+    float s = 0.0f, sg = 0.0f;
+    float ap[SATF_FIBER_LOBES];
+    satf_fiber_ap(cos_o, f->eta, h,
+                  satf_fiber_transmittance(f->sigma_a[c], h, f->eta, sin_o),
+                  ap);
+    for (int p = 0; p < SATF_FIBER_LOBES; p++) {
+      float sp, cp;
+      satf_fiber_tilt(f, p, sin_o, cos_o, &sp, &cp);
+      s += single[p][c];
+      sg += satf_fiber_mp(cos_i, cp, sin_i, sp, f->v[p] + sf2) * ng[p] * ap[p];
+    }
+    out[c] = direct * (s + SATF_FIBER_DUAL_DENSITY * back) +
+             SATF_FIBER_DUAL_DENSITY * scattered *
+                 (sg + SATF_FIBER_DUAL_DENSITY * back_g);
+  }
+}

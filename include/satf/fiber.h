@@ -214,6 +214,25 @@ float satf_fiber_dual_lookup(const float *tables, int n, int field, int c,
 float satf_fiber_dual_back(const float *tables, int n, int c, const float wo[3],
                            const float wi[3], float extra_var);
 
+/* The shading of the dual scattering approximation (Zinke 2008 sec. 4.2
+ * in this header's normalisation; online/render/glsl/fiber.glsl's
+ * fiber_dual_shade is its GLSL twin): RGB radiance towards wo per unit
+ * irradiance of a light towards wi, at offset h, with n_hairs the expected
+ * number of hairs a ray from the point to the light crosses (a deep
+ * opacity map's summed coverage). The light arrives directly with the
+ * probability e^-n (a Poisson count of crossings), forward-scattered with
+ * the expected forward transmittance e^-n(1 - a_f) (eq. 5 averaged over
+ * that count) less the direct part, isotropic over the half-circle of
+ * azimuths around the light's (eq. 7) and spread in inclination by
+ * sigma_f^2 = max(n, 1) beta_f^2 (eq. 8). Direct: f_s + d_b f_back (eq.
+ * 20); scattered: d_f (f_s^G + d_b f_back^G), the lobes' variances widened
+ * by sigma_f^2 (eq. 23-24), N_p averaged over the arriving azimuths
+ * exactly by its CDF (eq. 25, with h known). n_hairs = 0 gives f_s +
+ * d_b f_back. */
+void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
+                           const float wo[3], const float wi[3], float h,
+                           float n_hairs, float out[3]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -34,6 +34,11 @@ extern const char *const satf_glsl_baseline_lighting;
 extern const char *const satf_glsl_strand_vs;     /* segments as ribbons */
 extern const char *const satf_glsl_strand_fs;     /* eq. 9-11, coverage */
 extern const char *const satf_glsl_strand_dom_fs; /* strands in the DOM */
+/* The fibre model of satf/fiber.h alone (no #version), for tests that
+ * evaluate it: struct Fiber; vec3 fiber_single(Fiber f, vec3 wo, vec3 wi,
+ * float h); vec3 fiber_dual_shade(Fiber f, sampler2D tables, vec3 wo,
+ * vec3 wi, float h, float n_hairs); float fiber_mp(...), fiber_np(...). */
+extern const char *const satf_glsl_fiber;
 
 /* Fragments (one per cluster a pixel's ray meets) kept by the resolve. */
 #define SATF_MAX_FRAGMENTS 64
