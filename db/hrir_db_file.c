@@ -58,8 +58,8 @@ typedef struct float_attr {
 static exr_result_t fiber_attrs_write(exr_context_t exr, int part,
                                       const satf_build_params *p) {
   const satf_fiber_trace_params *f = &p->fiber;
-  exr_result_t rc = exr_attr_set_int(exr, part, "satf:version",
-                                     satf_build_params_version(p));
+  exr_result_t rc =
+      exr_attr_set_int(exr, part, "satf:version", satf_build_params_version(p));
   if (rc == EXR_ERR_SUCCESS)
     rc = exr_attr_set_string(exr, part, "satf:kind",
                              satf_record_kind_name(p->kind));
@@ -180,39 +180,15 @@ static satf_status write_attrs(void *ctx, exr_context_t exr, int part,
   return SATF_OK;
 }
 
-/* Copies records between memory (interleaved) and image planes, in the
- * pixel layout described at the top of this file. */
-void satf_db_planes_copy(const satf_build_params *p, int samples, float *rec,
-                         float *re, float *alpha, int to_planes) {
-  size_t w = (size_t)p->trace.width, row = (size_t)p->n_view * w;
-  size_t per = 2 * (size_t)p->n_view * (size_t)p->n_light * w;
-  for (int i = 0; i < samples; i++)
-    for (int il = 0; il < p->n_light; il++)
-      for (int iv = 0; iv < p->n_view; iv++) {
-        /* satf_db_record_offset, relative to the first sample */
-        float *r = rec + (size_t)i * per +
-                   ((size_t)il * (size_t)p->n_view + (size_t)iv) * 2 * w;
-        size_t px = ((size_t)i * (size_t)p->n_light + (size_t)il) * row +
-                    (size_t)iv * w;
-        if (to_planes) {
-          memcpy(re + px, r, w * sizeof(float));
-          memcpy(alpha + px, r + w, w * sizeof(float));
-        } else {
-          memcpy(r, re + px, w * sizeof(float));
-          memcpy(r + w, alpha + px, w * sizeof(float));
-        }
-      }
-}
-
 /* ---- every channel (format version 2) ---- */
-#define MAX_CHANNELS SATF_DB_FIBER_CHANNELS(SATF_DB_LEVELS_MAX)
+#define MAX_CHANNELS SATF_DB_MAX_CHANNELS
 
 /* The file's channel names in the order of a record's channels
  * (SATF_DB_CH_*): Y reflectance and A alpha as in version 1, so a viewer
  * shows a fibre database's total as a luminance-alpha picture; the lobes
  * as R_lobe, TT0.., TRT0.., MS0.. (level index). */
 typedef struct channel_names {
-  char name[MAX_CHANNELS][16];
+  char name[MAX_CHANNELS][SATF_DB_CHANNEL_NAME];
 } channel_names;
 
 static void channel_names_of(const satf_build_params *p, channel_names *n) {
@@ -229,18 +205,25 @@ static void channel_names_of(const satf_build_params *p, channel_names *n) {
   }
 }
 
+void satf_db_channel_names(const satf_build_params *p,
+                           char names[][SATF_DB_CHANNEL_NAME]) {
+  channel_names n;
+  channel_names_of(p, &n);
+  memcpy(names, n.name, sizeof n.name);
+}
+
 /* Copies every channel between memory (rec, satf_db_record_offset's
  * layout) and one image plane per channel (the pixel layout above). */
-static void channels_copy(const satf_build_params *p, float *rec,
-                          float *const *planes, int to_planes) {
+void satf_db_channels_copy(const satf_build_params *p, int samples, float *rec,
+                           float *const *planes, int to_planes) {
   int nc = satf_build_params_channels(p);
   size_t w = (size_t)p->trace.width, row = (size_t)p->n_view * w;
-  for (int i = 0; i < p->samples; i++)
+  for (int i = 0; i < samples; i++)
     for (int il = 0; il < p->n_light; il++)
       for (int iv = 0; iv < p->n_view; iv++) {
         size_t rec_i = (size_t)i * (size_t)p->n_light + (size_t)il;
-        float *r = rec + (rec_i * (size_t)p->n_view + (size_t)iv) *
-                             (size_t)nc * w;
+        float *r =
+            rec + (rec_i * (size_t)p->n_view + (size_t)iv) * (size_t)nc * w;
         size_t px = rec_i * row + (size_t)iv * w;
         for (int c = 0; c < nc; c++) {
           if (to_planes)
@@ -249,6 +232,11 @@ static void channels_copy(const satf_build_params *p, float *rec,
             memcpy(r + (size_t)c * w, planes[c] + px, w * sizeof(float));
         }
       }
+}
+
+static void channels_copy(const satf_build_params *p, float *rec,
+                          float *const *planes, int to_planes) {
+  satf_db_channels_copy(p, p->samples, rec, planes, to_planes);
 }
 
 static satf_status write_image(const satf_db *db, const char *path, int rgba,
@@ -443,9 +431,8 @@ satf_status satf_db_read(const char *path, satf_db **out, satf_error *err) {
   read_ctx rc = {path, {0}, 0, NULL, 1, 0};
   int w = 0, h = 0;
   satf_error perr;
-  satf_status st =
-      satf_exr_read(path, NULL, 0, 1LL << 31, read_attrs, &rc, &w, &h, NULL,
-                    &perr);
+  satf_status st = satf_exr_read(path, NULL, 0, 1LL << 31, read_attrs, &rc, &w,
+                                 &h, NULL, &perr);
   if (!rc.probed) {
     *err = perr;
     return st;

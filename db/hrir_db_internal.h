@@ -29,10 +29,15 @@ satf_status satf_db_index(satf_db *db, satf_error *err);
  * its first step: the build parameters and seed. */
 uint64_t satf_db_fnv(uint64_t h, const void *data, size_t bytes);
 uint64_t satf_db_params_hash(const satf_build_params *p);
-/* Copies `samples` samples' records between memory (rec, the database's
- * layout) and image planes (the file's pixel layout). */
-void satf_db_planes_copy(const satf_build_params *p, int samples, float *rec,
-                         float *re, float *alpha, int to_planes);
+/* The file's channels of a build's records, in SATF_DB_CH_* order, and
+ * the copy of `samples` samples between memory (rec, the database's
+ * layout) and one image plane per channel (the file's pixel layout). */
+#define SATF_DB_MAX_CHANNELS SATF_DB_FIBER_CHANNELS(SATF_DB_LEVELS_MAX)
+#define SATF_DB_CHANNEL_NAME 16
+void satf_db_channel_names(const satf_build_params *p,
+                           char names[][SATF_DB_CHANNEL_NAME]);
+void satf_db_channels_copy(const satf_build_params *p, int samples, float *rec,
+                           float *const *planes, int to_planes);
 /* Header attributes: satf:format, version, generator and hash; the build
  * parameters and seed; their readers, which name path in errors (`what`
  * says what a file of `format` is). */

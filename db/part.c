@@ -9,7 +9,8 @@
 #include "hrir_db_internal.h"
 
 size_t satf_db_sample_floats(const satf_build_params *p) {
-  return 2 * (size_t)p->n_view * (size_t)p->n_light * (size_t)p->trace.width;
+  return (size_t)satf_build_params_channels(p) * (size_t)p->n_view *
+         (size_t)p->n_light * (size_t)p->trace.width;
 }
 
 void satf_db_part_range(int samples, int index, int parts, int *first,

@@ -42,26 +42,44 @@ static satf_status write_attrs(void *ctx, exr_context_t exr, int part,
   return SATF_OK;
 }
 
+/* The part's planes: one per channel, count samples tall. */
+static satf_status planes_alloc(const satf_db_part *q, const char *path,
+                                float **planes, satf_error *err) {
+  const satf_build_params *p = &q->p;
+  int nc = satf_build_params_channels(p);
+  size_t n = (size_t)q->count * (size_t)p->n_light * (size_t)p->n_view *
+             (size_t)p->trace.width;
+  int ok = 1;
+  for (int c = 0; c < nc; c++)
+    ok = ok && (planes[c] = malloc(n * sizeof(float))) != NULL;
+  if (ok)
+    return SATF_OK;
+  for (int c = 0; c < nc; c++)
+    free(planes[c]);
+  return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
+}
+
 satf_status satf_db_part_write(satf_db_part *part, const char *path,
                                satf_error *err) {
   const satf_build_params *p = &part->p;
-  size_t n = (size_t)part->count * satf_db_sample_floats(p);
-  satf_db_round_half(part->rec, n);
-  float *re = malloc(n / 2 * sizeof(float)),
-        *alpha = malloc(n / 2 * sizeof(float));
-  if (!re || !alpha) {
-    free(re);
-    free(alpha);
-    return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
-  }
-  satf_db_planes_copy(p, part->count, part->rec, re, alpha, 1);
-  satf_exr_channel ch[2] = {{"A", alpha}, {"Y", re}};
+  int nc = satf_build_params_channels(p);
+  satf_db_round_half(part->rec, (size_t)part->count * satf_db_sample_floats(p));
+  float *planes[SATF_DB_MAX_CHANNELS] = {NULL};
+  satf_status st = planes_alloc(part, path, planes, err);
+  if (st != SATF_OK)
+    return st;
+  satf_db_channels_copy(p, part->count, part->rec, planes, 1);
+  char names[SATF_DB_MAX_CHANNELS][SATF_DB_CHANNEL_NAME];
+  satf_db_channel_names(p, names);
+  satf_exr_channel ch[SATF_DB_MAX_CHANNELS];
+  for (int c = 0; c < nc; c++)
+    ch[c] = (satf_exr_channel){names[c], planes[c]};
   satf_exr_write_opts opts = {EXR_PIXEL_HALF, EXR_COMPRESSION_ZIP, write_attrs,
                               part};
-  satf_status st = satf_exr_write(path, p->n_view * p->trace.width,
-                                  part->count * p->n_light, ch, 2, &opts, err);
-  free(re);
-  free(alpha);
+  st = satf_exr_write(path, p->n_view * p->trace.width,
+                      part->count * p->n_light, ch, nc, &opts, err);
+  for (int c = 0; c < nc; c++)
+    free(planes[c]);
   return st;
 }
 
@@ -69,6 +87,8 @@ typedef struct read_ctx {
   const char *path;
   satf_db_part q; /* the header; features owned until adopted */
   uint64_t hash;
+  int probe;  /* stop after the header (which channels to read) */
+  int probed; /* the probe read it */
 } read_ctx;
 
 /* The part's place must be the one satf_db_part_range gives. */
@@ -119,21 +139,40 @@ static satf_status read_attrs(void *vctx, exr_const_context_t exr, int part,
                           "%dx%d",
                           path, width, height, p->n_view * p->trace.width,
                           q->count * p->n_light);
+  if (rc->probe) {
+    rc->probed = 1;
+    return satf_error_set(err, SATF_ERR_INTERNAL, "%s: header probed", path);
+  }
   return satf_db_features_attr_read(path, exr, part, q->count, &q->features,
                                     err);
 }
 
+/* The header alone (a probe), then every channel of its record kind. */
 satf_status satf_db_part_read(const char *path, satf_db_part **out,
                               satf_error *err) {
   *out = NULL;
   read_ctx rc;
   memset(&rc, 0, sizeof rc);
   rc.path = path;
-  const char *names[2] = {"A", "Y"};
-  float *planes[2] = {NULL, NULL};
+  rc.probe = 1;
   int w = 0, h = 0;
-  satf_status st = satf_exr_read(path, names, 2, 1LL << 31, read_attrs, &rc, &w,
-                                 &h, planes, err);
+  satf_error perr;
+  satf_status st = satf_exr_read(path, NULL, 0, 1LL << 31, read_attrs, &rc, &w,
+                                 &h, NULL, &perr);
+  if (!rc.probed) {
+    *err = perr;
+    return st;
+  }
+  rc.probe = 0;
+  int nc = satf_build_params_channels(&rc.q.p);
+  char names[SATF_DB_MAX_CHANNELS][SATF_DB_CHANNEL_NAME];
+  const char *name_of[SATF_DB_MAX_CHANNELS];
+  float *planes[SATF_DB_MAX_CHANNELS] = {NULL};
+  satf_db_channel_names(&rc.q.p, names);
+  for (int c = 0; c < nc; c++)
+    name_of[c] = names[c];
+  st = satf_exr_read(path, name_of, nc, 1LL << 31, read_attrs, &rc, &w, &h,
+                     planes, err);
   satf_db_part *q = NULL;
   if (st == SATF_OK) {
     q = calloc(1, sizeof *q);
@@ -147,9 +186,9 @@ satf_status satf_db_part_read(const char *path, satf_db_part **out,
       st = satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
   }
   if (st == SATF_OK)
-    satf_db_planes_copy(&q->p, q->count, q->rec, planes[1], planes[0], 0);
-  free(planes[0]);
-  free(planes[1]);
+    satf_db_channels_copy(&q->p, q->count, q->rec, planes, 0);
+  for (int c = 0; c < nc; c++)
+    free(planes[c]);
   free(rc.q.features);
   uint64_t actual = st == SATF_OK ? satf_db_part_hash(q) : 0;
   if (st == SATF_OK && actual != rc.hash)

@@ -31,6 +31,30 @@ typedef struct build_ctx {
   worker_buf *bufs;
 } build_ctx;
 
+/* Fibre records (offline/trace_fiber.c) of item i into the range's
+ * values; sec is destroyed. b->re holds every channel of every record. */
+static int build_one_fiber(build_ctx *c, size_t i, satf_sector *sec,
+                           worker_buf *b) {
+  const satf_build_params *p = c->p;
+  satf_status st = satf_trace_fiber_all(sec, &p->fiber, p->trace.width,
+                                        p->n_view, p->n_light, p->seed,
+                                        (uint64_t)c->first + i, b->re, &b->err);
+  satf_sector_destroy(sec);
+  if (st != SATF_OK)
+    return 1;
+  size_t rec = (size_t)satf_build_params_channels(p) * (size_t)p->trace.width;
+  size_t per = satf_db_sample_floats(p);
+  float *sample = c->rec + i * per;
+  for (int iv = 0; iv < p->n_view; iv++)
+    for (int il = 0; il < p->n_light; il++)
+      /* view-major from the tracer, light-major in the database */
+      memcpy(sample + ((size_t)il * (size_t)p->n_view + (size_t)iv) * rec,
+             b->re + ((size_t)iv * (size_t)p->n_light + (size_t)il) * rec,
+             rec * sizeof(float));
+  satf_db_round_half(sample, per);
+  return 0;
+}
+
 static int build_one(void *vctx, size_t i, int thread) {
   build_ctx *c = vctx;
   const satf_build_params *p = c->p;
@@ -41,20 +65,23 @@ static int build_one(void *vctx, size_t i, int thread) {
     return 1;
   satf_density_features(sec->density, sec->ns, sec->nt,
                         c->features + i * SATF_FEATURES);
+  if (p->kind == SATF_RECORD_FIBER)
+    return build_one_fiber(c, i, sec, b);
   satf_status st = satf_trace_all(sec, &p->trace, p->n_view, p->n_light, b->re,
                                   b->alpha, &b->err);
   satf_sector_destroy(sec);
   if (st != SATF_OK)
     return 1;
   size_t w = (size_t)p->trace.width, per = satf_db_sample_floats(p);
+  size_t nc = (size_t)satf_build_params_channels(p);
   float *sample = c->rec + i * per;
   for (int iv = 0; iv < p->n_view; iv++)
     for (int il = 0; il < p->n_light; il++) {
       size_t src = ((size_t)iv * (size_t)p->n_light + (size_t)il) * w;
-      /* the database's record layout (satf_db_record_mut): light-major,
-       * reflectance then alpha */
+      /* the database's record layout (satf_db_record_channels_mut):
+       * light-major, channel-major within a record */
       float *re =
-          sample + ((size_t)il * (size_t)p->n_view + (size_t)iv) * 2 * w;
+          sample + ((size_t)il * (size_t)p->n_view + (size_t)iv) * nc * w;
       memcpy(re, b->re + src, w * sizeof(float));
       memcpy(re + w, b->alpha + src, w * sizeof(float));
     }
@@ -84,7 +111,11 @@ satf_status satf_build_range(const satf_build_params *p, int first, int count,
                  calloc((size_t)threads, sizeof(worker_buf))};
   int ok = c.bufs != NULL;
   for (int t = 0; ok && t < threads; t++) {
-    c.bufs[t].re = malloc(per * sizeof(float));
+    /* fibre records: every channel in re (build_one_fiber) */
+    c.bufs[t].re = malloc(per * sizeof(float) *
+                          (p->kind == SATF_RECORD_FIBER
+                               ? (size_t)satf_build_params_channels(p)
+                               : 1));
     c.bufs[t].alpha = malloc(per * sizeof(float));
     ok = c.bufs[t].re && c.bufs[t].alpha;
   }
