@@ -50,6 +50,7 @@ void satf_sector_destroy(satf_sector *sector) {
   if (sector) {
     free(sector->density);
     free(sector->node_xy);
+    free(sector->fibers);
     free(sector);
   }
 }
@@ -81,10 +82,30 @@ static int clamp_index(float x, int n) {
   return x < 0.0f ? 0 : x > (float)(n - 1) ? n - 1 : (int)x;
 }
 
+/* Appends the strand to the fibre list; a failed allocation is remembered
+ * (the tracer refuses such a sector) instead of dropping a fibre silently. */
+static void add_fiber(satf_sector *sector, const float c[2]) {
+  if (sector->fiber_count == sector->fiber_cap) {
+    int cap = sector->fiber_cap ? 2 * sector->fiber_cap : 64;
+    float *f = realloc(sector->fibers, 3 * (size_t)cap * sizeof *f);
+    if (!f) {
+      sector->fiber_failed = 1;
+      return;
+    }
+    sector->fibers = f;
+    sector->fiber_cap = cap;
+  }
+  float *f = sector->fibers + 3 * sector->fiber_count++;
+  f[0] = c[0];
+  f[1] = c[1];
+  f[2] = sector->strand_sigma;
+}
+
 void satf_sector_add_strand(satf_sector *sector, float s, float t) {
   const satf_sector_shape *sh = &sector->shape;
   float c[2];
   satf_sector_point(sh, s, t, c);
+  add_fiber(sector, c);
   float sigma = sector->strand_sigma;
   float cut = 4.0f * sigma; /* beyond 4 sigma: < 0.04% of the peak */
   /* Only nodes within the cut-off window in (s, t) can be reached; the

@@ -49,8 +49,8 @@ static int cmd_info(const char *path) {
   float lo[3], hi[3];
   satf_db_feature_range(db, lo, hi);
   char size[32];
-  printf("%s: satf HRIR database, format version %d\n", path,
-         SATF_DB_FORMAT_VERSION);
+  printf("%s: satf HRIR database, format version %d (%s records)\n", path,
+         satf_build_params_version(p), satf_record_kind_name(p->kind));
   printf("  file          %s\n",
          satf_format_bytes((double)satf_file_size(path), size, sizeof size));
   printf("  samples       %d sectors\n", p->samples);
