@@ -25,6 +25,10 @@ static void usage(FILE *out) {
       "alpha)\n"
       "                        for viewers that do not show Y/A images; the\n"
       "                        database itself is already an EXR image\n"
+      "  merge SHARD... -o OUT.exr\n"
+      "                        join the shard files of satf-build --shard I/N\n"
+      "                        (every I of one build once, any order) into\n"
+      "                        the database the build writes without --shard\n"
       "  lookup FILE --rho D,S,T --view DEG --light DEG [--k N]\n"
       "                        print one SATF look-up (eq. 4)\n"
       "  -h, --help            this help\n",
@@ -194,6 +198,63 @@ static int cmd_lookup(const char *path, int argc, char **argv) {
   return 0;
 }
 
+/* merge SHARD... -o OUT.exr: argv[2..] */
+static int cmd_merge(int argc, char **argv) {
+  const char *out = NULL;
+  const char **shards = calloc((size_t)argc, sizeof *shards);
+  int n = 0;
+  if (!shards)
+    return 1;
+  for (int i = 2; i < argc; i++) {
+    if (!strcmp(argv[i], "-o") || !strcmp(argv[i], "--output")) {
+      if (i + 1 >= argc || out) {
+        fprintf(stderr, "%s: merge: give -o OUT.exr once\n", PROG);
+        free(shards);
+        return 2;
+      }
+      out = argv[++i];
+    } else {
+      shards[n++] = argv[i];
+    }
+  }
+  satf_error err;
+  satf_error_clear(&err);
+  if (!out || n == 0) {
+    fprintf(stderr, "%s: usage: merge SHARD... -o OUT.exr\n", PROG);
+    free(shards);
+    return 2;
+  }
+  int rc = 2;
+  satf_file_role *files = calloc((size_t)n + 1, sizeof *files);
+  if (files) {
+    for (int i = 0; i < n; i++)
+      files[i] = (satf_file_role){"a shard", shards[i], 0};
+    files[n] = (satf_file_role){"-o", out, 1};
+    rc = satf_check_distinct_files(files, n + 1, &err) != SATF_OK ||
+                 satf_check_output_extension("-o", out, ".exr",
+                                             "an OpenEXR database", &err)
+             ? 2
+             : -1;
+    if (rc == 2)
+      fprintf(stderr, "%s: %s\n", PROG, err.message);
+  }
+  free(files);
+  satf_db *db = NULL;
+  if (rc < 0 && satf_db_merge(shards, n, &db, &err) == SATF_OK &&
+      satf_db_write(db, out, &err) == SATF_OK) {
+    printf("%s: merged %d shard%s into %s (%d samples, hash %016" PRIx64 ")\n",
+           PROG, n, n == 1 ? "" : "s", out, satf_db_samples(db),
+           satf_db_payload_hash(db));
+    rc = 0;
+  } else if (rc < 0) {
+    fprintf(stderr, "%s: %s\n", PROG, err.message);
+    rc = 1;
+  }
+  satf_db_destroy(db);
+  free(shards);
+  return rc;
+}
+
 int main(int argc, char **argv) {
   if (argc < 2 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help")) {
     usage(argc < 2 ? stderr : stdout);
@@ -221,6 +282,8 @@ int main(int argc, char **argv) {
   }
   if (!strcmp(cmd, "lookup"))
     return cmd_lookup(path, argc, argv);
+  if (!strcmp(cmd, "merge"))
+    return cmd_merge(argc, argv);
   fprintf(stderr, "%s: unknown command '%s' (see --help)\n", PROG, cmd);
   return 2;
 }
