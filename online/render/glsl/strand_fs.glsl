@@ -11,9 +11,21 @@
  * and written, so overlapping wide strands hide each other pixel by pixel;
  * then the partly covered ones (edges, strands thinner than a pixel),
  * tested against that depth and blended "over" with the segments drawn
- * far to near. The renderer defines SATF_MAX_LIGHTS. */
+ * far to near. The renderer defines SATF_MAX_LIGHTS.
+ *
+ * With the physical material (u_model 1) each fragment is a fibre of the
+ * d'Eon/Chiang model (fiber.glsl) seen at the offsets h its pixel covers
+ * across the ribbon (the ribbon faces the eye, so h is the across-ribbon
+ * coordinate itself), lit by every light's irradiance (a directional
+ * light's intensity, as a Cycles sun's strength; point lights over d^2)
+ * with Zinke's dual scattering: the key light's deep opacity map counts
+ * the hairs in the way (summed coverage), which gives the direct and the
+ * forward-scattered parts, and the local back-scattering comes from the
+ * tables (u_fiber_tables, satf_fiber_dual_tables). AOVs there: 1 all but
+ * R and TRT (TT, the remainder, multiple scattering), 2 R, 3 TRT. */
 #include "lighting.glsl"
 #include "strand_cover.glsl"
+#include "fiber.glsl"
 in vec3 v_world;
 in vec3 v_tangent;
 in float v_t;
@@ -35,6 +47,11 @@ uniform float u_dom_slab;
 uniform float u_kcluster;
 uniform int u_aov; /* 0 beauty, 1 diffuse, 2 specI, 3 specII, 4 shadow, 5 alpha */
 uniform int u_whole; /* 1: only whole coverage, 0: only partial */
+uniform int u_model; /* 0 Kajiya-Kay (SATF eq. 9-11), 1 the fibre model */
+uniform float u_fiber_eta, u_fiber_s, u_fiber_alpha;
+uniform vec4 u_fiber_v;
+uniform vec3 u_fiber_sigma_a;
+uniform sampler2D u_fiber_tables;
 out vec4 o_color;
 #include "dom_lookup.glsl"
 /* shade_fs.glsl's noise hash; here one column per strand, varying slowly
@@ -49,6 +66,53 @@ float strand_noise(uint strand, float t) {
   uint r = uint(row);
   return mix(hash(strand * 8u + r), hash(strand * 8u + r + 1u), y - row);
 }
+/* The fibre model's radiance of this fragment: the offsets h its pixel
+ * covers ([d - 1/2, d + 1/2] of the ribbon's [-w/2, w/2], in pixels),
+ * sampled at three points (one where the strand is wide), under every
+ * light; the key light through the deep opacity map. */
+vec3 shade_physical(vec3 t, vec3 v, float dom, out vec3 r_lobe,
+                    out vec3 trt_lobe) {
+  Fiber f = Fiber(u_fiber_eta, u_fiber_v, u_fiber_s, u_fiber_sigma_a,
+                  u_fiber_alpha);
+  /* the fibre frame: x along the strand, z towards the eye, so h runs
+   * along y = z x x, the ribbon's +side (strand_vs.glsl: the screen's
+   * across is the eye's axis cross the strand) */
+  vec3 z = v - dot(v, t) * t;
+  float zl = length(z);
+  z = zl > 1e-6 ? z / zl : (abs(t.x) < 0.9 ? normalize(cross(t, vec3(1, 0, 0)))
+                                           : normalize(cross(t, vec3(0, 1, 0))));
+  vec3 y = cross(z, t);
+  vec3 wo = vec3(dot(v, t), 0.0, dot(v, z));
+  float half_w = max(0.5 * v_width, 1e-6);
+  float lo = max(v_across - 0.5, -half_w), hi = min(v_across + 0.5, half_w);
+  int ns = hi - lo < 0.25 * half_w ? 1 : 3;
+  /* hairs between the key light and the point, from the map's
+   * transmittance e^-n (u_kcluster is 1) */
+  float n_key = -log(max(dom, 1e-30));
+  vec3 sum = vec3(0.0);
+  r_lobe = vec3(0.0);
+  trt_lobe = vec3(0.0);
+  for (int k = 0; k < u_nlights; k++) {
+    vec3 dl = u_light_vec[k].xyz - u_light_vec[k].w * v_world;
+    vec3 l = normalize(dl);
+    float fall = u_light_vec[k].w > 0.0 ? 1.0 / max(dot(dl, dl), 1e-6) : 1.0;
+    vec3 e = u_light_color[k] * fall;
+    vec3 wi = vec3(dot(l, t), dot(l, y), dot(l, z));
+    float n = k == 0 && u_cluster_shadow != 0 ? n_key : 0.0;
+    for (int j = 0; j < ns; j++) {
+      float h = clamp(mix(lo, hi, (float(j) + 0.5) / float(ns)) / half_w, -1.0,
+                      1.0);
+      sum += e * fiber_dual_shade(f, u_fiber_tables, wo, wi, h, n) / float(ns);
+      if (u_aov >= 1 && u_aov <= 3) { /* the lobes' AOVs, lit directly */
+        FiberGeom g = fiber_geom(f, wo, h);
+        r_lobe += e * exp(-n) * fiber_lobe(f, g, wi, 0) / float(ns);
+        trt_lobe += e * exp(-n) * fiber_lobe(f, g, wi, 2) / float(ns);
+      }
+    }
+  }
+  return sum;
+}
+
 void main() {
   float cover = strand_coverage(v_across, v_width);
   if (cover < 1.0 / 1024.0) discard;
@@ -70,6 +134,19 @@ void main() {
   n = nl > 1e-6 ? n / nl : vec3(0.0);
   vec3 t1 = shifted(t, n, u_shift1), t2 = shifted(t, n, -u_shift2);
   float dom = u_cluster_shadow != 0 ? cluster_transmittance(v_world) : 1.0;
+  if (u_model == 1) {
+    vec3 r_lobe, trt_lobe;
+    vec3 total = shade_physical(t, v, dom, r_lobe, trt_lobe);
+    vec3 y;
+    if (u_aov == 1) y = max(total - r_lobe - trt_lobe, vec3(0.0));
+    else if (u_aov == 2) y = r_lobe;
+    else if (u_aov == 3) y = trt_lobe;
+    else if (u_aov == 4) y = vec3(dom);
+    else if (u_aov == 5) y = vec3(1.0);
+    else y = total;
+    o_color = vec4(y * cover, cover);
+    return;
+  }
   vec3 dif = vec3(0.0), s1 = vec3(0.0), s2 = vec3(0.0);
   for (int k = 0; k < u_nlights; k++) {
     vec3 dl = u_light_vec[k].xyz - u_light_vec[k].w * v_world;
