@@ -8,6 +8,9 @@
 #include "satf/gl.h"
 #include "satf/render.h"
 #include "satf/scene.h"
+#ifdef SATF_MPI
+#include "mpi_frames.h"
+#endif
 
 static const char *PROG = "satf-render";
 
@@ -61,6 +64,9 @@ typedef struct options {
   float strand_width;
   double budget; /* --memory-budget, bytes (0: the default) */
   satf_scene_effects off;
+#ifdef SATF_MPI
+  const satf_mpi *mpi; /* the job's ranks share --frames */
+#endif
 } options;
 
 /* An option that takes a path, or NULL. */
@@ -186,6 +192,20 @@ static int parse_args(int argc, char **argv, options *o) {
   return check_args(o);
 }
 
+/* The range in this process, or its share under mpirun. */
+static satf_status render_range(const options *o, satf_renderer *r,
+                                const satf_scene *scene,
+                                const satf_sequence_opts *so,
+                                satf_sequence_stats *ss, satf_error *err) {
+#ifdef SATF_MPI
+  if (o->mpi->size > 1)
+    return satf_mpi_frames(o->mpi, PROG, r, scene, so, ss, err);
+#else
+  (void)o;
+#endif
+  return satf_sequence_render(r, scene, so, ss, err);
+}
+
 /* --frames: the range through the sequence renderer; -o and --png were
  * patterns and are done afterwards. */
 static satf_status render_frames(options *o, satf_renderer *r,
@@ -196,7 +216,7 @@ static satf_status render_frames(options *o, satf_renderer *r,
   satf_status st =
       satf_frontend_frame_range(scene, o->frames, &so.first, &so.last, err);
   if (st == SATF_OK)
-    st = satf_sequence_render(r, scene, &so, &ss, err);
+    st = render_range(o, r, scene, &so, &ss, err);
   if (st != SATF_OK)
     return st;
   if (!o->quiet)
@@ -294,29 +314,72 @@ static satf_status run(options *o, const satf_frontend *fe, satf_error *err) {
   return st;
 }
 
-int main(int argc, char **argv) {
-  options o;
-  int rc = parse_args(argc, argv, &o);
-  if (rc >= 0)
-    return rc;
+/* The job after the arguments: load, render, report. */
+static int render_job(options *o) {
   satf_frontend fe;
-  if (satf_frontend_load(PROG, o.scene_path, o.db_path, o.budget, &o.w, &o.h,
-                         &fe) != SATF_OK)
+  if (satf_frontend_load(PROG, o->scene_path, o->db_path, o->budget, &o->w,
+                         &o->h, &fe) != SATF_OK)
     return 1;
-  fe.strand_width = o.strand_width;
-  if (o.samples > 0)
-    fe.scene->image.samples = (int)o.samples;
-  if (o.strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) {
+  fe.strand_width = o->strand_width;
+  if (o->samples > 0)
+    fe.scene->image.samples = (int)o->samples;
+  if (o->strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) {
     satf_frontend_free(&fe);
     return 1;
   }
   satf_error err;
   satf_error_clear(&err);
-  rc = 0;
-  if (run(&o, &fe, &err) != SATF_OK) {
+  int rc = 0;
+  if (run(o, &fe, &err) != SATF_OK) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
     rc = 1;
   }
   satf_frontend_free(&fe);
   return rc;
 }
+
+#ifdef SATF_MPI
+/* Under mpirun the ranks share --frames and nothing else; ranks other than
+ * 0 stay quiet. Returns -1 to go on, else the exit status. */
+static int mpi_options(options *o, const satf_mpi *m) {
+  o->mpi = m;
+  if (m->size == 1)
+    return -1;
+  if (!o->frames || o->bench || o->mesh_path) {
+    if (m->rank == 0)
+      fprintf(stderr,
+              "%s: under mpirun the ranks share the frames of --frames A-B; "
+              "--bench, --export-mesh and single frames run in one process\n",
+              PROG);
+    return 2;
+  }
+  if (m->rank != 0)
+    o->quiet = 1;
+  return -1;
+}
+
+int main(int argc, char **argv) {
+  satf_mpi m;
+  if (satf_mpi_start(PROG, &argc, &argv, &m) != 0)
+    return 1;
+  int muted[2];
+  satf_mpi_mute(&m, muted); /* --help and argument errors print once */
+  options o;
+  int rc = parse_args(argc, argv, &o);
+  if (rc < 0)
+    rc = mpi_options(&o, &m);
+  satf_mpi_unmute(muted);
+  if (rc < 0)
+    rc = render_job(&o);
+  if (rc == 1 && m.size > 1)
+    satf_mpi_fail(&m, PROG, "this rank failed (see above)");
+  satf_mpi_stop(&m);
+  return rc;
+}
+#else
+int main(int argc, char **argv) {
+  options o;
+  int rc = parse_args(argc, argv, &o);
+  return rc >= 0 ? rc : render_job(&o);
+}
+#endif
