@@ -79,11 +79,10 @@ satf_status satf_db_create(const satf_build_params *p, satf_db **out,
   db->features = calloc((size_t)p->samples * SATF_FEATURES, sizeof(float));
   if (!db->rec || !db->features) {
     satf_db_destroy(db);
-    return satf_error_set(err, SATF_ERR_NOMEM,
-                          "cannot allocate %zu records of %d samples",
-                          n / values_per_sample(p) * (size_t)p->n_view *
-                              (size_t)p->n_light,
-                          p->trace.width);
+    return satf_error_set(
+        err, SATF_ERR_NOMEM, "cannot allocate %zu records of %d samples",
+        n / values_per_sample(p) * (size_t)p->n_view * (size_t)p->n_light,
+        p->trace.width);
   }
   *out = db;
   return SATF_OK;
@@ -369,7 +368,8 @@ uint64_t satf_db_fnv(uint64_t h, const void *data, size_t bytes) {
 }
 
 /* Version 2 (fibre records) adds the fibre tracer's parameters. */
-static uint64_t fiber_params_hash(uint64_t h, const satf_fiber_trace_params *f) {
+static uint64_t fiber_params_hash(uint64_t h,
+                                  const satf_fiber_trace_params *f) {
   int32_t ints[3] = {f->levels, f->sub_rays, f->max_bounces};
   float floats[2 + SATF_DB_LEVELS_MAX] = {f->eta, f->beta_n};
   for (int k = 0; k < f->levels && k < SATF_DB_LEVELS_MAX; k++)

@@ -143,8 +143,8 @@ typedef struct satf_fiber_trace_params {
   float beta_n; /* radial (azimuthal) roughness, Chiang 2016 (0.3) */
   int levels;   /* absorption levels K, 1..SATF_DB_LEVELS_MAX */
   float sigma_a[SATF_DB_LEVELS_MAX]; /* per unit fibre radius, ascending */
-  int sub_rays;    /* eye rays per record sample */
-  int max_bounces; /* fibre interactions followed per path */
+  int sub_rays;                      /* eye rays per record sample */
+  int max_bounces;                   /* fibre interactions followed per path */
 } satf_fiber_trace_params;
 
 satf_fiber_trace_params satf_fiber_trace_params_default(void);
@@ -162,8 +162,8 @@ typedef struct satf_build_params {
   int n_light; /* light azimuths over the full circle */
   int grid;    /* density grid nodes along s and t */
   satf_sector_shape shape;
-  satf_trace_params trace; /* width for both kinds; the rest Phong only */
-  satf_record_kind kind;   /* SATF_RECORD_PHONG unless asked */
+  satf_trace_params trace;       /* width for both kinds; the rest Phong only */
+  satf_record_kind kind;         /* SATF_RECORD_PHONG unless asked */
   satf_fiber_trace_params fiber; /* fibre records only */
 } satf_build_params;
 
@@ -256,6 +256,19 @@ void satf_db_lookup_neighbors_channels(const satf_db *db,
                                        const satf_db_neighbors *nb,
                                        float theta_v, float theta_l,
                                        float *out);
+
+/* relevel.c - a fibre database at other absorption levels. The value at
+ * sigma of a lobe stored at `count` ascending levels, interpolated as the
+ * record contract asks (log-linear; past the last level the last step's
+ * fall continues). */
+float satf_db_level_value(const float *levels, const float *values, int count,
+                          float sigma);
+/* A copy of fibre database db whose absorbing lobes are given at the n
+ * strictly ascending levels sigma (e.g. a hair's RGB sigma_a, sorted), on
+ * `threads` threads (0: all cores): a renderer shading one colour blends
+ * 3 + 3 n channels a look-up and interpolates nothing per frame. */
+satf_status satf_db_relevel(const satf_db *db, const float *sigma, int n,
+                            int threads, satf_db **out, satf_error *err);
 
 /* File I/O. Writing goes through a temporary file renamed into place. */
 satf_status satf_db_write(const satf_db *db, const char *path, satf_error *err);
