@@ -8,19 +8,22 @@
  * estimation looks towards every light azimuth of the grid at once (one eye
  * path serves all n_light records): A_p(h) N_p(phi) times the light's
  * visibility through the other fibres (light leaving the sector is not
- * occluded). The path then goes on: a lobe p drawn by A_p, an azimuth from
- * N_p, the next fibre along it, until it leaves the sector. Absorption is
- * kept per level (one throughput per sigma_a) along one sampled geometry,
- * so one trace serves every hair colour.
+ * occluded). The path then goes on towards one of the occluded light
+ * azimuths, drawn by the response (vertex_step), to the next fibre, until
+ * nothing is occluded or max_bounces. Absorption is kept per level (one
+ * throughput per sigma_a) along one sampled geometry, so one trace serves
+ * every hair colour.
  *
  * Conventions. Fibre k has centre c and radius r. A ray travelling along d
  * meets it at x; the outgoing direction of the fibre model is wo = -d, and
  * h (satf/fiber.h) is the hit's coordinate along (sin phi_o, -cos phi_o)
  * over r. A ray only interacts with a fibre it enters from outside, so
  * overlapping fibres (strands are placed independently) do not trap rays.
- * Light visibility is tested from the fibre's centre, ignoring the fibre
- * itself; a scattered path leaves from the exit point of the lobe's ideal
- * internal path (p chords of central angle pi - 2 gamma_t). */
+ * Light visibility, and a scattered path, start from the fibre's centre,
+ * ignoring the fibre itself (the far-field fibre model says where light
+ * goes, not where on the fibre it leaves): the same rays for both, which is
+ * what conserves energy. Scattered paths travel along the light azimuths
+ * of the grid. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -136,39 +139,48 @@ static void dir_index_free(dir_index *di) {
   free(di->items);
 }
 
-/* Is the ray from x along di->u blocked by a fibre other than `skip` that
- * it enters (from outside) ahead of x? */
-static int occluded(const dir_index *di, const fiber_geo *g, const float x[2],
-                    int skip) {
+/* The nearest fibre other than `skip` that the ray from x along di->u
+ * enters (from outside) ahead of x, and the distance t to its entry; -1
+ * when the ray leaves the sector. */
+static int occluder(const dir_index *di, const fiber_geo *g, const float x[2],
+                    int skip, float *t_hit) {
   float p = x[0] * di->e[0] + x[1] * di->e[1];
   int b = (int)floorf((p - di->lo) * di->inv_bin);
   if (b < 0 || b >= di->nbins)
-    return 0;
+    return -1;
   float d0 = x[0] * di->u[0] + x[1] * di->u[1];
-  int i = di->start[b], end = di->start[b + 1];
-  /* skip fibres wholly behind x: depth + r < d0 */
-  int lo = i, hi = end;
+  int end = di->start[b + 1];
+  /* an entry ahead needs a centre ahead: skip depths <= d0 */
+  int lo = di->start[b], hi = end;
   while (lo < hi) {
     int mid = (lo + hi) / 2;
-    if (di->items[mid].d + g->rmax < d0)
+    if (di->items[mid].d <= d0)
       lo = mid + 1;
     else
       hi = mid;
   }
-  for (i = lo; i < end; i++) {
+  int best = -1;
+  float best_t = INFINITY;
+  for (int i = lo; i < end; i++) {
+    float tc = di->items[i].d - d0;
+    if (tc - g->rmax >= best_t)
+      break; /* sorted by depth: nothing nearer follows */
     int k = di->items[i].k;
     if (k == skip)
       continue;
     const float *f = g->f + 3 * k;
-    float wx = f[0] - x[0], wy = f[1] - x[1];
-    float b2 = wx * di->e[0] + wy * di->e[1];
-    float r2 = f[2] * f[2] - b2 * b2;
+    float off = (f[0] - x[0]) * di->e[0] + (f[1] - x[1]) * di->e[1];
+    float r2 = f[2] * f[2] - off * off;
     if (r2 <= 0.0f)
       continue;
-    if (di->items[i].d - d0 - sqrtf(r2) > 0.0f)
-      return 1;
+    float t = tc - sqrtf(r2);
+    if (t > 0.0f && (t < best_t || (t == best_t && k < best))) {
+      best_t = t;
+      best = k;
+    }
   }
-  return 0;
+  *t_hit = best_t;
+  return best;
 }
 
 /* The first fibre a ray at screen coordinate p (along di->e), coming from
@@ -200,34 +212,6 @@ static int first_hit(const dir_index *di, const fiber_geo *g, float p,
   return best;
 }
 
-/* The first fibre other than `skip` that the ray o + t d (t > 0) enters. */
-static int next_hit(const fiber_geo *g, const float o[2], const float d[2],
-                    int skip, float x[2]) {
-  int best = -1;
-  float best_t = INFINITY;
-  for (int k = 0; k < g->n; k++) {
-    const float *f = g->f + 3 * k;
-    float wx = f[0] - o[0], wy = f[1] - o[1];
-    float tc = wx * d[0] + wy * d[1];
-    if (tc + f[2] <= 0.0f || k == skip)
-      continue;
-    float b = wx * d[1] - wy * d[0];
-    float r2 = f[2] * f[2] - b * b;
-    if (r2 <= 0.0f)
-      continue;
-    float t = tc - sqrtf(r2);
-    if (t > 0.0f && t < best_t) {
-      best_t = t;
-      best = k;
-    }
-  }
-  if (best >= 0) {
-    x[0] = o[0] + best_t * d[0];
-    x[1] = o[1] + best_t * d[1];
-  }
-  return best;
-}
-
 /* ---- one trace ---- */
 
 typedef struct fiber_tracer {
@@ -235,9 +219,15 @@ typedef struct fiber_tracer {
   fiber_geo g;
   int n_light, width, channels;
   float s;        /* N_p logistic scale */
+  float dphi;     /* 2 pi / n_light: the lights' quadrature weight */
   dir_index *lit; /* n_light light indices */
   float *theta_l;
-  float *acc; /* n_light x channels, one sub-ray's or sample's sums */
+  /* Scratch of one vertex, per light: */
+  float *acc;   /* n_light x channels: one sample's sums */
+  float *np;    /* n_light x 3: N_0, N_1, N_2 towards the light */
+  float *f0;    /* response at level 0 towards an occluded light, else 0 */
+  int *occ;     /* the fibre occluding the light, -1 when visible */
+  float *occ_t; /* and the distance to its entry */
 } fiber_tracer;
 
 /* Everything one fibre interaction needs. */
@@ -266,81 +256,92 @@ static void vertex_init(const fiber_tracer *t, vertex *v, int k,
   }
 }
 
-/* Next-event estimation at vertex v towards every light azimuth: the first
- * vertex splits into the lobes, later ones add to MS with the path's
- * throughput per level. */
-static void vertex_light(const fiber_tracer *t, const vertex *v, int bounce,
-                         const float *thr) {
-  const float *f = t->g.f + 3 * v->k;
+/* sum_p A_p N_p of level l towards a light with N_p = np[0..2] and the
+ * remainder's N_3 = 1 / (2 pi) (pbrt: azimuthally uniform). */
+static float response(const vertex *v, int l, const float *np) {
+  const float *a = v->ap[l];
+  return a[0] * np[0] + a[1] * np[1] + a[2] * np[2] +
+         a[3] * (1.0f / SATF_TWO_PI_F);
+}
+
+/* One fibre interaction. Next-event estimation towards every light azimuth:
+ * a visible light gets A_p N_p (the first vertex split into R, TT, TRT;
+ * later ones into MS with the path's throughput per level). The path goes
+ * on towards one of the occluded lights, drawn by the level-0 response, to
+ * the fibre that occludes it: the scattered light that does not leave the
+ * sector at once. Its throughput takes the occluded share of the response,
+ * so with nothing absorbed what a path deposits telescopes to
+ * 1 - prod_v (1 - visible share at v): energy is conserved by construction
+ * up to the lights' quadrature of N_p (2-D white furnace). Returns the next
+ * fibre and its entry x along d, or -1. */
+static int vertex_step(const fiber_tracer *t, const vertex *v, int bounce,
+                       float *thr, satf_rng *rng, float x[2], float d[2]) {
+  const float *c = t->g.f + 3 * v->k;
   int K = t->p->levels, C = t->channels;
+  float occ_sum = 0.0f;
   for (int il = 0; il < t->n_light; il++) {
-    if (occluded(&t->lit[il], &t->g, f, v->k))
-      continue;
     float phi = t->theta_l[il] - v->phi_o;
-    float np[SATF_FIBER_LOBES];
+    float *np = t->np + 3 * il;
     for (int p = 0; p < 3; p++)
       np[p] = satf_fiber_np(phi, p, t->s, v->gamma_o, v->gamma_t);
-    np[3] = 1.0f / SATF_TWO_PI_F; /* pbrt's remainder: uniform */
+    t->occ[il] = occluder(&t->lit[il], &t->g, c, v->k, &t->occ_t[il]);
+    t->f0[il] = 0.0f;
+    if (t->occ[il] >= 0) {
+      t->f0[il] = response(v, 0, np);
+      occ_sum += t->f0[il];
+      continue;
+    }
     float *a = t->acc + (size_t)il * (size_t)C;
     if (bounce == 0) {
       a[SATF_DB_CH_R] += v->ap[0][0] * np[0];
       for (int l = 0; l < K; l++) {
         a[SATF_DB_CH_TT(l)] += v->ap[l][1] * np[1];
-        a[SATF_DB_CH_TRT(l, K)] += v->ap[l][2] * np[2] + v->ap[l][3] * np[3];
+        a[SATF_DB_CH_TRT(l, K)] +=
+            v->ap[l][2] * np[2] + v->ap[l][3] * (1.0f / SATF_TWO_PI_F);
       }
     } else {
       for (int l = 0; l < K; l++)
-        a[SATF_DB_CH_MS(l, K)] +=
-            thr[l] * (v->ap[l][0] * np[0] + v->ap[l][1] * np[1] +
-                      v->ap[l][2] * np[2] + v->ap[l][3] * np[3]);
+        a[SATF_DB_CH_MS(l, K)] += thr[l] * response(v, l, np);
     }
   }
-}
-
-/* Draws the scattered direction of vertex v (lobe by A_p of the first
- * level, azimuth from N_p) and its exit point; updates the throughputs.
- * Returns 0 when nothing scatters. */
-static int vertex_scatter(const fiber_tracer *t, const vertex *v, satf_rng *rng,
-                          float *thr, float o[2], float d[2]) {
-  const float *ap0 = v->ap[0];
-  float total = ap0[0] + ap0[1] + ap0[2] + ap0[3];
-  if (!(total > 0.0f))
-    return 0;
-  float u = (float)satf_rng_uniform(rng) * total;
-  int p = 0;
-  while (p < 3 && u >= ap0[p]) {
-    u -= ap0[p];
-    p++;
+  if (bounce + 1 >= t->p->max_bounces || !(occ_sum > 0.0f))
+    return -1;
+  float u = (float)satf_rng_uniform(rng) * occ_sum;
+  int pick = -1;
+  for (int il = 0; il < t->n_light; il++) {
+    if (!(t->f0[il] > 0.0f))
+      continue;
+    pick = il;
+    if (u < t->f0[il])
+      break;
+    u -= t->f0[il];
   }
-  if (!(ap0[p] > 0.0f))
-    return 0;
-  float pdf = ap0[p] / total;
-  for (int l = 0; l < t->p->levels; l++)
-    thr[l] *= v->ap[l][p] / pdf;
-  float u2 = (float)satf_rng_uniform(rng);
-  float ideal = v->phi_o + satf_fiber_phi(p, v->gamma_o, v->gamma_t);
-  float phi = p < 3 ? ideal + satf_fiber_sample_trimmed_logistic(u2, t->s)
-                    : SATF_TWO_PI_F * u2;
-  d[0] = cosf(phi);
-  d[1] = sinf(phi);
-  /* Exit point of the ideal path: p chords of central angle pi - 2 gamma_t
-   * from the entry normal, turning whichever way makes the ideal exit
-   * direction leave at the entry's angle gamma_o to the normal. */
-  const float *f = t->g.f + 3 * v->k;
-  float a0 = v->phi_o - v->gamma_o; /* entry normal: h = -sin(a0 - phi_o) */
-  float turn = (float)p * (SATF_PI_F - 2.0f * v->gamma_t);
-  float best = INFINITY, an = a0;
-  for (int sgn = -1; sgn <= 1; sgn += 2) {
-    float a = a0 + (float)sgn * turn;
-    float err = fabsf(cosf(a - ideal) - cosf(v->gamma_o));
-    if (err < best) {
-      best = err;
-      an = a;
-    }
+  if (pick < 0)
+    return -1;
+  const float *np = t->np + 3 * pick;
+  float f0 = t->f0[pick];
+  /* unbiased per level: f_l / pdf, pdf = f0 / (occ_sum * dphi) */
+  for (int l = 0; l < K; l++)
+    thr[l] *= response(v, l, np) / f0 * occ_sum * t->dphi;
+  /* Russian roulette once every level carries less than 5%: unbiased,
+   * and it ends paths that white (unabsorbed) levels would follow until
+   * nothing is occluded. */
+  float most = 0.0f;
+  for (int l = 0; l < K; l++)
+    most = thr[l] > most ? thr[l] : most;
+  if (most < 0.05f) {
+    float q = most / 0.05f;
+    if (!((float)satf_rng_uniform(rng) < q))
+      return -1;
+    for (int l = 0; l < K; l++)
+      thr[l] /= q;
   }
-  o[0] = f[0] + f[2] * cosf(an);
-  o[1] = f[1] + f[2] * sinf(an);
-  return 1;
+  const dir_index *di = &t->lit[pick];
+  d[0] = di->u[0];
+  d[1] = di->u[1];
+  x[0] = c[0] + t->occ_t[pick] * d[0];
+  x[1] = c[1] + t->occ_t[pick] * d[1];
+  return t->occ[pick];
 }
 
 /* One eye path entering fibre k at x along d; adds to t->acc. */
@@ -350,16 +351,9 @@ static void trace_path(const fiber_tracer *t, int k, float x[2], float d[2],
   for (int l = 0; l < t->p->levels; l++)
     thr[l] = 1.0f;
   vertex v;
-  for (int bounce = 0; bounce < t->p->max_bounces; bounce++) {
+  for (int bounce = 0; k >= 0; bounce++) {
     vertex_init(t, &v, k, x, d);
-    vertex_light(t, &v, bounce, thr);
-    float o[2];
-    if (bounce + 1 == t->p->max_bounces ||
-        !vertex_scatter(t, &v, rng, thr, o, d))
-      return;
-    k = next_hit(&t->g, o, d, v.k, x);
-    if (k < 0)
-      return;
+    k = vertex_step(t, &v, bounce, thr, rng, x, d);
   }
 }
 
@@ -379,8 +373,14 @@ static satf_status tracer_init(fiber_tracer *t, const satf_sector *sec,
   t->s = satf_fiber_azimuthal_scale(p->beta_n);
   t->lit = calloc((size_t)n_light, sizeof(dir_index));
   t->theta_l = malloc((size_t)n_light * sizeof(float));
+  t->dphi = SATF_TWO_PI_F / (float)n_light;
   t->acc = malloc((size_t)n_light * (size_t)t->channels * sizeof(float));
-  if (!t->lit || !t->theta_l || !t->acc)
+  t->np = malloc(3 * (size_t)n_light * sizeof(float));
+  t->f0 = malloc((size_t)n_light * sizeof(float));
+  t->occ = malloc((size_t)n_light * sizeof(int));
+  t->occ_t = malloc((size_t)n_light * sizeof(float));
+  if (!t->lit || !t->theta_l || !t->acc || !t->np || !t->f0 || !t->occ ||
+      !t->occ_t)
     return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate fibre tracer");
   for (int il = 0; il < n_light; il++) {
     t->theta_l[il] = SATF_TWO_PI_F * (float)il / (float)n_light;
@@ -397,6 +397,10 @@ static void tracer_free(fiber_tracer *t) {
   free(t->lit);
   free(t->theta_l);
   free(t->acc);
+  free(t->np);
+  free(t->f0);
+  free(t->occ);
+  free(t->occ_t);
 }
 
 /* Record sample j of view iv: sums its sub-rays into t->acc, returns the
