@@ -1,0 +1,255 @@
+/* test_perf_paths.c - the renderer's shortcuts give what the long way
+ * gives (issue 12): instanced draws (one call per run of a macro-cluster's
+ * instances) the same image, bit for bit, as one draw per instance, in
+ * both compositing modes and with mirrored instances; incremental look-ups
+ * (only HSVs whose azimuths changed) the same maps as looking every HSV up
+ * again, none when nothing moved and only the moved instance's when one
+ * moves; the deep opacity map reused only while its inputs stay, with the
+ * image of a fresh one. */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+/* cmocka needs the headers above first */
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_fixture.h"
+#include "renderer_internal.h"
+#include "satf/gl.h"
+#include "satf/render.h"
+#include "test_util.h"
+
+#define W 96
+#define H 72
+
+static int setup(void **state) {
+  *state = fixture_gl_create(W, H);
+  return *state ? 0 : -1;
+}
+
+static int teardown(void **state) {
+  fixture_gl_free(*state);
+  return 0;
+}
+
+/* One macro-cluster of six instances around the origin (one mirrored,
+ * rotated ones) and a second prototype of two, with cluster shadows on. */
+static const char *const SCENE =
+    "{\"macro_clusters\": ["
+    " {\"prototype\": {\"trajectory\": [[0, -2, 0], [0.3, 0, 0], [0, 2, 0]],"
+    "   \"a\": 0.5, \"shell\": {\"layers\": 3, \"st\": 6, \"su\": 6},"
+    "   \"density\": {\"strands\": 80, \"seed\": 3}},"
+    "  \"instances\": ["
+    "   {\"translate\": [-2.4, 0, 0]},"
+    "   {\"translate\": [-1.2, 0, -0.5],"
+    "    \"rotate\": {\"axis\": [0, 1, 0], \"angle\": 40}},"
+    "   {\"translate\": [0, 0, 0.3], \"scale\": [-1, 1, 1]},"
+    "   {\"translate\": [1.2, 0.2, 0],"
+    "    \"rotate\": {\"axis\": [0, 0, 1], \"angle\": 15}},"
+    "   {\"translate\": [2.4, 0, -0.4], \"scale\": 0.8},"
+    "   {\"translate\": [0.6, -0.3, -1.5],"
+    "    \"rotate\": {\"axis\": [1, 0, 0], \"angle\": 70}}]},"
+    " {\"prototype\": {\"trajectory\": [[0, -1.5, 0], [0, 1.5, 0]],"
+    "   \"a\": 0.4, \"shell\": {\"layers\": 2, \"st\": 4, \"su\": 8},"
+    "   \"density\": {\"strands\": 60, \"seed\": 5}},"
+    "  \"instances\": [{\"translate\": [-0.6, 0, 1]},"
+    "                  {\"translate\": [0.6, 0, 1]}]}],"
+    " \"camera\": {\"position\": [0, 1, 14], \"target\": [0, 0, 0],"
+    "            \"fov_y\": 35},"
+    " \"lights\": [{\"direction\": [-0.5, -0.6, -0.6]}],"
+    " \"background\": [0, 0, 0]}";
+
+static satf_renderer *make(const fixture_gl *f, const satf_scene *scene) {
+  satf_renderer *r = NULL;
+  satf_error err;
+  if (satf_renderer_create(scene, f->db, W, H, 2, &r, &err) != SATF_OK) {
+    fprintf(stderr, "%s\n", err.message);
+    return NULL;
+  }
+  return r;
+}
+
+static satf_image *image(satf_renderer *r) {
+  satf_image *img = NULL;
+  satf_error err;
+  if (satf_renderer_render_image(r, 0, &img, NULL, &err) != SATF_OK)
+    fprintf(stderr, "%s\n", err.message);
+  return img;
+}
+
+/* Covered pixels of an image (alpha above 1/256). */
+static long covered(const satf_image *img) {
+  const float *a = fixture_plane(img, "A");
+  long n = 0;
+  for (int i = 0; a && i < W * H; i++)
+    n += a[i] > 1.0f / 256.0f;
+  return n;
+}
+
+static void test_instanced_same_image(void **state) {
+  fixture_gl *f = *state;
+  satf_scene *scene = fixture_scene(SCENE);
+  assert_non_null(scene);
+  satf_renderer *r = make(f, scene);
+  assert_non_null(r);
+  /* the runs: the mirrored instance splits the first prototype's */
+  assert_int_equal(r->protos[0].ninsts, 6);
+  assert_int_equal(r->insts[2].mirrored, 1);
+  assert_int_equal(r->insts[3].layer0, 3 * 3 * r->slices);
+  assert_true(r->insts[0].tex == r->insts[5].tex);
+  for (int mode = 0; mode < 2; mode++) {
+    satf_renderer_set_composite(r, mode ? SATF_COMPOSITE_ORDERED
+                                        : SATF_COMPOSITE_EXACT);
+    r->instanced = 1;
+    satf_image *a = image(r);
+    r->instanced = 0;
+    satf_image *b = image(r);
+    assert_non_null(a);
+    assert_non_null(b);
+    /* every cluster is drawn: a good part of the frame is hair */
+    assert_true(covered(a) > W * H / 10);
+    const char *ch[] = {"R", "G", "B", "A"};
+    for (int c = 0; c < 4; c++)
+      assert_true(fixture_same_bits(a, b, ch[c]));
+    satf_image_destroy(a);
+    satf_image_destroy(b);
+  }
+  satf_renderer_destroy(r);
+  satf_scene_destroy(scene);
+}
+
+/* Every instance's texels, copied. */
+static float *all_texels(const satf_renderer *r, size_t *count) {
+  size_t n = 0;
+  for (int i = 0; i < r->ninsts; i++) {
+    const inst *in = &r->insts[i];
+    n += satf_maps_layer_texels(&in->geom, r->w) * 4 *
+         (size_t)(in->geom.shell.layers * r->slices);
+  }
+  float *out = malloc(n * sizeof(float)), *p = out;
+  for (int i = 0; out && i < r->ninsts; i++) {
+    const inst *in = &r->insts[i];
+    size_t k = satf_maps_layer_texels(&in->geom, r->w) * 4 *
+               (size_t)(in->geom.shell.layers * r->slices);
+    memcpy(p, in->texels, k * sizeof(float));
+    p += k;
+  }
+  *count = n;
+  return out;
+}
+
+static long render_lookups(satf_renderer *r) {
+  satf_frame_timing t;
+  satf_error err;
+  if (satf_renderer_render(r, SATF_AOV_BEAUTY, &t, &err) != SATF_OK) {
+    fprintf(stderr, "%s\n", err.message);
+    return -1;
+  }
+  return t.lookups;
+}
+
+static void test_incremental_lookups(void **state) {
+  fixture_gl *f = *state;
+  satf_scene *scene = fixture_scene(SCENE);
+  assert_non_null(scene);
+  satf_renderer *r = make(f, scene), *full = make(f, scene);
+  assert_non_null(r);
+  assert_non_null(full);
+  full->incremental = 0;
+  long first = render_lookups(r);
+  assert_true(first > 0);
+  assert_int_equal(render_lookups(full), first);
+  /* nothing moved: nothing looked up, nothing uploaded */
+  assert_int_equal(render_lookups(r), 0);
+  assert_int_equal(r->maps_changed, 0);
+  /* the camera turns a little: every view azimuth changes, and the maps
+   * equal a full look-up's */
+  satf_scene_camera *cams[2] = {satf_renderer_camera(r),
+                                satf_renderer_camera(full)};
+  for (int c = 0; c < 2; c++)
+    cams[c]->position[0] += 0.7f;
+  long moved = render_lookups(r);
+  assert_int_equal(moved, render_lookups(full));
+  size_t na, nb;
+  float *a = all_texels(r, &na), *b = all_texels(full, &nb);
+  assert_non_null(a);
+  assert_non_null(b);
+  assert_int_equal(na, nb);
+  assert_memory_equal(a, b, na * sizeof(float));
+  free(a);
+  free(b);
+  /* one instance moves: only its HSVs are looked up again */
+  satf_scene *next = fixture_scene(SCENE);
+  assert_non_null(next);
+  next->macro_clusters[1].instances[1].m[3] += 0.25f; /* x translation */
+  satf_error err;
+  assert_int_equal(satf_renderer_set_scene(r, next, NULL, &err), SATF_OK);
+  assert_int_equal(satf_renderer_set_scene(full, next, NULL, &err), SATF_OK);
+  for (int c = 0; c < 2; c++) /* set_scene takes the scene's camera */
+    cams[c]->position[0] += 0.7f;
+  long one = render_lookups(r);
+  long all = render_lookups(full);
+  assert_true(one > 0);
+  assert_true(one < all / 4);
+  assert_int_equal(r->maps_changed, 1);
+  a = all_texels(r, &na);
+  b = all_texels(full, &nb);
+  assert_non_null(a);
+  assert_non_null(b);
+  assert_memory_equal(a, b, na * sizeof(float));
+  free(a);
+  free(b);
+  satf_renderer_destroy(r);
+  satf_renderer_destroy(full);
+  satf_scene_destroy(next);
+  satf_scene_destroy(scene);
+}
+
+static void test_dom_reuse(void **state) {
+  fixture_gl *f = *state;
+  satf_scene *scene = fixture_scene(SCENE);
+  assert_non_null(scene);
+  satf_renderer *r = make(f, scene);
+  assert_non_null(r);
+  satf_image *a = image(r);
+  assert_int_equal(r->dom_reuses, 0);
+  /* the same view again: the map is kept, and the frame is the same */
+  satf_image *b = image(r);
+  assert_int_equal(r->dom_reuses, 1);
+  assert_true(fixture_same_bits(a, b, "R"));
+  assert_true(fixture_same_bits(a, b, "A"));
+  /* the camera moves: the maps' alpha changes, so the map is drawn again,
+   * and the frame equals a fresh renderer's */
+  satf_renderer_camera(r)->position[0] += 1.0f;
+  satf_image *c = image(r);
+  assert_int_equal(r->dom_reuses, 1);
+  satf_renderer *fresh = make(f, scene);
+  assert_non_null(fresh);
+  satf_renderer_camera(fresh)->position[0] += 1.0f;
+  satf_image *d = image(fresh);
+  assert_non_null(c);
+  assert_non_null(d);
+  assert_true(fixture_same_bits(c, d, "R"));
+  assert_true(fixture_same_bits(c, d, "A"));
+  satf_image_destroy(a);
+  satf_image_destroy(b);
+  satf_image_destroy(c);
+  satf_image_destroy(d);
+  satf_renderer_destroy(r);
+  satf_renderer_destroy(fresh);
+  satf_scene_destroy(scene);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_instanced_same_image),
+      cmocka_unit_test(test_incremental_lookups),
+      cmocka_unit_test(test_dom_reuse),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
