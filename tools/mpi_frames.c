@@ -70,8 +70,13 @@ satf_status satf_mpi_frames(const satf_mpi *m, const char *prog,
   double ms[6] = {sum.mean.index_ms,    sum.mean.maps_ms,   sum.mean.upload_ms,
                   sum.mean.lighting_ms, sum.mean.shadow_ms, sum.mean.total_ms},
          total_ms[6] = {0};
-  MPI_Reduce(counts, total_counts, 2, MPI_INT, MPI_SUM, 0, MPI_COMM_WORLD);
-  MPI_Reduce(ms, total_ms, 6, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+  /* a rank done early waits here for the others without taking a core */
+  MPI_Request req[2];
+  MPI_Ireduce(counts, total_counts, 2, MPI_INT, MPI_SUM, 0, MPI_COMM_WORLD,
+              &req[0]);
+  MPI_Ireduce(ms, total_ms, 6, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD, &req[1]);
+  satf_mpi_wait(&req[0], MPI_STATUS_IGNORE);
+  satf_mpi_wait(&req[1], MPI_STATUS_IGNORE);
   if (m->rank != 0)
     return SATF_OK;
   stats->rendered = total_counts[0];

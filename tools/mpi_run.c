@@ -5,9 +5,21 @@
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <time.h>
 #include <unistd.h>
 
 enum { TAG_PROGRESS = 7001 };
+
+void satf_mpi_wait(MPI_Request *req, MPI_Status *status) {
+  struct timespec nap = {0, 1000000}; /* 1 ms */
+  int done = 0;
+  for (;;) {
+    MPI_Test(req, &done, status);
+    if (done)
+      return;
+    nanosleep(&nap, NULL);
+  }
+}
 
 /* The variables Open MPI's mpirun, PMIx launchers (srun --mpi=pmix) and
  * PMI-1/2 launchers set in every rank's environment. */
@@ -82,8 +94,11 @@ void satf_mpi_unmute(int saved[2]) {
 }
 
 int satf_mpi_share_status(const satf_mpi *m, int status) {
-  if (m->active)
-    MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (m->active && m->size > 1) {
+    MPI_Request req;
+    MPI_Ibcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD, &req);
+    satf_mpi_wait(&req, MPI_STATUS_IGNORE);
+  }
   return status;
 }
 
@@ -182,7 +197,7 @@ void satf_mpi_progress_finish(satf_mpi_progress *p) {
   if (p->m->rank != 0) {
     /* one rank's messages arrive in order: this one is its last */
     if (p->req != MPI_REQUEST_NULL)
-      MPI_Wait(&p->req, MPI_STATUS_IGNORE);
+      satf_mpi_wait(&p->req, MPI_STATUS_IGNORE);
     p->sending = -1 - (long long)p->mine;
     MPI_Send(&p->sending, 1, MPI_LONG_LONG, 0, TAG_PROGRESS, MPI_COMM_WORLD);
     return;
@@ -198,8 +213,10 @@ void satf_mpi_progress_finish(satf_mpi_progress *p) {
       break;
     long long v = 0;
     MPI_Status s;
-    MPI_Recv(&v, 1, MPI_LONG_LONG, MPI_ANY_SOURCE, TAG_PROGRESS, MPI_COMM_WORLD,
-             &s);
+    MPI_Request req;
+    MPI_Irecv(&v, 1, MPI_LONG_LONG, MPI_ANY_SOURCE, TAG_PROGRESS,
+              MPI_COMM_WORLD, &req);
+    satf_mpi_wait(&req, &s);
     take(p, s.MPI_SOURCE, v);
     draw(p);
   }

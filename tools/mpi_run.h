@@ -32,6 +32,11 @@ _Noreturn void satf_mpi_fail(const satf_mpi *m, const char *prog,
  * satf_mpi_unmute, so --help and argument errors print once. */
 void satf_mpi_mute(const satf_mpi *m, int saved[2]);
 void satf_mpi_unmute(int saved[2]);
+/* Waits for a request without spinning (a 1 ms nap between tests): Open
+ * MPI's blocking calls poll a core at 100% while they wait, which on a
+ * node running as many ranks as cores takes a core from the ranks still
+ * working. */
+void satf_mpi_wait(MPI_Request *req, MPI_Status *status);
 /* Rank 0's exit status, given to every rank (a collective call). */
 int satf_mpi_share_status(const satf_mpi *m, int status);
 

@@ -3,8 +3,8 @@
 # killed with SIGKILL mid-build must end the job with a non-zero status and
 # leave no database and no temporary file at the output path. Rank 1 is
 # found among the children of this script's own mpirun (never by name).
-# Then rank 0 failing to write (a directory in the way of the output) must
-# fail the job the same way.
+# Then an output rank 0 cannot write (a directory in the way) must fail
+# the job before it builds, with the path named.
 set -e
 mpirun=$1; build=$(realpath "$2"); dir=$3
 rm -rf "$dir"; mkdir -p "$dir"; cd "$dir"
@@ -35,7 +35,7 @@ if [ -e db.exr ]; then echo "a database was left at the output path"; exit 1; fi
 if ls ./*.tmp* >/dev/null 2>&1; then echo "temporary files left:"; ls ./*.tmp*; exit 1; fi
 echo "rank 1 (pid $rank1) killed: job status $status, no database"
 
-# rank 0 cannot write: a directory stands at the output path
+# an output that cannot be written: a directory stands at the output path
 mkdir in-the-way.exr
 status=0
 "$mpirun" --oversubscribe --allow-run-as-root -np 3 "$build" -q --samples 6 \

@@ -1,8 +1,11 @@
 /* satf-build - builds an HRIR database (SATF sec. 5). */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "satf/common.h"
 #include "satf/offline.h"
@@ -37,13 +40,13 @@ static void usage(FILE *out) {
       "  --kind phong|fiber  record kind (default phong, format version 1);\n"
       "                      fiber: physically based records, format version\n"
       "                      2 (2-D path tracing of the strands as d'Eon/\n"
-      "                      Chiang fibres; default width 16)\n"
+      "                      Chiang fibres; default 128 samples, width 16)\n"
       "  --levels A,B,..     fiber: absorption levels, sigma_a per unit fibre\n"
-      "                      radius, ascending (default 0,0.25,1,3,9)\n"
-      "  --sub-rays N        fiber: eye rays per record sample (default 8)\n"
+      "                      radius, ascending (default 0,0.2,1,4,16)\n"
+      "  --sub-rays N        fiber: eye rays per record sample (default 16)\n"
       "  --radial-roughness B  fiber: beta_n, baked into the records (0.3)\n"
       "  --ior ETA           fiber: index of refraction (default 1.55)\n"
-      "  --max-bounces N     fiber: fibre interactions per path (default 32)\n"
+      "  --max-bounces N     fiber: fibre interactions per path (default 64)\n"
       "  --shard I/N         build only part I of N (0 <= I < N) into a\n"
       "                      shard file: independent tasks of a farm queue;\n"
       "                      satf-db merge joins the N shards into the\n"
@@ -69,6 +72,7 @@ typedef struct options {
   int quiet;
   long shard, shards; /* --shard I/N; shards 0: the whole build */
   int width_set;      /* --width given: --kind fiber keeps it */
+  int samples_set;    /* --samples given: --kind fiber keeps it */
 } options;
 
 /* --levels A,B,...: ascending absorption levels. */
@@ -212,6 +216,7 @@ static int parse_option(satf_cli_args *it, options *o) {
     if (satf_cli_value_int(it, 1, 1000000, &v))
       return -1;
     p->samples = (int)v;
+    o->samples_set = 1;
   } else if (satf_cli_is(it, NULL, "--width")) {
     if (satf_cli_value_int(it, 2, 4096, &v))
       return -1;
@@ -246,6 +251,10 @@ static int parse_args(int argc, char **argv, options *o) {
     if (parse_option(&it, o))
       return 2;
   }
+  if (o->p.kind == SATF_RECORD_FIBER && !o->width_set)
+    o->p.trace.width = satf_build_params_default_fiber().trace.width;
+  if (o->p.kind == SATF_RECORD_FIBER && !o->samples_set)
+    o->p.samples = satf_build_params_default_fiber().samples;
   if (!o->out) {
     fprintf(stderr, "%s: no output file: give -o DATABASE.exr (see --help)\n",
             PROG);
@@ -350,6 +359,33 @@ static satf_status build_whole(const options *o, int nthreads,
   return st;
 }
 
+/* A long build (hours on a cluster) learns before it starts, not when it
+ * writes, that its output cannot be written: the temporary file it will
+ * write through is created and removed. Returns -1, or the exit status. */
+static int output_writable(const char *path) {
+  char tmp[4096];
+  satf_error err;
+  satf_error_clear(&err);
+  struct stat sb;
+  if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode)) {
+    fprintf(stderr, "%s: -o %s: is a directory\n", PROG, path);
+    return 2;
+  }
+  FILE *f = NULL;
+  if (satf_temp_path(path, tmp, sizeof tmp, &err) == SATF_OK &&
+      (f = fopen(tmp, "wb")) != NULL) {
+    fclose(f);
+    remove(tmp);
+    return -1;
+  }
+  if (err.status == SATF_OK)
+    fprintf(stderr, "%s: -o %s: cannot write there: %s\n", PROG, path,
+            strerror(errno));
+  else
+    fprintf(stderr, "%s: %s\n", PROG, err.message);
+  return 1;
+}
+
 /* Checks the options; returns -1 to go on, else the exit status. */
 static int check_options(options *o) {
   satf_error err;
@@ -363,7 +399,7 @@ static int check_options(options *o) {
             PROG, o->shard, o->shards, o->p.samples);
     return 2;
   }
-  return -1;
+  return output_writable(o->out);
 }
 
 #ifdef SATF_MPI
@@ -448,6 +484,7 @@ int main(int argc, char **argv) {
   int nthreads = o.threads > 0 ? (int)o.threads : satf_cpu_count();
 #ifdef SATF_MPI
   satf_mpi_unmute(muted);
+  rc = satf_mpi_share_status(&m, rc); /* rank 0's output check decides */
   if (rc < 0 && m.size > 1)
     rc = build_mpi(&m, &o, nthreads);
   satf_mpi_stop(&m);

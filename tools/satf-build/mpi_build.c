@@ -14,7 +14,9 @@ enum { TAG_DATA = 7101 };
 static void send_floats(const float *data, size_t n, int to) {
   for (size_t at = 0; at < n; at += CHUNK_FLOATS) {
     size_t k = n - at < CHUNK_FLOATS ? n - at : CHUNK_FLOATS;
-    MPI_Send(data + at, (int)k, MPI_FLOAT, to, TAG_DATA, MPI_COMM_WORLD);
+    MPI_Request req; /* rank 0 may still be tracing: wait idle */
+    MPI_Isend(data + at, (int)k, MPI_FLOAT, to, TAG_DATA, MPI_COMM_WORLD, &req);
+    satf_mpi_wait(&req, MPI_STATUS_IGNORE);
   }
 }
 

@@ -282,6 +282,24 @@ static satf_status bench(const options *o, satf_renderer *r,
   satf_frontend_table_header(stdout);
   satf_frontend_table_row(stdout, base ? base + 1 : o->scene_path, stats, &mean,
                           fps);
+  /* what the frame costs beyond Table 1's columns, at the starting view:
+   * the fragments the exact composite stores (the shading pass's work; the
+   * ordered composite blends without counting them) and the look-ups of a
+   * frame after the camera moved and of one where nothing changed */
+  satf_frame_timing moved, still;
+  st = satf_renderer_render(r, SATF_AOV_BEAUTY, &moved, err);
+  if (st == SATF_OK)
+    st = satf_renderer_render(r, SATF_AOV_BEAUTY, &still, err);
+  if (st != SATF_OK)
+    return st;
+  double px = (double)o->w * (double)o->h;
+  if (satf_renderer_composite(r) == SATF_COMPOSITE_EXACT)
+    printf("fragments %ld (%.2f per pixel)", still.fragments,
+           (double)still.fragments / px);
+  else
+    printf("fragments - (ordered)");
+  printf("; look-ups %ld after a move, %ld when still (%.1f ms C)\n",
+         moved.lookups, still.lookups, still.maps_ms);
   return SATF_OK;
 }
 
@@ -373,6 +391,7 @@ int main(int argc, char **argv) {
     rc = render_job(&o);
   if (rc == 1 && m.size > 1)
     satf_mpi_fail(&m, PROG, "this rank failed (see above)");
+  rc = satf_mpi_share_status(&m, rc); /* waits for rank 0's contact sheet */
   satf_mpi_stop(&m);
   return rc;
 }
