@@ -1,0 +1,55 @@
+/* fiber_gpu.c - see fiber_gpu.h. */
+#include "fiber_gpu.h"
+
+#include <string.h>
+
+#include "satf/math.h"
+
+void fiber_from_material(const satf_scene_material *m, satf_fiber *f) {
+  memset(f, 0, sizeof *f); /* compared bytewise (fiber_gpu_bind) */
+  satf_fiber_material fm;
+  fm.melanin = m->melanin;
+  fm.redness = m->redness;
+  fm.roughness = m->roughness;
+  fm.radial_roughness = m->radial_roughness;
+  fm.cuticle_tilt = m->cuticle_tilt * SATF_PI_F / 180.0f;
+  fm.ior = m->ior;
+  if (m->has_absorption)
+    satf_fiber_init_sigma_a(f, m->absorption, fm.roughness, fm.radial_roughness,
+                            fm.cuticle_tilt, fm.ior);
+  else
+    satf_fiber_init(f, &fm);
+}
+
+void fiber_gpu_bind(fiber_gpu *g, const satf_scene_material *m, GLuint p) {
+  satf_fiber f;
+  fiber_from_material(m, &f);
+  if (!g->has_tables || memcmp(&f, &g->fiber, sizeof f) != 0) {
+    float tab[FIBER_TABLE_ROWS * SATF_FIBER_DUAL_FIELDS * 3];
+    satf_fiber_dual_tables(&f, FIBER_TABLE_ROWS, tab);
+    if (!g->tables)
+      glGenTextures(1, &g->tables);
+    glBindTexture(GL_TEXTURE_2D, g->tables);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, SATF_FIBER_DUAL_FIELDS,
+                 FIBER_TABLE_ROWS, 0, GL_RGB, GL_FLOAT, tab);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    g->fiber = f;
+    g->has_tables = 1;
+  }
+  glActiveTexture(GL_TEXTURE0 + FIBER_TABLE_UNIT);
+  glBindTexture(GL_TEXTURE_2D, g->tables);
+  glActiveTexture(GL_TEXTURE0);
+  glUniform1i(glGetUniformLocation(p, "u_fiber_tables"), FIBER_TABLE_UNIT);
+  glUniform1f(glGetUniformLocation(p, "u_fiber_eta"), f.eta);
+  glUniform1f(glGetUniformLocation(p, "u_fiber_s"), f.s);
+  glUniform1f(glGetUniformLocation(p, "u_fiber_alpha"), f.alpha);
+  glUniform4fv(glGetUniformLocation(p, "u_fiber_v"), 1, f.v);
+  glUniform3fv(glGetUniformLocation(p, "u_fiber_sigma_a"), 1, f.sigma_a);
+}
+
+void fiber_gpu_release(fiber_gpu *g) {
+  if (g->tables)
+    glDeleteTextures(1, &g->tables);
+  memset(g, 0, sizeof *g);
+}

@@ -1,0 +1,32 @@
+/* fiber_gpu.h - the scene material's fibre (satf/fiber.h) on the GPU, for
+ * the programs that include glsl/fiber.glsl (the cluster path's physical
+ * mode and the strand reference): its uniforms and Zinke's dual-scattering
+ * tables as a texture, recomputed only when the material changes. */
+#ifndef SATF_ONLINE_FIBER_GPU_H
+#define SATF_ONLINE_FIBER_GPU_H
+
+#include "satf/fiber.h"
+#include "satf/gl.h"
+#include "satf/scene.h"
+
+/* Rows (|theta| bins) of the dual-scattering tables, and the texture unit
+ * they are bound to. */
+#define FIBER_TABLE_ROWS 32
+#define FIBER_TABLE_UNIT 6
+
+typedef struct fiber_gpu {
+  GLuint tables; /* RGB32F, SATF_FIBER_DUAL_FIELDS x FIBER_TABLE_ROWS */
+  int has_tables;
+  satf_fiber fiber; /* what the tables were computed for */
+} fiber_gpu;
+
+/* The material's fibre: its absorption from melanin and redness or given
+ * directly, the tilt from the scene's degrees. */
+void fiber_from_material(const satf_scene_material *m, satf_fiber *f);
+
+/* Sets program p's u_fiber_* uniforms and binds the tables on
+ * FIBER_TABLE_UNIT (the active texture unit is left at 0). */
+void fiber_gpu_bind(fiber_gpu *g, const satf_scene_material *m, GLuint p);
+void fiber_gpu_release(fiber_gpu *g);
+
+#endif

@@ -1,0 +1,242 @@
+/* maps_fiber.c - see maps_fiber.h: the maps of the physical shading mode,
+ * from a fibre database (format version 2, satf/db.h) and the fibre model
+ * (satf/fiber.h). */
+#include "maps_fiber.h"
+
+#include "fiber_gpu.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "satf/fiber.h"
+#include "satf/math.h"
+
+struct satf_maps_fiber {
+  satf_db *db;     /* the fibre database re-levelled at the hair's sigma_a */
+  int levels;      /* its absorption levels (distinct RGB values) */
+  int level_of[3]; /* the level of each colour channel */
+  satf_fiber fiber;
+  float v_ms; /* the longitudinal variance of multiple scattering */
+};
+
+/* The hair's RGB absorption as strictly ascending levels, and the level of
+ * each colour (equal values share one). */
+static int rgb_levels(const float sigma[3], float *levels, int level_of[3]) {
+  int order[3] = {0, 1, 2};
+  for (int a = 0; a < 3; a++)
+    for (int b = a + 1; b < 3; b++)
+      if (sigma[order[b]] < sigma[order[a]]) {
+        int t = order[a];
+        order[a] = order[b];
+        order[b] = t;
+      }
+  int n = 0;
+  for (int a = 0; a < 3; a++) {
+    float s = sigma[order[a]];
+    if (n == 0 || s > levels[n - 1])
+      levels[n++] = s;
+    level_of[order[a]] = n - 1;
+  }
+  return n;
+}
+
+satf_status satf_maps_fiber_create(const satf_db *db,
+                                   const satf_scene_material *mat, int threads,
+                                   satf_maps_fiber **out, satf_error *err) {
+  *out = NULL;
+  if (satf_db_kind(db) != SATF_RECORD_FIBER)
+    return satf_error_set(
+        err, SATF_ERR_INCOMPATIBLE,
+        "the physical shading mode needs a fibre database (format version "
+        "2: satf-build --kind fiber); this one holds Phong records");
+  satf_maps_fiber *f = calloc(1, sizeof *f);
+  if (!f)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  fiber_from_material(mat, &f->fiber);
+  const float *sigma = f->fiber.sigma_a;
+  /* Our choice (papers 003/004 model single scattering only): light
+   * scattered at two or more fibres has gone through at least a TT and
+   * another lobe, so its longitudinal spread is about the sum of theirs;
+   * we take v_TT + v_TRT, unshifted (the lobes' shifts partly cancel). */
+  f->v_ms = f->fiber.v[1] + f->fiber.v[2];
+  float levels[3];
+  f->levels = rgb_levels(sigma, levels, f->level_of);
+  satf_status st = satf_db_relevel(db, levels, f->levels, threads, &f->db, err);
+  if (st != SATF_OK) {
+    free(f);
+    return st;
+  }
+  *out = f;
+  return SATF_OK;
+}
+
+void satf_maps_fiber_destroy(satf_maps_fiber *f) {
+  if (f) {
+    satf_db_destroy(f->db);
+    free(f);
+  }
+}
+
+/* Azimuth of d in the sector's plane, from its outward normal N towards
+ * its phase direction T, in [0, 2 pi) (as satf_maps_angles). */
+static float plane_azimuth(const float *frame, const float d[3]) {
+  float a = atan2f(satf_dot3f(d, frame + 6), satf_dot3f(d, frame + 3));
+  return a < 0.0f ? a + SATF_TWO_PI_F : a;
+}
+
+/* One direction seen from a sector: its azimuth in the sector's plane and
+ * its longitudinal angle to the hair (sin, cos), pbrt's theta. */
+typedef struct direction {
+  float azimuth, sin_t, cos_t;
+} direction;
+
+static direction sector_direction(const float *frame, const float hair[3],
+                                  const float d[3]) {
+  direction r;
+  float len = sqrtf(satf_dot3f(d, d));
+  float s = len > 0.0f ? satf_dot3f(d, hair) / len : 0.0f;
+  s = s > 1.0f ? 1.0f : s < -1.0f ? -1.0f : s;
+  r.azimuth = plane_azimuth(frame, d);
+  r.sin_t = s;
+  r.cos_t = sqrtf(1.0f - s * s);
+  return r;
+}
+
+/* The record of boundary sector q for every light, summed into key (the
+ * first light's radiance, which the deep opacity map and eq. 12 shadow)
+ * and fill (the others'): E (M_R R + M_TT TT + M_TRT TRT + M_MS MS)
+ * (satf/db.h fibre records, d'Eon 2011 eq. 7 for M_p), per record sample,
+ * still premultiplied by coverage; alpha alongside. */
+static void sector_radiance(const satf_maps *m, const satf_maps_fiber *f,
+                            const satf_shell_geom *g, size_t q,
+                            const satf_db_neighbors *nb, const float eye[3],
+                            const satf_fiber_light *lights, int n_lights,
+                            float *key, float *fill, float *alpha,
+                            float *view) {
+  const float *fr = g->frames + 9 * q;
+  int w = satf_maps_width(m), n = f->levels;
+  float hair[3];
+  satf_cross3f(fr + 3, fr + 6, hair); /* N x T: along t, root to tip */
+  satf_normalize3f(hair);
+  float vd[3] = {eye[0] - fr[0], eye[1] - fr[1], eye[2] - fr[2]};
+  direction o = sector_direction(fr, hair, vd);
+  *view = o.azimuth;
+  float rec[(3 + 3 * 3) * MAPS_MAX_WIDTH];
+  memset(key, 0, 3 * (size_t)w * sizeof(float));
+  memset(fill, 0, 3 * (size_t)w * sizeof(float));
+  for (int li = 0; li < n_lights; li++) {
+    const float *L = lights[li].local;
+    float ld[3] = {L[0] - L[3] * fr[0], L[1] - L[3] * fr[1],
+                   L[2] - L[3] * fr[2]};
+    float fall = L[3] > 0.0f ? 1.0f / fmaxf(satf_dot3f(ld, ld), 1e-6f) : 1.0f;
+    direction i = sector_direction(fr, hair, ld);
+    float mp[4];
+    for (int p = 0; p < 3; p++) {
+      float sp, cp;
+      satf_fiber_tilt(&f->fiber, p, o.sin_t, o.cos_t, &sp, &cp);
+      mp[p] = satf_fiber_mp(i.cos_t, cp, i.sin_t, sp, f->fiber.v[p]);
+    }
+    mp[3] = satf_fiber_mp(i.cos_t, o.cos_t, i.sin_t, o.sin_t, f->v_ms);
+    satf_db_lookup_neighbors_channels(f->db, nb, o.azimuth, i.azimuth, rec);
+    float *dst = li == 0 ? key : fill;
+    for (int c = 0; c < 3; c++) {
+      float e = lights[li].rgb[c] * fall;
+      int k = f->level_of[c];
+      const float *r = rec + SATF_DB_CH_R * w;
+      const float *tt = rec + SATF_DB_CH_TT(k) * w;
+      const float *trt = rec + SATF_DB_CH_TRT(k, n) * w;
+      const float *ms = rec + SATF_DB_CH_MS(k, n) * w;
+      for (int x = 0; x < w; x++)
+        dst[c * w + x] +=
+            e * (mp[0] * r[x] + mp[1] * tt[x] + mp[2] * trt[x] + mp[3] * ms[x]);
+    }
+    if (li == 0)
+      memcpy(alpha, rec + SATF_DB_CH_ALPHA * w, (size_t)w * sizeof(float));
+  }
+}
+
+/* Lays one boundary's radiance across an HSV row of both slices (see
+ * maps_fiber.h), resampled to the layer's columns as lay_row does, and
+ * divided by alpha (eq. 14 multiplies by alpha again). */
+static void lay_fiber_row(const satf_maps *m, const float *key,
+                          const float *fill, const float *al, float view,
+                          float *row_key, float *row_fill) {
+  int w = satf_maps_width(m);
+  const uint16_t *idx;
+  const float *fr;
+  maps_columns(m, view, &idx, &fr);
+  for (int x = 0; x < w; x++) {
+    int i = idx[x];
+    float f = fr[x];
+    float a = al[i] + f * (al[i + 1] - al[i]);
+    float inv = a > 1e-4f ? 1.0f / a : 0.0f;
+    for (int c = 0; c < 3; c++) {
+      const float *k = key + c * w, *l = fill + c * w;
+      row_key[4 * x + c] = inv * (k[i] + f * (k[i + 1] - k[i]));
+      row_fill[4 * x + c] = inv * (l[i] + f * (l[i + 1] - l[i]));
+    }
+    row_key[4 * x + 3] = a;
+    row_fill[4 * x + 3] = 0.0f; /* the s-map, satf_maps_fiber_shadow_sums */
+  }
+}
+
+int satf_maps_fiber_build_layer(const satf_maps *m, const satf_maps_fiber *f,
+                                const satf_shell_geom *g, const float eye[3],
+                                const satf_fiber_light *lights, int n_lights,
+                                const satf_map_options *opt, int k,
+                                float *texels) {
+  const satf_shell_params *sh = &g->shell;
+  int w = satf_maps_width(m), lookups = 0;
+  size_t row_floats = (size_t)sh->su * (size_t)w * 4;
+  size_t slice = satf_maps_layer_texels(g, w) * 4;
+  float *key_slice = texels + (size_t)(2 * k) * slice;
+  float *fill_slice = key_slice + slice;
+  float key[3 * MAPS_MAX_WIDTH], fill[3 * MAPS_MAX_WIDTH];
+  float al[MAPS_MAX_WIDTH], view;
+  for (int j = 0; j < sh->su; j++) {
+    /* the boundary records along t, each looked up once: HSV i shows
+     * boundary i in row 2i and boundary i + 1 in row 2i + 1 (SATF eq. 7) */
+    for (int i = 0; i <= sh->st; i++) {
+      size_t q = maps_sector_index(sh, i, k, j);
+      satf_db_neighbors found;
+      const satf_db_neighbors *nb = maps_sector_neighbors(g, q, opt->k_nearest);
+      if (!nb) {
+        satf_db_neighbors_find(maps_db(m), g->features + 3 * q, opt->k_nearest,
+                               &found);
+        nb = &found;
+      }
+      sector_radiance(m, f, g, q, nb, eye, lights, n_lights, key, fill, al,
+                      &view);
+      lookups += n_lights;
+      size_t col = (size_t)j * w * 4;
+      if (i < sh->st) /* the top row of HSV i */
+        lay_fiber_row(m, key, fill, al, view,
+                      key_slice + (size_t)(2 * i) * row_floats + col,
+                      fill_slice + (size_t)(2 * i) * row_floats + col);
+      if (i > 0) /* the bottom row of HSV i - 1 */
+        lay_fiber_row(m, key, fill, al, view,
+                      key_slice + (size_t)(2 * i - 1) * row_floats + col,
+                      fill_slice + (size_t)(2 * i - 1) * row_floats + col);
+    }
+  }
+  return lookups;
+}
+
+/* SATF eq. 12 in the physical layout: alpha in channel 3 of slice 2k, the
+ * sum of the outer layers' alpha into channel 3 of slice 2k + 1. */
+void satf_maps_fiber_shadow_sums(const satf_shell_geom *g, int width,
+                                 float *texels) {
+  int layers = g->shell.layers;
+  size_t n = satf_maps_layer_texels(g, width), slice = n * 4;
+  float *outer_fill = texels + (size_t)(2 * layers - 1) * slice;
+  for (size_t x = 0; x < n; x++)
+    outer_fill[4 * x + 3] = 0.0f;
+  for (int k = layers - 2; k >= 0; k--) {
+    float *fill = texels + (size_t)(2 * k + 1) * slice;
+    const float *up_key = texels + (size_t)(2 * k + 2) * slice;
+    const float *up_fill = up_key + slice;
+    for (size_t x = 0; x < n; x++)
+      fill[4 * x + 3] = up_fill[4 * x + 3] + up_key[4 * x + 3];
+  }
+}

@@ -1,0 +1,57 @@
+/* maps_fiber.h - the maps of the physical shading mode (issue 11): every
+ * HSV's radiance from a fibre database's per-lobe records (satf/db.h,
+ * format version 2) times the longitudinal M_p of the fibre model (d'Eon
+ * 2011 eq. 7, satf/fiber.h) at the HSV's view and light angles, for every
+ * light of the scene, in the hair's colour.
+ *
+ * Texture layout. As maps.h, but two slices per layer: slice 2k holds
+ * (R, G, B) of the key light's radiance per unit coverage and alpha;
+ * slice 2k + 1 the other lights' radiance summed, and the s-map sum of
+ * eq. 12 (the key light alone is shadowed by the deep opacity map and the
+ * s-map, as in the paper's mode). HSV i's rows 2i and 2i + 1 hold the
+ * records of its boundary sectors i and i + 1 (SATF eq. 7).
+ *
+ * Choices (measured in the README): the records are traced with the light
+ * in the fibres' normal plane, so absorption is taken at normal incidence
+ * (a grazing view's longer internal path, 1 / cos(theta_t) <= 1.3 times,
+ * is not added); a whole database is re-levelled at the hair's RGB
+ * absorption once, when the renderer is made, so a look-up interpolates
+ * no absorption. */
+#ifndef SATF_ONLINE_MAPS_FIBER_H
+#define SATF_ONLINE_MAPS_FIBER_H
+
+#include "maps.h"
+#include "satf/scene.h"
+
+typedef struct satf_maps_fiber satf_maps_fiber;
+
+/* A light in the prototype's frame (xyz, w = 0: direction towards it, 1:
+ * position) and its irradiance (colour times intensity; a point light's
+ * at unit distance). */
+typedef struct satf_fiber_light {
+  float local[4];
+  float rgb[3];
+} satf_fiber_light;
+
+/* Fails with SATF_ERR_INCOMPATIBLE for a Phong database. */
+satf_status satf_maps_fiber_create(const satf_db *db,
+                                   const satf_scene_material *material,
+                                   int threads, satf_maps_fiber **out,
+                                   satf_error *err);
+void satf_maps_fiber_destroy(satf_maps_fiber *fiber);
+
+/* Fills slices 2k and 2k + 1 of a cluster's texels (2 * layers slices of
+ * satf_maps_layer_texels * 4 floats); lights[0] is the key light. Returns
+ * the look-ups made. */
+int satf_maps_fiber_build_layer(const satf_maps *maps,
+                                const satf_maps_fiber *fiber,
+                                const satf_shell_geom *g, const float eye[3],
+                                const satf_fiber_light *lights, int n_lights,
+                                const satf_map_options *opt, int k,
+                                float *texels);
+
+/* Eq. 12 in this layout (channel 3 of the odd slices). */
+void satf_maps_fiber_shadow_sums(const satf_shell_geom *g, int width,
+                                 float *texels);
+
+#endif
