@@ -413,6 +413,9 @@ static void set_fiber_uniforms(const satf_renderer *r, strands_gpu *s,
   satf_fiber f;
   memset(&f, 0, sizeof f);
   material_fiber(m, &f);
+  /* the tables' own unit before any bind: the passes leave unit 3 (the
+   * deep opacity map) active */
+  glActiveTexture(GL_TEXTURE0 + FIBER_TABLE_UNIT);
   if (!s->has_tables || memcmp(&f, &s->fiber, sizeof f) != 0) {
     float tab[FIBER_TABLE_ROWS * SATF_FIBER_DUAL_FIELDS * 3];
     satf_fiber_dual_tables(&f, FIBER_TABLE_ROWS, tab);
@@ -426,7 +429,6 @@ static void set_fiber_uniforms(const satf_renderer *r, strands_gpu *s,
     s->fiber = f;
     s->has_tables = 1;
   }
-  glActiveTexture(GL_TEXTURE0 + FIBER_TABLE_UNIT);
   glBindTexture(GL_TEXTURE_2D, s->fiber_tables);
   glActiveTexture(GL_TEXTURE0);
   glUniform1i(glGetUniformLocation(p, "u_fiber_tables"), FIBER_TABLE_UNIT);

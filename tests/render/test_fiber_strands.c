@@ -3,12 +3,13 @@
  * vertical strand seen from the front, whose pixels are computed in C from
  * the fibre model (satf_fiber_dual_shade with no hair in the way) at the
  * offset h each pixel centre has across the ribbon, times the light's
- * irradiance (colour x intensity). That checks the fibre frame, the sign
- * and scale of h, the light's units and the tables' upload. A back light
- * makes the strand glow through TT, reddish for brown hair; a second
- * strand between the key light and the first darkens it less than its
- * direct light alone would (forward scattering through the deep opacity
- * map). Whole frames on Mesa's llvmpipe through a headless EGL context. */
+ * irradiance (colour x intensity), with and without the deep opacity map.
+ * That checks the fibre frame, the sign and scale of h, the light's units
+ * and the tables' upload. A back light makes the strand glow through TT,
+ * reddish for brown hair; a second strand wholly between the key light and
+ * the first leaves it about e^-1 of its light (one hair in the way, plus
+ * forward scattering). Whole frames on Mesa's llvmpipe through a headless
+ * EGL context. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -146,50 +147,54 @@ static void pixels_match_the_model(void **state) {
   const fixture *fx = *state;
   const float light[3] = {-0.6f, -0.2f, -0.7746f}; /* travelling to -x -z */
   const float x0[1] = {0.0f}, z0[1] = {0.0f};
-  satf_image *img = render(fx, light, 2.0f, x0, z0, 1, 0);
-  satf_fiber f;
-  float tables[32 * SATF_FIBER_DUAL_FIELDS * 3];
-  test_fiber(&f, tables, 32);
-  const float rgb[3] = {2.0f, 1.8f, 1.6f}; /* colour x intensity */
-  int row = H / 2, checked = 0;
-  double half_px = 0.5 * WIDTH * px_per_unit();
-  for (int col = 0; col < W; col++) {
-    double x = (col + 0.5 - 0.5 * W) / px_per_unit();
-    /* only pixels the strand covers whole, one pixel from its edges */
-    if (fabs(x) * px_per_unit() > half_px - 1.0)
-      continue;
-    assert_near(px(img, "A", col, row), 1.0, 1e-3);
-    /* the fibre frame: x up the strand, z towards the eye, y = z x x, so
-     * h runs along -x in the world (strand_fs.glsl) */
-    /* the eye's direction from the strand's centre line, as the shader
-     * takes it (v_world is the centre line: the ribbon is widened in
-     * screen space), so the frame is the same across the ribbon */
-    double ex = 0.0, ez = DIST;
-    double el = sqrt(ex * ex + ez * ez);
-    double zx = ex / el, zz = ez / el; /* the frame's z: the eye's side */
-    double yx = -zz, yz = zx;          /* y = z x t, t = +Y */
-    double lx = -light[0], ly = -light[1], lz = -light[2];
-    double ll = sqrt(lx * lx + ly * ly + lz * lz);
-    float wo[3] = {0.0f, 0.0f, 1.0f};
-    float wi[3] = {(float)(ly / ll), (float)((lx * yx + lz * yz) / ll),
-                   (float)((lx * zx + lz * zz) / ll)};
-    /* h: the across-ribbon pixel offset over half the width in pixels,
-     * positive on the frame's +y side (-x here) */
-    float h = (float)(-x / (0.5 * WIDTH));
-    float want[3];
-    satf_fiber_dual_shade(&f, tables, 32, wo, wi, h, 0.0f, want);
-    for (int c = 0; c < 3; c++) {
-      float got = px(img, c == 0 ? "R" : c == 1 ? "G" : "B", col, row);
-      double expect = rgb[c] * want[c];
-      if (fabs(got - expect) > 0.02 * expect + 1e-4)
-        fprintf(stderr, "col %d h %.3f c %d: %g, model %g\n", col, h, c, got,
-                expect);
-      assert_near(got, expect, 0.02 * expect + 1e-4);
+  /* with and without the deep opacity map: a lone strand is the first
+   * hair towards the light everywhere, so the map must not dim it */
+  for (int shadows = 0; shadows <= 1; shadows++) {
+    satf_image *img = render(fx, light, 2.0f, x0, z0, 1, shadows);
+    satf_fiber f;
+    float tables[32 * SATF_FIBER_DUAL_FIELDS * 3];
+    test_fiber(&f, tables, 32);
+    const float rgb[3] = {2.0f, 1.8f, 1.6f}; /* colour x intensity */
+    int row = H / 2, checked = 0;
+    double half_px = 0.5 * WIDTH * px_per_unit();
+    for (int col = 0; col < W; col++) {
+      double x = (col + 0.5 - 0.5 * W) / px_per_unit();
+      /* only pixels the strand covers whole, one pixel from its edges */
+      if (fabs(x) * px_per_unit() > half_px - 1.0)
+        continue;
+      assert_near(px(img, "A", col, row), 1.0, 1e-3);
+      /* the fibre frame: x up the strand, z towards the eye, y = z x x, so
+       * h runs along -x in the world (strand_fs.glsl) */
+      /* the eye's direction from the strand's centre line, as the shader
+       * takes it (v_world is the centre line: the ribbon is widened in
+       * screen space), so the frame is the same across the ribbon */
+      double ex = 0.0, ez = DIST;
+      double el = sqrt(ex * ex + ez * ez);
+      double zx = ex / el, zz = ez / el; /* the frame's z: the eye's side */
+      double yx = -zz, yz = zx;          /* y = z x t, t = +Y */
+      double lx = -light[0], ly = -light[1], lz = -light[2];
+      double ll = sqrt(lx * lx + ly * ly + lz * lz);
+      float wo[3] = {0.0f, 0.0f, 1.0f};
+      float wi[3] = {(float)(ly / ll), (float)((lx * yx + lz * yz) / ll),
+                     (float)((lx * zx + lz * zz) / ll)};
+      /* h: the across-ribbon pixel offset over half the width in pixels,
+       * positive on the frame's +y side (-x here) */
+      float h = (float)(-x / (0.5 * WIDTH));
+      float want[3];
+      satf_fiber_dual_shade(&f, tables, 32, wo, wi, h, 0.0f, want);
+      for (int c = 0; c < 3; c++) {
+        float got = px(img, c == 0 ? "R" : c == 1 ? "G" : "B", col, row);
+        double expect = rgb[c] * want[c];
+        if (fabs(got - expect) > 0.02 * expect + 1e-4)
+          fprintf(stderr, "col %d h %.3f c %d: %g, model %g\n", col, h, c, got,
+                  expect);
+        assert_near(got, expect, 0.02 * expect + 1e-4);
+      }
+      checked++;
     }
-    checked++;
+    assert_true(checked >= 5);
+    satf_image_destroy(img);
   }
-  assert_true(checked >= 5);
-  satf_image_destroy(img);
 }
 
 /* Back-lit brown hair glows through TT: the strand lit from behind is
@@ -232,8 +237,11 @@ static void shadowed_strand_keeps_forward_scattering(void **state) {
     a += px(alone, "R", col, H / 2);
     s += px(shadowed, "R", col, H / 2);
   }
-  assert_true(s < 0.97 * a);
-  assert_true(s > 0.05 * a);
+  /* one hair wholly in the way (n = 1): direct light e^-1 = 0.37, less
+   * through R and TRT's share, plus the forward-scattered part (measured
+   * 0.33; a map that counted nothing gave 0.59) */
+  assert_true(s < 0.45 * a);
+  assert_true(s > 0.2 * a);
   satf_image_destroy(alone);
   satf_image_destroy(shadowed);
 }
