@@ -42,16 +42,19 @@ add_test(NAME mpi_build_one_summary COMMAND sh -c
 set_tests_properties(mpi_build_one_summary PROPERTIES LABELS "cli;mpi"
                      ENVIRONMENT "${mpi_env}")
 
-# satf-db merge refuses a missing, a duplicated, a foreign (other seed,
-# other shard count), a truncated shard and a database given as a shard,
-# naming the file, and writes nothing; --shard is refused under mpirun.
+# satf-db verify describes a shard and refuses a truncated one; satf-db
+# merge refuses a missing, a duplicated, a foreign (other seed, other shard
+# count), a truncated shard and a database given as a shard, naming the
+# file, and writes nothing; --shard is refused under mpirun.
 add_test(NAME mpi_merge_rejects COMMAND sh -c
   "d=${mpi_dir}/rejects; rm -rf $d; mkdir -p $d; \
    for i in 0 1 2; do ${mpi_build} --shard $i/3 -o $d/p$i.exr || exit 1; done; \
    ${mpi_build} --seed 6 --shard 1/3 -o $d/seed6.exr || exit 1; \
    ${mpi_build} --shard 1/4 -o $d/of4.exr || exit 1; \
    ${mpi_build} -o $d/whole.exr || exit 1; \
+   $<TARGET_FILE:satf-db> verify $d/p1.exr | grep -q 'shard 1/3: samples 8..15 of a 24-sample build' || exit 1; \
    head -c 2000 $d/p1.exr > $d/cut.exr; \
+   if $<TARGET_FILE:satf-db> verify $d/cut.exr; then exit 1; fi; \
    refuse() { want=$1; shift; \
      if $<TARGET_FILE:satf-db> merge \"$@\" -o $d/out.exr 2> $d/err.txt; then \
        echo \"merge $* was accepted\"; exit 1; fi; \

@@ -18,7 +18,8 @@ static void usage(FILE *out) {
       "usage: %s COMMAND DATABASE [options]\n"
       "\n"
       "commands:\n"
-      "  info FILE             print the build parameters and a summary\n"
+      "  info FILE             print the build parameters and a summary (of\n"
+      "                        a shard: its place in the build)\n"
       "  verify FILE           check the file's integrity; exit 0 if intact,\n"
       "                        1 if damaged or unreadable\n"
       "  atlas FILE -o OUT.exr write an RGBA atlas (R=G=B reflectance, A "
@@ -45,7 +46,34 @@ static int load(const char *path, satf_db **db) {
   return 0;
 }
 
+/* info and verify of a shard file (satf-build --shard I/N): its place in
+ * the build, checked against its own hash. Returns -1 when path is not a
+ * shard (the database reader then says what it is). */
+static int shard_describe(const char *path) {
+  satf_db_part *q = NULL;
+  satf_error err;
+  satf_error_clear(&err);
+  satf_status st = satf_db_part_read(path, &q, &err);
+  if (st == SATF_ERR_FORMAT)
+    return -1;
+  if (st != SATF_OK) {
+    fprintf(stderr, "%s: %s\n", PROG, err.message);
+    return 1;
+  }
+  printf("%s: satf database shard %d/%d: samples %d..%d of a %d-sample "
+         "build (seed %" PRIu64 ", %dx%d azimuths, width %d); hash %016" PRIx64
+         " ok; join the %d shards with: %s merge SHARD... -o DB.exr\n",
+         path, q->index, q->parts, q->first, q->first + q->count - 1,
+         q->p.samples, q->p.seed, q->p.n_view, q->p.n_light, q->p.trace.width,
+         satf_db_part_hash(q), q->parts, PROG);
+  satf_db_part_destroy(q);
+  return 0;
+}
+
 static int cmd_info(const char *path) {
+  int shard = shard_describe(path);
+  if (shard >= 0)
+    return shard;
   satf_db *db = NULL;
   if (load(path, &db))
     return 1;
@@ -84,6 +112,9 @@ static int cmd_info(const char *path) {
 }
 
 static int cmd_verify(const char *path) {
+  int shard = shard_describe(path);
+  if (shard >= 0)
+    return shard;
   satf_db *db = NULL;
   if (load(path, &db))
     return 1;
