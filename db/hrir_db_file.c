@@ -54,15 +54,12 @@ typedef struct float_attr {
 
 /* Format version 2: the record kind and the fibre tracer's parameters
  * (satf:kind "fiber", satf:eta, satf:betaN, satf:subRays, satf:maxBounces,
- * satf:absorption = the levels' sigma_a); satf:version says 2. */
+ * satf:absorption = the levels' sigma_a). */
 static exr_result_t fiber_attrs_write(exr_context_t exr, int part,
                                       const satf_build_params *p) {
   const satf_fiber_trace_params *f = &p->fiber;
-  exr_result_t rc =
-      exr_attr_set_int(exr, part, "satf:version", satf_build_params_version(p));
-  if (rc == EXR_ERR_SUCCESS)
-    rc = exr_attr_set_string(exr, part, "satf:kind",
-                             satf_record_kind_name(p->kind));
+  exr_result_t rc = exr_attr_set_string(exr, part, "satf:kind",
+                                        satf_record_kind_name(p->kind));
   if (rc == EXR_ERR_SUCCESS)
     rc = exr_attr_set_float(exr, part, "satf:eta", f->eta);
   if (rc == EXR_ERR_SUCCESS)
@@ -144,6 +141,11 @@ exr_result_t satf_db_params_attrs_write(exr_context_t exr, int part,
     rc = exr_attr_set_int(exr, part, ints[i].name, *ints[i].field);
   for (int i = 0; i < COUNT(floats) && rc == EXR_ERR_SUCCESS; i++)
     rc = exr_attr_set_float(exr, part, floats[i].name, *floats[i].field);
+  /* the version of the records' kind (1 for Phong), over the newest that
+   * satf_db_format_attrs_write wrote before */
+  if (rc == EXR_ERR_SUCCESS)
+    rc = exr_attr_set_int(exr, part, "satf:version",
+                          satf_build_params_version(&p));
   if (rc == EXR_ERR_SUCCESS && p.kind == SATF_RECORD_FIBER)
     rc = fiber_attrs_write(exr, part, &p);
   return rc;
