@@ -97,6 +97,7 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
                           scene_path);
     else
       st = satf_db_read(db, &fe->db, &err);
+    fe->db_path = db;
   }
   if (st != SATF_OK) {
     fprintf(stderr, "%s: %s\n", prog, err.message);
@@ -296,6 +297,42 @@ const char *const satf_frontend_strand_help =
     "                       (default: the file's thickness); 'density': the\n"
     "                       width the clusters' density assumes (median of\n"
     "                       strand_width x cluster radius)\n";
+
+const char *const satf_frontend_shading_help =
+    "  --shading MODEL      kk: the paper's Kajiya-Kay lighting of the maps;\n"
+    "                       physical: the fibre model (Cycles' Principled\n"
+    "                       Hair) with a fibre database (satf-build --kind\n"
+    "                       fiber); default: the scene's material \"model\"\n";
+
+satf_status satf_frontend_set_shading(const char *prog, satf_frontend *fe,
+                                      int model) {
+  if (model >= 0)
+    fe->scene->material.model = (satf_material_model)model;
+  if (fe->scene->material.model != SATF_MATERIAL_PHYSICAL ||
+      !fe->scene->effects.satf || satf_db_kind(fe->db) == SATF_RECORD_FIBER)
+    return SATF_OK;
+  fprintf(stderr,
+          "%s: %s: the physical shading needs a fibre database (satf-build "
+          "--kind fiber, e.g. out/satf-fiber.hrirdb.exr); %s holds Phong "
+          "records (give --db, or --shading kk)\n",
+          prog, fe->scene->name ? fe->scene->name : "scene", fe->db_path);
+  return SATF_ERR_INCOMPATIBLE;
+}
+
+int satf_frontend_shading_flag(satf_cli_args *it, int *model) {
+  if (!satf_cli_is(it, NULL, "--shading"))
+    return 0;
+  const char *val;
+  if (satf_cli_value(it, &val))
+    return -1;
+  if (!strcmp(val, "kk") || !strcmp(val, "physical")) {
+    *model = val[0] == 'k' ? SATF_MATERIAL_KK : SATF_MATERIAL_PHYSICAL;
+    return 1;
+  }
+  fprintf(stderr, "%s: --shading: expected kk or physical, got '%s'\n",
+          it->prog, val);
+  return -1;
+}
 
 const char *const satf_frontend_effect_help =
     "  --no-satf            Fig. 4a's baseline, Scheuermann 2004 (paper 002):\n"

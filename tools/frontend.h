@@ -19,6 +19,7 @@ typedef struct satf_frontend {
   /* --strand-width: > 0 replaces the file's thickness; -1 ("density"):
    * the width the clusters' density assumes */
   float strand_width;
+  const char *db_path; /* where the database came from, for messages */
 } satf_frontend;
 
 /* Loads SCENE (printing its warnings to stderr) and the database (db_path,
@@ -53,6 +54,17 @@ satf_status satf_frontend_load_strands(const char *prog, satf_frontend *fe);
 satf_status satf_frontend_apply_strands(satf_renderer *r,
                                         const satf_frontend *fe,
                                         satf_error *err);
+/* --shading kk|physical: the shading model for this run, whatever the
+ * scene's material says (SATF_MATERIAL_*); returns 1 if arg was it, -1
+ * after printing a bad value, 0 otherwise. */
+int satf_frontend_shading_flag(satf_cli_args *it, int *model);
+/* Sets the scene's shading model (model < 0: keeps the scene's) and checks
+ * that the database holds the records it needs; on failure prints
+ * "PROG: reason" and returns non-OK. */
+satf_status satf_frontend_set_shading(const char *prog, satf_frontend *fe,
+                                      int model);
+extern const char *const satf_frontend_shading_help;
+
 /* Applies --strands or --strand-width W|density (setting *on, *width; -1
  * for density); returns 1 if arg was one of them, -1 after printing a bad
  * value. */

@@ -40,40 +40,101 @@ void frame_light_colors(const satf_renderer *r, float *col) {
       col[3 * k + a] = r->lights[k].color[a] * r->lights[k].intensity;
 }
 
-/* Sector azimuths of instance i towards the eye and the key light. */
+/* Sector azimuths of instance i towards the eye and the key light; with
+ * the eye and light where they were in its frame and its shells unchanged
+ * (frame_forget_lookups not called since), they are those of last frame. */
 static int angles_job(void *ctx, size_t i, int thread) {
   (void)thread;
   satf_renderer *r = ctx;
   inst *in = &r->insts[i];
-  satf_mat4_point(in->inv, r->camera.position, in->eye);
-  frame_light_local(in->inv, &r->lights[0], in->light);
+  float eye[3], light[4];
+  satf_mat4_point(in->inv, r->camera.position, eye);
+  frame_light_local(in->inv, &r->lights[0], light);
+  /* (the physical mode's maps follow every light: looked up every frame) */
+  if (r->incremental && !r->fiber && !in->replaced &&
+      !memcmp(eye, in->eye, sizeof eye) &&
+      !memcmp(light, in->light, sizeof light)) {
+    in->still = 1;
+    return 0;
+  }
+  memcpy(in->eye, eye, sizeof eye);
+  memcpy(in->light, light, sizeof light);
+  in->replaced = 0;
   satf_maps_angles(&in->geom, in->eye, in->light, in->angles);
+  /* nothing to look up again: its layers need no job (build_maps) */
+  in->still =
+      r->incremental && !r->fiber &&
+      !memcmp(in->angles, in->looked_up,
+              2 * satf_shell_sector_count(&in->geom.shell) * sizeof(float));
   return 0;
+}
+
+void frame_forget_lookups(inst *in) {
+  size_t n = 2 * satf_shell_sector_count(&in->geom.shell);
+  for (size_t q = 0; q < n; q++)
+    in->looked_up[q] = NAN;
+  in->replaced = 1;
 }
 
 /* One job per (instance, layer) pair, so layers spread over threads. */
 typedef struct layer_jobs {
   satf_renderer *r;
   int *inst_of, *layer_of;
-  long *lookups; /* per thread */
+  long *lookups; /* per job */
 } layer_jobs;
 
+/* The physical mode's layer (maps_fiber.h): every light, in the
+ * instance's frame, looked up every frame (the longitudinal angles and
+ * every light change the maps, not only the key light's azimuths). */
+static int fiber_layer(const satf_renderer *r, const inst *in, int k) {
+  satf_fiber_light lights[SATF_SCENE_MAX_LIGHTS];
+  float col[3 * SATF_SCENE_MAX_LIGHTS];
+  frame_light_colors(r, col);
+  for (int l = 0; l < r->nlights; l++) {
+    frame_light_local(in->inv, &r->lights[l], lights[l].local);
+    memcpy(lights[l].rgb, col + 3 * l, sizeof lights[l].rgb);
+  }
+  return satf_maps_fiber_build_layer(r->maps, r->fiber, &in->geom, in->eye,
+                                     lights, r->nlights, &r->map_opt, k,
+                                     in->texels);
+}
+
+/* Layer k of an instance: only its HSVs whose sectors' azimuths changed
+ * since their last look-up are looked up again (with r->incremental; the
+ * rest keep their texels, which a look-up at the same parameters would
+ * give again), and the azimuths looked up are remembered. */
 static int layer_job(void *ctx, size_t i, int thread) {
+  (void)thread;
   layer_jobs *j = ctx;
   satf_renderer *r = j->r;
   inst *in = &r->insts[j->inst_of[i]];
   int k = j->layer_of[i];
+  const satf_shell_params *sh = &in->geom.shell;
   size_t n = satf_maps_layer_texels(&in->geom, r->w) * 4;
-  j->lookups[thread] +=
-      satf_maps_build_layer(r->maps, &in->geom, in->angles, &r->map_opt, k,
-                            in->texels + (size_t)k * n);
+  if (r->fiber) {
+    j->lookups[i] = fiber_layer(r, in, k);
+    return 0;
+  }
+  j->lookups[i] = satf_maps_update_layer(
+      r->maps, &in->geom, in->angles, r->incremental ? in->looked_up : NULL,
+      &r->map_opt, k, in->texels + (size_t)k * n);
+  /* sector (i, k, j) sits at ((i * layers + k) * su + j) (maps.c) */
+  for (int row = 0; row <= sh->st; row++) {
+    size_t q =
+        2 * ((size_t)row * (size_t)sh->layers + (size_t)k) * (size_t)sh->su;
+    memcpy(in->looked_up + q, in->angles + q,
+           2 * (size_t)sh->su * sizeof(float));
+  }
   return 0;
 }
 
 static int shadow_job(void *ctx, size_t i, int thread) {
   (void)thread;
   satf_renderer *r = ctx;
-  satf_maps_shadow_sums(&r->insts[i].geom, r->w, r->insts[i].texels);
+  if (r->insts[i].stale_upload && r->fiber)
+    satf_maps_fiber_shadow_sums(&r->insts[i].geom, r->w, r->insts[i].texels);
+  else if (r->insts[i].stale_upload)
+    satf_maps_shadow_sums(&r->insts[i].geom, r->w, r->insts[i].texels);
   return 0;
 }
 
@@ -83,30 +144,37 @@ static void free_layer_jobs(layer_jobs *lj) {
   free(lj->lookups);
 }
 
-/* Every layer map and s-map of every instance; *lookups counts the
- * database look-ups. */
+/* Every layer map and s-map of every instance that changed; *lookups
+ * counts the database look-ups. */
 static satf_status build_maps(satf_renderer *r, long *lookups,
                               satf_error *err) {
   size_t jobs = 0;
   for (int i = 0; i < r->ninsts; i++)
-    jobs += (size_t)r->protos[r->insts[i].proto].layers;
-  layer_jobs lj = {r, malloc(jobs * sizeof(int)), malloc(jobs * sizeof(int)),
-                   calloc((size_t)r->threads, sizeof(long))};
+    if (!r->insts[i].still)
+      jobs += (size_t)r->protos[r->insts[i].proto].layers;
+  layer_jobs lj = {r, malloc((jobs > 0 ? jobs : 1) * sizeof(int)),
+                   malloc((jobs > 0 ? jobs : 1) * sizeof(int)),
+                   calloc(jobs > 0 ? jobs : 1, sizeof(long))};
   if (!lj.inst_of || !lj.layer_of || !lj.lookups) {
     free_layer_jobs(&lj);
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }
   size_t q = 0;
   for (int i = 0; i < r->ninsts; i++)
-    for (int k = 0; k < r->protos[r->insts[i].proto].layers; k++) {
+    for (int k = 0;
+         !r->insts[i].still && k < r->protos[r->insts[i].proto].layers; k++) {
       lj.inst_of[q] = i;
       lj.layer_of[q++] = k;
     }
   satf_parallel_for(jobs, r->threads, layer_job, &lj, NULL, NULL);
-  satf_parallel_for((size_t)r->ninsts, r->threads, shadow_job, r, NULL, NULL);
   *lookups = 0;
-  for (int k = 0; k < r->threads; k++)
-    *lookups += lj.lookups[k];
+  for (q = 0; q < jobs; q++) {
+    *lookups += lj.lookups[q];
+    if (lj.lookups[q] > 0)
+      r->insts[lj.inst_of[q]].stale_upload = 1;
+  }
+  if (*lookups > 0) /* a thread spawned for nothing costs a still frame */
+    satf_parallel_for((size_t)r->ninsts, r->threads, shadow_job, r, NULL, NULL);
   free_layer_jobs(&lj);
   return SATF_OK;
 }
@@ -120,13 +188,21 @@ satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
   if (st != SATF_OK)
     return st;
   double t2 = satf_now_seconds();
+  r->maps_changed = 0;
   for (int i = 0; i < r->ninsts; i++) {
     inst *in = &r->insts[i];
+    if (!in->stale_upload)
+      continue;
     const satf_shell_params *sh = &in->geom.shell;
     glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, sh->su * r->w, 2 * sh->st,
-                    sh->layers, GL_RGBA, GL_FLOAT, in->texels);
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, in->layer0, sh->su * r->w,
+                    2 * sh->st, sh->layers * r->slices, GL_RGBA, GL_FLOAT,
+                    in->texels);
+    in->stale_upload = 0;
+    r->maps_changed++;
   }
+  if (r->maps_changed) /* the deep opacity map reads their alpha */
+    r->dom_valid = 0;
   glFinish();
   double t3 = satf_now_seconds();
   t->index_ms = 1e3 * (t1 - t0);
@@ -134,6 +210,44 @@ satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
   t->upload_ms = 1e3 * (t3 - t2);
   return satf_gl_check("map upload", err);
 }
+
+/* std430 layout of glsl/shade_fs.glsl's per-instance view: the eye (xyz)
+ * and SATF_SCENE_MAX_LIGHTS lights, 4 floats each. */
+#define VIEW_FLOATS (4 + 4 * SATF_SCENE_MAX_LIGHTS)
+
+satf_status frame_instance_data(satf_renderer *r, satf_error *err) {
+  size_t n = (size_t)(r->ninsts > 0 ? r->ninsts : 1);
+  float *models = calloc(n * 16, sizeof(float));
+  float *views = calloc(n * VIEW_FLOATS, sizeof(float));
+  if (!models || !views) {
+    free(models);
+    free(views);
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  for (int i = 0; i < r->ninsts; i++) {
+    const inst *in = &r->insts[i];
+    /* GLSL's mat4 is column-major; in->m is row-major */
+    for (int a = 0; a < 4; a++)
+      for (int b = 0; b < 4; b++)
+        models[16 * (size_t)i + 4 * (size_t)b + (size_t)a] = in->m[4 * a + b];
+    float *v = views + VIEW_FLOATS * (size_t)i;
+    satf_mat4_point(in->inv, r->camera.position, v);
+    for (int k = 0; k < r->nlights; k++)
+      frame_light_local(in->inv, &r->lights[k], v + 4 + 4 * k);
+  }
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->inst_models);
+  glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
+                  (GLsizeiptr)(n * 16 * sizeof(float)), models);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->inst_shading);
+  glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
+                  (GLsizeiptr)(n * VIEW_FLOATS * sizeof(float)), views);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  free(models);
+  free(views);
+  return satf_gl_check("instance data", err);
+}
+
+size_t frame_instance_view_bytes(void) { return VIEW_FLOATS * sizeof(float); }
 
 /* Centre and radius (a little more) of the scene bounds. */
 static float scene_radius(const satf_renderer *r, float centre[3]) {

@@ -254,6 +254,8 @@ static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
         "frame: scale the prototype's trajectory, a and b instead",
         scene_name(r->scene), in->proto, len[0], len[1], len[2]);
   satf_mat4_normal_matrix(in->m, in->nmat);
+  if (in->looked_up) /* its frames or features may have moved */
+    frame_forget_lookups(in);
   /* a mirror turns the proxy inside out: its outward faces then wind
    * clockwise on screen (passes.c flips the front face for it) */
   in->mirrored = satf_mat4_det3(in->m) < 0.0f;
@@ -282,18 +284,42 @@ static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
   return SATF_OK;
 }
 
-/* The instance's map texture: one layer per shell, su * w texels around
- * and two rows per HSV (maps.h). */
-static void create_map_texture(const satf_renderer *r, const proto *p,
-                               inst *in) {
-  glGenTextures(1, &in->tex);
-  glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
-  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32F, p->geom.shell.su * r->w,
-                 2 * p->geom.shell.st, p->layers);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+/* A prototype's map textures: each instance has one layer per shell, su * w
+ * texels around and two rows per HSV (maps.h; r->slices texture layers
+ * per shell), in texture arrays shared by
+ * up to chunk_insts instances, so one draw call shades them all (passes.c;
+ * the layer count of an array is capped by GL_MAX_ARRAY_TEXTURE_LAYERS). */
+static satf_status create_map_textures(const satf_renderer *r, proto *p,
+                                       satf_error *err) {
+  GLint most = 256;
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &most);
+  int per_inst = p->layers * r->slices; /* texture layers of an instance */
+  p->chunk_insts = most / per_inst > 0 ? most / per_inst : 1;
+  if (p->chunk_insts > p->ninsts)
+    p->chunk_insts = p->ninsts > 0 ? p->ninsts : 1;
+  p->nchunks = (p->ninsts + p->chunk_insts - 1) / p->chunk_insts;
+  p->map_tex =
+      calloc((size_t)(p->nchunks > 0 ? p->nchunks : 1), sizeof(GLuint));
+  if (!p->map_tex)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  glGenTextures(p->nchunks, p->map_tex);
+  for (int c = 0; c < p->nchunks; c++) {
+    int n = p->ninsts - c * p->chunk_insts;
+    n = n < p->chunk_insts ? n : p->chunk_insts;
+    glBindTexture(GL_TEXTURE_2D_ARRAY, p->map_tex[c]);
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32F, p->geom.shell.su * r->w,
+                   2 * p->geom.shell.st, n * per_inst);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+  for (int i = 0; i < p->ninsts; i++) {
+    inst *in = &r->insts[p->first_inst + i];
+    in->tex = p->map_tex[i / p->chunk_insts];
+    in->layer0 = (i % p->chunk_insts) * per_inst;
+  }
+  return satf_gl_check("map textures", err);
 }
 
 static satf_status build_inst(satf_renderer *r, inst *in, int pi,
@@ -311,17 +337,19 @@ static satf_status build_inst(satf_renderer *r, inst *in, int pi,
   satf_status st = place_inst(r, in, err);
   if (st != SATF_OK)
     return st;
-  size_t texels = satf_maps_layer_texels(&p->geom, r->w) * (size_t)p->layers;
+  size_t texels =
+      satf_maps_layer_texels(&p->geom, r->w) * (size_t)(p->layers * r->slices);
   in->angles = malloc(sectors * 2 * sizeof(float));
+  in->looked_up = malloc(sectors * 2 * sizeof(float));
   in->texels = calloc(texels * 4, sizeof(float));
-  if (!in->angles || !in->texels)
+  if (!in->angles || !in->looked_up || !in->texels)
     return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate %zu map texels",
                           texels);
-  create_map_texture(r, p, in);
+  frame_forget_lookups(in);
   r->stats.clusters++;
   r->stats.layers += p->layers;
   r->stats.hsvs += (long)satf_shell_hsv_count(&p->geom.shell);
-  return satf_gl_check("map texture", err);
+  return SATF_OK;
 }
 
 satf_status hierarchy_build(satf_renderer *r, satf_progress_fn progress,
@@ -339,8 +367,12 @@ satf_status hierarchy_build(satf_renderer *r, satf_progress_fn progress,
   for (int m = 0; m < r->nprotos && st == SATF_OK; m++) {
     const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
     st = build_proto(r, m, mc, err);
+    r->protos[m].first_inst = ii;
+    r->protos[m].ninsts = mc->n_instances;
     for (int i = 0; i < mc->n_instances && st == SATF_OK; i++)
       st = build_inst(r, &r->insts[ii++], m, &mc->instances[i], err);
+    if (st == SATF_OK)
+      st = create_map_textures(r, &r->protos[m], err);
     r->stats.prototypes_shared += mc->n_instances - 1;
     if (progress) /* clusters built so far: the set-up's bulk */
       progress(progress_ctx, (size_t)ii, (size_t)r->ninsts);
@@ -435,13 +467,15 @@ void hierarchy_release(satf_renderer *r) {
       free(in->geom.features);
     satf_neighbor_cache_free(in->own_neighbors);
     free(in->angles);
+    free(in->looked_up);
     free(in->texels);
-    if (in->tex)
-      glDeleteTextures(1, &in->tex);
   }
   for (int m = 0; r->protos && m < r->nprotos; m++) {
     proto *p = &r->protos[m];
     release_geometry(p);
+    if (p->map_tex)
+      glDeleteTextures(p->nchunks, p->map_tex);
+    free(p->map_tex);
     satf_shell_geom_destroy(&p->geom);
     satf_strands_destroy(p->strands);
     satf_vdb_grid_destroy(p->vdb);

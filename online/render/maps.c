@@ -307,6 +307,26 @@ static params params_average(const params *a, const params *b) {
   return p;
 }
 
+void maps_columns(const satf_maps *m, float view, const uint16_t **index,
+                  const float **frac) {
+  float turns = view / SATF_TWO_PI_F;
+  turns -= floorf(turns); /* any angle, into [0, 1) */
+  int b = (int)(turns * AZIMUTH_BINS + 0.5f) % AZIMUTH_BINS;
+  *index = m->index + (size_t)b * m->width;
+  *frac = m->frac + (size_t)b * m->width;
+}
+
+size_t maps_sector_index(const satf_shell_params *s, int i, int k, int j) {
+  return sector_index(s, i, k, j);
+}
+
+const satf_db *maps_db(const satf_maps *m) { return m->db; }
+
+const satf_db_neighbors *maps_sector_neighbors(const satf_shell_geom *g,
+                                               size_t q, int k) {
+  return g->neighbors && g->neighbors->k == k ? &g->neighbors->sector[q] : NULL;
+}
+
 /* Lays a record across one HSV row (see maps.h), with the reflectance
  * divided by alpha: eq. 5 accumulates reflectance weighted by opacity, and
  * eq. 14 multiplies by alpha again, so keeping it would count coverage
@@ -315,11 +335,9 @@ static params params_average(const params *a, const params *b) {
 static void lay_row(const satf_maps *m, const float *re, const float *al,
                     float re_scale, float view, float density, float *row) {
   int w = m->width;
-  float turns = view / SATF_TWO_PI_F;
-  turns -= floorf(turns); /* any angle, into [0, 1) */
-  int b = (int)(turns * AZIMUTH_BINS + 0.5f) % AZIMUTH_BINS;
-  const uint16_t *idx = m->index + (size_t)b * w;
-  const float *fr = m->frac + (size_t)b * w;
+  const uint16_t *idx;
+  const float *fr;
+  maps_columns(m, view, &idx, &fr);
   for (int x = 0; x < w; x++) {
     int i = idx[x];
     float f = fr[x];
@@ -362,9 +380,21 @@ static float lookup(const satf_maps *m, const satf_db_neighbors *nb,
   return scale;
 }
 
+/* Whether sector q's azimuths differ from those of its last look-up
+ * (NaN: never looked up). */
+static int sector_moved(const float *angles, const float *prev, size_t q) {
+  return angles[2 * q] != prev[2 * q] || angles[2 * q + 1] != prev[2 * q + 1];
+}
+
 int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
                           const float *angles, const satf_map_options *opt,
                           int k, float *texels) {
+  return satf_maps_update_layer(m, g, angles, NULL, opt, k, texels);
+}
+
+int satf_maps_update_layer(const satf_maps *m, const satf_shell_geom *g,
+                           const float *angles, const float *prev,
+                           const satf_map_options *opt, int k, float *texels) {
   const satf_shell_params *sh = &g->shell;
   int w = m->width, lookups = 0, kn = opt->k_nearest;
   size_t row_floats = (size_t)sh->su * (size_t)w * 4;
@@ -378,6 +408,14 @@ int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
     for (int i = 0; i < sh->st; i++) {
       size_t st0 = sector_index(sh, i, k, j),
              st1 = sector_index(sh, i + 1, k, j);
+      /* an HSV's texels follow from its two sectors' parameters alone
+       * (features and neighbours are fixed): the same azimuths, the same
+       * texels */
+      if (prev && !sector_moved(angles, prev, st0) &&
+          !sector_moved(angles, prev, st1)) {
+        have_top = 0;
+        continue;
+      }
       params top = sector_params(g, angles, st0);
       params bot = sector_params(g, angles, st1);
       float *row0 = texels + (size_t)(2 * i) * row_floats + (size_t)j * w * 4;

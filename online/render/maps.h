@@ -78,6 +78,14 @@ int satf_maps_build_layer(const satf_maps *maps, const satf_shell_geom *g,
                           const float *angles, const satf_map_options *opt,
                           int k, float *texels);
 
+/* The same for the HSVs of layer k whose sectors' azimuths differ from
+ * `prev` (the angles of their last look-up, NaN where none; NULL: every
+ * HSV), leaving the other HSVs' texels as they are: what a full build
+ * would give again. The s-map sums are not touched. */
+int satf_maps_update_layer(const satf_maps *maps, const satf_shell_geom *g,
+                           const float *angles, const float *prev,
+                           const satf_map_options *opt, int k, float *texels);
+
 /* Eq. 12 sums: channel 2 of layer k = sum of the alpha of layers m > k. */
 void satf_maps_shadow_sums(const satf_shell_geom *g, int width, float *texels);
 
@@ -109,6 +117,18 @@ void satf_maps_seams_add(const satf_shell_geom *g, int width,
  * reflectance and alpha (0 where nothing was summed). */
 void satf_maps_seams_ratio(const satf_maps_seams *acc, double *re,
                            double *alpha);
+
+/* For the physical mode's maps (maps_fiber.c), which lay records the same
+ * way: the index of sector (i, k, j); the database; the cached neighbours
+ * of sector q when the cache was made for k nearest (else NULL); the
+ * record sample left of each column and the weight of the next, for a
+ * record seen from view azimuth `view`. */
+size_t maps_sector_index(const satf_shell_params *shell, int i, int k, int j);
+const satf_db *maps_db(const satf_maps *maps);
+const satf_db_neighbors *maps_sector_neighbors(const satf_shell_geom *g,
+                                               size_t q, int k);
+void maps_columns(const satf_maps *maps, float view, const uint16_t **index,
+                  const float **frac);
 
 /* Texels in one layer: su * width * 2 * st. */
 size_t satf_maps_layer_texels(const satf_shell_geom *g, int width);

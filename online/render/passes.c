@@ -6,6 +6,7 @@
 
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 static void set_mat4(GLuint prog, const char *name, const float m[16]) {
   glUniformMatrix4fv(glGetUniformLocation(prog, name), 1, GL_TRUE, m);
@@ -35,66 +36,84 @@ static void set_dom_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
   glUniform1i(glGetUniformLocation(p, "u_dom_opacity"), 3);
 }
 
-/* Sets the per-pass uniforms of a layer program; returns its per-draw
- * uniform locations (model, st, layers, core). */
-static void use_layer_program(GLuint prog, const float viewproj[16],
-                              GLint loc[4]) {
+/* Per-draw uniform locations of a layer program. */
+enum {
+  LOC_ST,
+  LOC_MAP_WIDTH,
+  LOC_LAYERS,
+  LOC_CORE,
+  LOC_FIRST,
+  LOC_FIRST_LAYER,
+  LOC_INST_LAYERS,
+  LOC_COUNT
+};
+
+/* Sets the per-pass uniforms of a layer program and binds the instances'
+ * data (frame_instance_data); returns its per-draw uniform locations. */
+static void use_layer_program(const satf_renderer *r, GLuint prog,
+                              const float viewproj[16], GLint loc[LOC_COUNT]) {
   glUseProgram(prog);
   set_mat4(prog, "u_viewproj", viewproj);
   glUniform1i(glGetUniformLocation(prog, "u_maps"), 0);
-  glUniform1i(glGetUniformLocation(prog, "u_map_width"), 0);
-  loc[0] = glGetUniformLocation(prog, "u_model");
-  loc[1] = glGetUniformLocation(prog, "u_st");
-  loc[2] = glGetUniformLocation(prog, "u_layers");
-  loc[3] = glGetUniformLocation(prog, "u_core");
+  static const char *const names[LOC_COUNT] = {
+      "u_st",    "u_map_width",   "u_layers",     "u_core",
+      "u_first", "u_first_layer", "u_inst_layers"};
+  for (int k = 0; k < LOC_COUNT; k++)
+    loc[k] = glGetUniformLocation(prog, names[k]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->inst_models);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->inst_shading);
   glActiveTexture(GL_TEXTURE0);
 }
 
-/* Per-cluster uniforms: transform, shells, and the eye and lights in the
- * prototype's frame (where the shading pass traces its rays). */
-static void bind_instance(const satf_renderer *r, GLuint prog, const inst *in,
-                          const GLint loc[4]) {
-  glUniformMatrix4fv(loc[0], 1, GL_TRUE, in->m);
-  glUniform1i(loc[1], in->geom.shell.st);
-  glUniform1i(glGetUniformLocation(prog, "u_map_width"),
-              in->geom.shell.su * r->w);
-  glUniform1i(loc[2], in->geom.shell.layers);
-  glUniform1f(loc[3], in->geom.shell.core);
-  GLint eye = glGetUniformLocation(prog, "u_eye_local");
-  if (eye >= 0) {
-    float lights[4 * SATF_SCENE_MAX_LIGHTS];
-    for (int k = 0; k < r->nlights; k++)
-      frame_light_local(in->inv, &r->lights[k], lights + 4 * k);
-    glUniform3fv(eye, 1, in->eye);
-    glUniform4fv(glGetUniformLocation(prog, "u_light_local"), r->nlights,
-                 lights);
-  }
-  glActiveTexture(GL_TEXTURE0);
+/* Draws instances first .. first + count - 1 of one prototype, which share
+ * a map texture and a winding (cluster_vs.glsl takes each one's transform,
+ * eye and lights from the instance buffers and its maps from its layers of
+ * the texture): one draw call for all of them. */
+static void draw_run(const satf_renderer *r, int first, int count,
+                     const GLint loc[LOC_COUNT], int coarse) {
+  const inst *in = &r->insts[first];
+  const proto *p = &r->protos[in->proto];
+  const satf_shell_params *sh = &in->geom.shell;
+  glUniform1i(loc[LOC_ST], sh->st);
+  glUniform1i(loc[LOC_MAP_WIDTH], sh->su * r->w);
+  glUniform1i(loc[LOC_LAYERS], sh->layers);
+  glUniform1f(loc[LOC_CORE], sh->core);
+  glUniform1i(loc[LOC_FIRST], first);
+  glUniform1i(loc[LOC_FIRST_LAYER], in->layer0);
+  glUniform1i(loc[LOC_INST_LAYERS], sh->layers * r->slices);
   glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
   /* the proxy's outward faces wind counter-clockwise, clockwise once a
    * mirror has turned them (culling keeps the outward ones) */
   glFrontFace(in->mirrored ? GL_CW : GL_CCW);
-}
-
-static void draw_proxy(const proto *p, int coarse) {
   glBindVertexArray(p->proxy_vao);
   if (coarse)
-    glDrawElements(GL_TRIANGLES, p->coarse_count, GL_UNSIGNED_INT,
-                   (void *)((size_t)p->proxy_count * sizeof(uint32_t)));
+    glDrawElementsInstanced(GL_TRIANGLES, p->coarse_count, GL_UNSIGNED_INT,
+                            (void *)((size_t)p->proxy_count * sizeof(uint32_t)),
+                            count);
   else
-    glDrawElements(GL_TRIANGLES, p->proxy_count, GL_UNSIGNED_INT, NULL);
+    glDrawElementsInstanced(GL_TRIANGLES, p->proxy_count, GL_UNSIGNED_INT, NULL,
+                            count);
 }
 
-/* The outermost shell of every cluster, in list order: each fragment
- * accounts for all the shells behind it (glsl/shade_fs.glsl). */
+/* The outermost shell of every cluster: each fragment accounts for all the
+ * shells behind it (glsl/shade_fs.glsl). Instances of a prototype in one
+ * texture array and of one winding go in one draw (SATF's macro-clusters:
+ * thousands of clusters, a handful of calls); with r->instanced 0 one draw
+ * per instance, in list order. */
 static void draw_clusters(const satf_renderer *r, GLuint prog,
                           const float viewproj[16], int coarse) {
-  GLint loc[4];
-  use_layer_program(prog, viewproj, loc);
-  for (int i = 0; i < r->ninsts; i++) {
+  GLint loc[LOC_COUNT];
+  use_layer_program(r, prog, viewproj, loc);
+  for (int i = 0; i < r->ninsts;) {
     const inst *in = &r->insts[i];
-    bind_instance(r, prog, in, loc);
-    draw_proxy(&r->protos[in->proto], coarse);
+    int n = 1;
+    while (r->instanced && i + n < r->ninsts &&
+           r->insts[i + n].proto == in->proto &&
+           r->insts[i + n].tex == in->tex &&
+           r->insts[i + n].mirrored == in->mirrored)
+      n++;
+    draw_run(r, i, n, loc, coarse);
+    i += n;
   }
   glBindVertexArray(0);
   glFrontFace(GL_CCW);
@@ -133,6 +152,7 @@ void passes_dom_uniforms(const satf_renderer *r, GLuint prog) {
 
 void passes_dom_with(satf_renderer *r, passes_dom_hair_fn hair, void *ctx) {
   frame_light_view(r);
+  r->dom_valid = 0; /* whoever drew it, the clusters' map is gone */
   satf_gl_target_bind(r->dom_depth);
   glClearColor(0, 0, 0, 0);
   glClearDepth(1.0);
@@ -171,7 +191,23 @@ static void dom_clusters(satf_renderer *r, void *ctx, int opacity) {
 /* Deep opacity map (Yuksel & Keyser 2008) from the key light (frame.c
  * places it): the first hair's depth, then optical depth summed into four
  * slabs behind it. */
-void passes_dom(satf_renderer *r) { passes_dom_with(r, dom_clusters, NULL); }
+void passes_dom(satf_renderer *r) {
+  /* the map reads the light's view, the hair's transforms and shells and
+   * the maps' alpha (and the meshes): while none has changed since it was
+   * drawn (frame.c and satf_renderer_set_scene clear dom_valid) it is what
+   * drawing it again would give */
+  frame_light_view(r);
+  if (r->dom_valid &&
+      !memcmp(r->dom_viewproj, r->light_viewproj, sizeof r->dom_viewproj) &&
+      r->dom_light_slab == r->dom_slab) {
+    r->dom_reuses++;
+    return;
+  }
+  passes_dom_with(r, dom_clusters, NULL);
+  memcpy(r->dom_viewproj, r->light_viewproj, sizeof r->dom_viewproj);
+  r->dom_light_slab = r->dom_slab;
+  r->dom_valid = 1;
+}
 
 /* Material, effects and lights of a shading program. */
 void set_shading_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
@@ -194,6 +230,8 @@ void set_shading_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
               r->effects.secondary_highlight);
   glUniform1i(glGetUniformLocation(p, "u_self_shadow"), r->effects.self_shadow);
   glUniform1i(glGetUniformLocation(p, "u_slots"), r->slots);
+  if (r->fgpu) /* the physical mode's fibre (glsl/fiber.glsl) */
+    fiber_gpu_bind(r->fgpu, m, p);
   set_dom_uniforms(r, p, aov);
 }
 
@@ -323,14 +361,11 @@ satf_status passes_ordered(satf_renderer *r, satf_aov aov,
   glEnable(GL_CULL_FACE);
   GLuint prog = r->prog_shade_ordered;
   set_shading_uniforms(r, prog, aov);
-  GLint loc[4];
-  use_layer_program(prog, viewproj, loc);
+  GLint loc[LOC_COUNT];
+  use_layer_program(r, prog, viewproj, loc);
   glCullFace(GL_BACK);
-  for (int q = 0; q < r->ninsts; q++) {
-    const inst *in = &r->insts[order[q]];
-    bind_instance(r, prog, in, loc);
-    draw_proxy(&r->protos[in->proto], 0);
-  }
+  for (int q = 0; q < r->ninsts; q++) /* the order forbids batching */
+    draw_run(r, order[q], 1, loc, 0);
   glBindVertexArray(0);
   glFrontFace(GL_CCW);
   glDisable(GL_CULL_FACE);

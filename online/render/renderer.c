@@ -70,13 +70,24 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
   satf_renderer_set_samples(r, scene->image.samples);
   take_view(r, scene);
   r->map_opt = satf_map_options_default();
+  r->instanced = 1;
+  r->incremental = 1;
   st = satf_maps_create(db, &r->maps, err);
   if (st != SATF_OK) {
     free(r);
     return st;
   }
   r->w = satf_maps_width(r->maps);
-  st = hierarchy_build(r, progress, progress_ctx, err);
+  r->slices = 1;
+  if (scene->material.model == SATF_MATERIAL_PHYSICAL && scene->effects.satf) {
+    st = satf_maps_fiber_create(db, &scene->material, r->threads, &r->fiber,
+                                err);
+    r->slices = 2;
+    if (st == SATF_OK && !(r->fgpu = calloc(1, sizeof *r->fgpu)))
+      st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  if (st == SATF_OK)
+    st = hierarchy_build(r, progress, progress_ctx, err);
   if (st == SATF_OK)
     st = resources_build(r, err);
   if (st != SATF_OK) {
@@ -95,6 +106,10 @@ void satf_renderer_destroy(satf_renderer *r) {
   hierarchy_release(r);
   resources_release(r);
   satf_maps_destroy(r->maps);
+  satf_maps_fiber_destroy(r->fiber);
+  if (r->fgpu)
+    fiber_gpu_release(r->fgpu);
+  free(r->fgpu);
   free(r);
 }
 
@@ -178,6 +193,8 @@ static satf_status render_sample(satf_renderer *r, satf_aov aov, int refresh,
   memset(&t, 0, sizeof t);
   double t0 = satf_now_seconds();
   satf_status st = refresh ? frame_update_maps(r, &t, err) : SATF_OK;
+  if (st == SATF_OK)
+    st = frame_instance_data(r, err);
   if (st != SATF_OK)
     return st;
   double t1 = satf_now_seconds();
@@ -344,6 +361,7 @@ satf_status satf_renderer_set_scene(satf_renderer *r, const satf_scene *scene,
   if (st != SATF_OK)
     return st;
   int moved = 0;
+  r->dom_valid = 0; /* hair or meshes may have moved */
   st = hierarchy_update(r, scene, &moved, err);
   take_view(r, scene);
   if (rebuilt)

@@ -9,7 +9,9 @@
 #ifndef SATF_RENDERER_INTERNAL_H
 #define SATF_RENDERER_INTERNAL_H
 
+#include "fiber_gpu.h"
 #include "maps.h"
+#include "maps_fiber.h"
 #include "satf/density.h"
 #include "satf/geometry.h"
 #include "satf/gl.h"
@@ -33,6 +35,11 @@ typedef struct proto {
   GLuint proxy_vbo, proxy_ibo;
   GLsizei proxy_count;
   GLsizei coarse_count; /* light passes: coarse rows, after the full ones */
+  /* its instances: r->insts[first_inst .. first_inst + ninsts), whose maps
+   * share texture arrays of chunk_insts instances each (one draw call
+   * covers a run of them: passes.c) */
+  int first_inst, ninsts, chunk_insts, nchunks;
+  GLuint *map_tex;
 } proto;
 
 /* One placed copy of a prototype with its own maps. */
@@ -45,7 +52,14 @@ typedef struct inst {
   satf_neighbor_cache *own_neighbors; /* with own (VDB) features */
   float *angles, *texels;
   float eye[3], light[4];
-  GLuint tex;
+  GLuint tex; /* its prototype's texture array holding its maps */
+  int layer0; /* its first layer there */
+  /* what the next frame's maps must look up again (frame.c): angles of the
+   * last look-ups, and whether the texels are new since the last upload */
+  float *looked_up;
+  int stale_upload;
+  int still;    /* this frame's azimuths are all those of the last look-ups */
+  int replaced; /* moved or reshaped since its azimuths were computed */
   int mirrored; /* negative determinant: front faces wind clockwise */
 } inst;
 
@@ -63,6 +77,11 @@ struct satf_renderer {
   const satf_scene *scene;
   const satf_db *db;
   satf_maps *maps;
+  /* the physical mode's maps (maps_fiber.h), NULL in the paper's mode, and
+   * the map texture's slices per shell layer: 2 with them, else 1 */
+  satf_maps_fiber *fiber;
+  int slices;
+  fiber_gpu *fgpu; /* its fibre's uniforms and tables (with fiber) */
   satf_map_options map_opt;
   satf_scene_camera camera;
   satf_scene_effects effects;
@@ -80,6 +99,17 @@ struct satf_renderer {
   satf_composite composite;
   GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve,
       prog_display;
+  /* per instance, for instanced draws (passes.c): the model matrices and
+   * the eye and lights in each prototype frame (frame_instance_data) */
+  GLuint inst_models, inst_shading;
+  int instanced;    /* 0: one draw per instance (a test's reference) */
+  int incremental;  /* 0: every HSV looked up every frame (the reference) */
+  int maps_changed; /* instances whose maps the last frame changed */
+  /* the deep opacity map's inputs when it was drawn (reused while the
+   * light, the hair and its maps stay: passes.c) */
+  int dom_valid;
+  float dom_viewproj[16], dom_light_slab;
+  long dom_reuses; /* frames that reused it */
   GLuint empty_vao, counts_tex, frags_tex, list_fbo;
   GLuint keys_tex; /* per-pixel depth keys of the nearest `slots` fragments,
                       made when a pixel first overflows (0: none yet) */
@@ -159,9 +189,21 @@ void frame_light_local(const float inv[16], const satf_scene_light *l,
                        float out[4]);
 /* colour x intensity of every light, 3 floats each. */
 void frame_light_colors(const satf_renderer *r, float *col);
-/* Sector angles, layer maps and s-map sums of every instance, uploaded. */
+/* Sector angles, layer maps and s-map sums of every instance, uploaded;
+ * with r->incremental only the HSVs whose azimuths changed are looked up
+ * again, and only changed instances uploaded (r->maps_changed counts
+ * them). */
 satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
                               satf_error *err);
+/* Marks every HSV of `in` for a look-up at the next frame (its geometry,
+ * features or transform changed). */
+void frame_forget_lookups(inst *in);
+/* The per-instance data of the instanced draws (r->inst_models,
+ * r->inst_shading: glsl/cluster_vs.glsl, glsl/shade_fs.glsl) for the
+ * current camera, lights and transforms. */
+satf_status frame_instance_data(satf_renderer *r, satf_error *err);
+/* Bytes of one instance's view in r->inst_shading. */
+size_t frame_instance_view_bytes(void);
 void frame_camera(const satf_renderer *r, float viewproj[16]);
 /* r->light_viewproj and r->dom_slab for the key light's deep opacity map. */
 void frame_light_view(satf_renderer *r);

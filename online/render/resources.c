@@ -45,8 +45,12 @@ satf_status build_program(const char *label, const char *vs, const char *fs,
 static satf_status build_programs(satf_renderer *r, satf_error *err) {
   /* the light loop runs a compile-time count so it unrolls */
   char lights[64], ordered[96];
-  snprintf(lights, sizeof lights, "#define NLIGHTS %d\n", r->nlights);
+  snprintf(lights, sizeof lights, "#define NLIGHTS %d\n#define PHYSICAL %d\n",
+           r->nlights, r->fiber != NULL);
   snprintf(ordered, sizeof ordered, "%s#define EXACT 0\n", lights);
+  char physical[32];
+  snprintf(physical, sizeof physical, "#define PHYSICAL %d\n",
+           r->fiber != NULL);
   const struct {
     const char *label, *vs, *fs, *extra;
     GLuint *out;
@@ -56,7 +60,7 @@ static satf_status build_programs(satf_renderer *r, satf_error *err) {
       {"shade (ordered)", satf_glsl_cluster_vs, satf_glsl_shade_fs, ordered,
        &r->prog_shade_ordered},
       {"depth", satf_glsl_layer_vs, satf_glsl_depth_fs, "", &r->prog_depth},
-      {"dom", satf_glsl_layer_vs, satf_glsl_dom_fs, "", &r->prog_dom},
+      {"dom", satf_glsl_layer_vs, satf_glsl_dom_fs, physical, &r->prog_dom},
       {"resolve", satf_glsl_fullscreen_vs, satf_glsl_resolve_fs, "",
        &r->prog_resolve},
       {"display", satf_glsl_fullscreen_vs, satf_glsl_display_fs, "",
@@ -233,6 +237,23 @@ static satf_status build_meshes(satf_renderer *r, satf_error *err) {
   return satf_gl_check("meshes", err);
 }
 
+/* The instances' transforms and views for instanced draws (filled per
+ * frame by frame_instance_data). */
+static satf_status alloc_instance_data(satf_renderer *r, satf_error *err) {
+  size_t n = (size_t)(r->ninsts > 0 ? r->ninsts : 1);
+  glGenBuffers(1, &r->inst_models);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->inst_models);
+  glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)(n * 16 * sizeof(float)),
+               NULL, GL_DYNAMIC_DRAW);
+  glGenBuffers(1, &r->inst_shading);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->inst_shading);
+  glBufferData(GL_SHADER_STORAGE_BUFFER,
+               (GLsizeiptr)(n * frame_instance_view_bytes()), NULL,
+               GL_DYNAMIC_DRAW);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  return satf_gl_check("instance buffers", err);
+}
+
 satf_status resources_build(satf_renderer *r, satf_error *err) {
   satf_status st = build_meshes(r, err);
   if (st == SATF_OK)
@@ -243,6 +264,8 @@ satf_status resources_build(satf_renderer *r, satf_error *err) {
   }
   if (st == SATF_OK)
     st = alloc_dom(r, err);
+  if (st == SATF_OK)
+    st = alloc_instance_data(r, err);
   return st;
 }
 
@@ -263,6 +286,8 @@ void resources_release(satf_renderer *r) {
     glDeleteVertexArrays(1, &r->empty_vao);
   GLuint texs[3] = {r->counts_tex, r->frags_tex, r->keys_tex};
   glDeleteTextures(3, texs);
+  GLuint bufs[2] = {r->inst_models, r->inst_shading};
+  glDeleteBuffers(2, bufs);
   if (r->list_fbo)
     glDeleteFramebuffers(1, &r->list_fbo);
   samples_release(r);

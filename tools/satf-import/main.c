@@ -66,7 +66,9 @@ static void usage(FILE *out) {
       "                         cluster length (default 0.05; 0 = off)\n"
       "  --db PATH              HRIR database to name in the scene "
       "(default: the\n"
-      "                         project's out/satf-default.hrirdb.exr when "
+      "                         project's out/satf-default.hrirdb.exr, or\n"
+      "                         out/satf-fiber.hrirdb.exr with --shading\n"
+      "                         physical, when "
       "this\n"
       "                         program runs from a build in the project "
       "and it\n"
@@ -330,10 +332,12 @@ static int check_files(const satf_import_options *o) {
   return 0;
 }
 
-/* The database the project's main command builds (scripts/main.sh):
- * PROJECT/out/satf-default.hrirdb.exr, where this program runs as
- * PROJECT/BUILD/bin/satf-import. NULL when it is not there. */
-static const char *default_database(void) {
+/* The database the project's main command builds (scripts/main.sh) for
+ * the shading: PROJECT/out/satf-default.hrirdb.exr (Phong records) or,
+ * for --shading physical, PROJECT/out/satf-fiber.hrirdb.exr, where this
+ * program runs as PROJECT/BUILD/bin/satf-import. NULL when it is not
+ * there. */
+static const char *default_database(int physical) {
   static char path[PATH_MAX];
   char exe[PATH_MAX];
   ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
@@ -347,7 +351,8 @@ static const char *default_database(void) {
     *slash = '\0';
   }
   struct stat sb;
-  int len = snprintf(path, sizeof path, "%s/out/satf-default.hrirdb.exr", exe);
+  int len = snprintf(path, sizeof path, "%s/out/satf-%s.hrirdb.exr", exe,
+                     physical ? "fiber" : "default");
   return len > 0 && len < (int)sizeof path && stat(path, &sb) == 0 &&
                  S_ISREG(sb.st_mode)
              ? path
@@ -403,7 +408,7 @@ static int parse_args(int argc, char **argv, satf_import_options *o) {
     return 2;
   }
   if (!o->database)
-    o->database = default_database();
+    o->database = default_database(o->shading == SATF_MATERIAL_PHYSICAL);
   return check_database(o) ? 2 : check_files(o);
 }
 

@@ -50,11 +50,11 @@ static void usage(FILE *out) {
       "  --threads N          CPU threads for the map stage (0 = all)\n"
       "  --samples N          anti-aliasing: N jittered samples per pixel\n"
       "                       (1-64; default: the scene's image.samples, 1)\n"
-      "%s%s%s"
+      "%s%s%s%s"
       "  -q, --quiet          no summary\n"
       "  -h, --help           this help\n",
-      PROG, satf_frontend_effect_help, satf_frontend_strand_help,
-      satf_frontend_budget_help);
+      PROG, satf_frontend_shading_help, satf_frontend_effect_help,
+      satf_frontend_strand_help, satf_frontend_budget_help);
 }
 
 typedef struct options {
@@ -63,6 +63,7 @@ typedef struct options {
   int resume, aov, quiet, composite, bg_in_exr, strands;
   float strand_width;
   double budget; /* --memory-budget, bytes (0: the default) */
+  int shading;   /* --shading: SATF_MATERIAL_*, -1: the scene's */
   satf_scene_effects off;
 #ifdef SATF_MPI
   const satf_mpi *mpi; /* the job's ranks share --frames */
@@ -121,6 +122,8 @@ static int parse_one(satf_cli_args *it, options *o) {
     return 0;
   else if ((strand = satf_frontend_budget_flag(it, &o->budget)) != 0)
     return strand < 0 ? -1 : 0;
+  else if ((strand = satf_frontend_shading_flag(it, &o->shading)) != 0)
+    return strand < 0 ? -1 : 0;
   else if ((strand = satf_frontend_strand_flag(it, &o->strands,
                                                &o->strand_width)) != 0)
     return strand < 0 ? -1 : 0;
@@ -178,6 +181,7 @@ static int check_args(const options *o) {
 static int parse_args(int argc, char **argv, options *o) {
   memset(o, 0, sizeof *o);
   o->off = (satf_scene_effects){1, 1, 1, 1};
+  o->shading = -1;
   o->composite = SATF_COMPOSITE_EXACT;
   satf_cli_args it;
   satf_cli_begin(&it, PROG, argc, argv);
@@ -339,6 +343,10 @@ static int render_job(options *o) {
                          &o->h, &fe) != SATF_OK)
     return 1;
   fe.strand_width = o->strand_width;
+  if (satf_frontend_set_shading(PROG, &fe, o->shading) != SATF_OK) {
+    satf_frontend_free(&fe);
+    return 1;
+  }
   if (o->samples > 0)
     fe.scene->image.samples = (int)o->samples;
   if (o->strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) {

@@ -37,10 +37,10 @@ static void usage(FILE *out) {
       "  --screenshot PATH    render --frames frames, save the window's\n"
       "                       last frame as PATH (.png or .exr), and exit\n"
       "  --frames N           frames before --screenshot (default 3)\n"
-      "%s%s%s"
+      "%s%s%s%s"
       "  -h, --help           this help\n",
-      PROG, satf_frontend_effect_help, satf_frontend_strand_help,
-      satf_frontend_budget_help);
+      PROG, satf_frontend_shading_help, satf_frontend_effect_help,
+      satf_frontend_strand_help, satf_frontend_budget_help);
 }
 
 typedef struct options {
@@ -49,6 +49,7 @@ typedef struct options {
   int strands;
   float strand_width;
   double budget; /* --memory-budget, bytes (0: the default) */
+  int shading;   /* --shading: SATF_MATERIAL_*, -1: the scene's */
   viewer_opts view;
 } options;
 
@@ -83,6 +84,9 @@ static int parse_one(satf_cli_args *it, options *o) {
   int strand = satf_frontend_strand_flag(it, &o->strands, &o->strand_width);
   if (strand != 0)
     return strand < 0 ? -1 : 0;
+  int shading = satf_frontend_shading_flag(it, &o->shading);
+  if (shading != 0)
+    return shading < 0 ? -1 : 0;
   if (!satf_cli_positional(it)) {
     satf_cli_unknown(it);
     return -1;
@@ -99,6 +103,7 @@ static int parse_one(satf_cli_args *it, options *o) {
 static int parse_args(int argc, char **argv, options *o) {
   memset(o, 0, sizeof *o);
   o->view.off = (satf_scene_effects){1, 1, 1, 1};
+  o->shading = -1;
   o->view.composite = SATF_COMPOSITE_ORDERED;
   o->view.prefix = "satf-view";
   o->view.frames = 3;
@@ -129,6 +134,10 @@ int main(int argc, char **argv) {
                          &fe) != SATF_OK)
     return 1;
   fe.strand_width = o.strand_width;
+  if (satf_frontend_set_shading(PROG, &fe, o.shading) != SATF_OK) {
+    satf_frontend_free(&fe);
+    return 1;
+  }
   if (o.samples > 0)
     fe.scene->image.samples = (int)o.samples;
   if (o.strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) {

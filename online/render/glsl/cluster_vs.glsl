@@ -3,7 +3,9 @@
  * each vertex: the trajectory point C(t), the ellipse's axes n1, n2 (the
  * normal-plane frame turned by the twist theta), the trajectory's unit
  * tangent and |dT/dt|, and A, B, theta, all in the prototype's frame (vertex
- * layout: hierarchy.c). */
+ * layout: hierarchy.c). One draw covers a run of a prototype's instances
+ * (passes.c): instance u_first + gl_InstanceID, whose transform is in the
+ * instance buffer and whose maps start at texture layer v_layer0. */
 layout(location = 0) in vec3 a_pos;
 layout(location = 2) in vec3 a_tangent;
 layout(location = 3) in vec2 a_uv;
@@ -12,8 +14,11 @@ layout(location = 5) in vec3 a_n1;
 layout(location = 6) in vec3 a_n2;
 layout(location = 7) in vec4 a_shape;  /* A, B, theta, |dT/dt| */
 layout(location = 8) in vec3 a_axis;   /* unit tangent of T */
-uniform mat4 u_model;
+layout(std430, binding = 3) readonly buffer satf_models { mat4 g_model[]; };
+uniform int u_first, u_first_layer, u_inst_layers;
 uniform mat4 u_viewproj;
+flat out int v_instance;
+flat out int v_layer0;
 out vec3 v_local;
 out vec3 v_world;
 out vec3 v_hair;
@@ -24,7 +29,9 @@ out vec3 v_n2;
 out vec4 v_shape;
 out vec3 v_axis;
 void main() {
-  vec4 w = u_model * vec4(a_pos, 1.0);
+  v_instance = u_first + gl_InstanceID;
+  v_layer0 = u_first_layer + gl_InstanceID * u_inst_layers;
+  vec4 w = g_model[v_instance] * vec4(a_pos, 1.0);
   v_local = a_pos;
   v_world = w.xyz;
   v_hair = a_tangent;

@@ -197,6 +197,62 @@ vec3 fiber_dual_field(sampler2D tab, int field, float theta) {
 /* Zinke's density factors d_f = d_b */
 const float FIBER_DUAL_DENSITY = 0.7;
 
+/* The BCSDF of the globally (forward) scattered light of Zinke 2008 at a
+ * point n_hairs hairs deep: d_f (f_s^G + d_b f_back^G) (eq. 23-25), which
+ * fiber_dual_shade weighs by the scattered transmittance; with `back` the
+ * direct light's local back-scattering f_back (eq. 10, 15). */
+vec3 fiber_dual_global(Fiber f, sampler2D tab, FiberGeom g, vec3 wi,
+                       float n_hairs, out vec3 back) {
+  float sin_i = clamp(wi.x, -1.0, 1.0);
+  float theta_i = fiber_asin(sin_i), cos_i = cos(theta_i);
+  float theta_o = fiber_asin(g.sin_o);
+  float n = max(n_hairs, 0.0);
+  vec3 beta_f2 = fiber_dual_field(tab, 4, theta_i);
+  float phi_i = fiber_atan2(wi.z, wi.y);
+  float dphi = abs(fiber_wrap(phi_i - g.phi_o));
+  /* local back-scattering (eq. 10, 15; satf_fiber_dual_back) */
+  float theta_d = 0.5 * (theta_o - theta_i);
+  vec3 ab = fiber_dual_field(tab, 6, theta_d);
+  vec3 delta = fiber_dual_field(tab, 7, theta_d);
+  vec3 sb2 = fiber_dual_field(tab, 8, theta_d);
+  vec3 back_g = vec3(0.0);
+  back = vec3(0.0);
+  vec3 sf2 = max(n, 1.0) * beta_f2;
+  for (int c = 0; c < 3; c++) {
+    float tc = theta_o - delta[c];
+    float v = max(sb2[c], 1e-4);
+    if (dphi < 0.5 * FIBER_PI)
+      back[c] = ab[c] * fiber_mp(cos_i, abs(cos(tc)), sin_i, sin(tc), v) /
+                FIBER_PI;
+    /* under the arriving half-circle: the overlap of the two half-circles
+     * over pi^2 */
+    back_g[c] = ab[c] *
+                fiber_mp(cos_i, abs(cos(tc)), sin_i, sin(tc), v + sf2[c]) *
+                (FIBER_PI - dphi) / (FIBER_PI * FIBER_PI);
+  }
+  vec3 single_g = vec3(0.0);
+  for (int p = 0; p < 4; p++) {
+    vec2 o = fiber_tilt(f.alpha, p, g.sin_o, g.cos_o);
+    float ng = p < 3 ? fiber_np_integral(phi_i - 0.5 * FIBER_PI - g.phi_o,
+                                         FIBER_PI, p, f.s, g.gamma_o,
+                                         g.gamma_t) /
+                           FIBER_PI
+                     : 0.5 / FIBER_PI;
+    for (int c = 0; c < 3; c++)
+      single_g[c] += fiber_mp(cos_i, o.y, sin_i, o.x, f.v[p] + sf2[c]) * ng *
+                     g.ap[c][p];
+  }
+  return FIBER_DUAL_DENSITY * (single_g + FIBER_DUAL_DENSITY * back_g);
+}
+
+/* Zinke's forward-scattered transmittance to a point n_hairs deep, less
+ * the direct light's e^-n (eq. 5 averaged over a Poisson count). */
+vec3 fiber_dual_scattered(sampler2D tab, vec3 wi, float n_hairs) {
+  float n = max(n_hairs, 0.0);
+  vec3 af = fiber_dual_field(tab, 0, fiber_asin(clamp(wi.x, -1.0, 1.0)));
+  return max(exp(-n * (1.0 - af)) - exp(-n), vec3(0.0));
+}
+
 /* The shading of Zinke 2008's dual scattering (its sec. 4.2 algorithm, in
  * this normalisation; satf_fiber_dual_shade is the C twin), RGB radiance
  * per unit irradiance of a light towards wi, with n_hairs the expected
@@ -214,49 +270,10 @@ const float FIBER_DUAL_DENSITY = 0.7;
 vec3 fiber_dual_shade(Fiber f, sampler2D tab, vec3 wo, vec3 wi, float h,
                       float n_hairs) {
   FiberGeom g = fiber_geom(f, wo, h);
-  float sin_i = clamp(wi.x, -1.0, 1.0);
-  float theta_i = fiber_asin(sin_i), cos_i = cos(theta_i);
-  float theta_o = fiber_asin(g.sin_o);
-  float n = max(n_hairs, 0.0);
-  vec3 af = fiber_dual_field(tab, 0, theta_i);
-  vec3 beta_f2 = fiber_dual_field(tab, 4, theta_i);
-  float direct = exp(-n);
-  vec3 scattered = max(exp(-n * (1.0 - af)) - direct, vec3(0.0));
-  float phi_i = fiber_atan2(wi.z, wi.y);
-  float dphi = abs(fiber_wrap(phi_i - g.phi_o));
-  /* local back-scattering (eq. 10, 15; satf_fiber_dual_back) */
-  float theta_d = 0.5 * (theta_o - theta_i);
-  vec3 ab = fiber_dual_field(tab, 6, theta_d);
-  vec3 delta = fiber_dual_field(tab, 7, theta_d);
-  vec3 sb2 = fiber_dual_field(tab, 8, theta_d);
-  vec3 back = vec3(0.0), back_g = vec3(0.0);
-  vec3 sf2 = max(n, 1.0) * beta_f2;
-  for (int c = 0; c < 3; c++) {
-    float tc = theta_o - delta[c];
-    float v = max(sb2[c], 1e-4);
-    if (dphi < 0.5 * FIBER_PI)
-      back[c] = ab[c] * fiber_mp(cos_i, abs(cos(tc)), sin_i, sin(tc), v) /
-                FIBER_PI;
-    /* under the arriving half-circle: the overlap of the two half-circles
-     * over pi^2 */
-    back_g[c] = ab[c] *
-                fiber_mp(cos_i, abs(cos(tc)), sin_i, sin(tc), v + sf2[c]) *
-                (FIBER_PI - dphi) / (FIBER_PI * FIBER_PI);
-  }
-  vec3 single = vec3(0.0), single_g = vec3(0.0);
-  for (int p = 0; p < 4; p++) {
-    single += fiber_lobe(f, g, wi, p);
-    vec2 o = fiber_tilt(f.alpha, p, g.sin_o, g.cos_o);
-    float ng = p < 3 ? fiber_np_integral(phi_i - 0.5 * FIBER_PI - g.phi_o,
-                                         FIBER_PI, p, f.s, g.gamma_o,
-                                         g.gamma_t) /
-                           FIBER_PI
-                     : 0.5 / FIBER_PI;
-    for (int c = 0; c < 3; c++)
-      single_g[c] += fiber_mp(cos_i, o.y, sin_i, o.x, f.v[p] + sf2[c]) * ng *
-                     g.ap[c][p];
-  }
-  return direct * (single + FIBER_DUAL_DENSITY * back) +
-         FIBER_DUAL_DENSITY * scattered *
-             (single_g + FIBER_DUAL_DENSITY * back_g);
+  vec3 back;
+  vec3 global = fiber_dual_global(f, tab, g, wi, n_hairs, back);
+  vec3 single = vec3(0.0);
+  for (int p = 0; p < 4; p++) single += fiber_lobe(f, g, wi, p);
+  return exp(-max(n_hairs, 0.0)) * (single + FIBER_DUAL_DENSITY * back) +
+         fiber_dual_scattered(tab, wi, n_hairs) * global;
 }

@@ -26,8 +26,20 @@
 #ifndef NLIGHTS /* the renderer defines the scene's light count */
 #define NLIGHTS 1
 #endif
+/* 1: the physical mode (maps_fiber.h): the maps hold each layer point's
+ * radiance from the fibre database and model, two slices per layer */
+#ifndef PHYSICAL
+#define PHYSICAL 0
+#endif
 #include "map_fetch.glsl"
 #include "lighting.glsl"
+#if PHYSICAL
+#include "fiber.glsl"
+uniform float u_fiber_eta, u_fiber_s, u_fiber_alpha;
+uniform vec4 u_fiber_v;
+uniform vec3 u_fiber_sigma_a;
+uniform sampler2D u_fiber_tables;
+#endif
 in vec3 v_local;
 in vec3 v_world;
 in vec3 v_hair;
@@ -37,10 +49,23 @@ in vec3 v_n1;
 in vec3 v_n2;
 in vec4 v_shape;
 in vec3 v_axis;
-uniform mat4 u_model;           /* prototype -> world (cluster_vs.glsl) */
-uniform vec3 u_eye_local;       /* the eye in the prototype's frame */
+/* Per instance (one draw shades a run of them: cluster_vs.glsl): its
+ * prototype -> world transform, and the eye and lights (xyz, w: 0
+ * direction to the light, 1 position) in the prototype's frame. */
+flat in int v_instance;
+layout(std430, binding = 3) readonly buffer satf_models { mat4 g_model[]; };
+struct satf_view { vec4 eye; vec4 light[SATF_MAX_LIGHTS]; };
+layout(std430, binding = 4) readonly buffer satf_views { satf_view g_view[]; };
+/* read once per fragment (load_instance), not at every use */
+mat4 u_model;
+vec3 u_eye_local;
+vec4 u_light_local[SATF_MAX_LIGHTS];
+void load_instance() {
+  u_model = g_model[v_instance];
+  u_eye_local = g_view[v_instance].eye.xyz;
+  for (int k = 0; k < NLIGHTS; k++) u_light_local[k] = g_view[v_instance].light[k];
+}
 uniform int u_nlights;
-uniform vec4 u_light_local[SATF_MAX_LIGHTS];  /* xyz, w: 0 direction to light, 1 position */
 uniform vec3 u_light_color[SATF_MAX_LIGHTS];
 uniform int u_layers;
 uniform float u_core;
@@ -136,6 +161,30 @@ void lighting(vec3 t, vec3 n, vec3 v, float dom, out vec3 dif,
       s2 += c * u_kspe2 * kk_specular(t2, l, v, u_exp2) * u_fspe2;
   }
 }
+#if PHYSICAL
+/* Multiple scattering between clusters (Zinke 2008, fiber.glsl): the key
+ * light reaching a layer point after forward scattering through the hairs
+ * in front of it. Its BCSDF (f_s^G + d_b f_back^G, with d_f) is a function
+ * of the angles and, through the spread, of the depth; our choice: one
+ * evaluation per fragment at the depth of the deep opacity map plus one
+ * hair (the spread saturates), for the fibre's middle (h = 0), and per
+ * layer point only the transmittance with that point's depth (fiber_dual_
+ * scattered). In the fibre frame: x along the hair, y the view's
+ * direction across it. */
+vec3 key_global(vec3 hair, vec3 v, vec3 l, float n_rep, out vec3 back) {
+  Fiber f = Fiber(u_fiber_eta, u_fiber_v, u_fiber_s, u_fiber_sigma_a,
+                  u_fiber_alpha);
+  vec3 y = v - dot(v, hair) * hair;
+  if (dot(y, y) < 1e-8) y = abs(hair.x) < 0.9 ? cross(hair, vec3(1, 0, 0))
+                                                : cross(hair, vec3(0, 1, 0));
+  y = normalize(y);
+  vec3 z = cross(hair, y);
+  vec3 wo = vec3(dot(v, hair), dot(v, y), dot(v, z));
+  vec3 wi = vec3(dot(l, hair), dot(l, y), dot(l, z));
+  return fiber_dual_global(f, u_fiber_tables, fiber_geom(f, wo, 0.0), wi,
+                           n_rep, back);
+}
+#endif
 vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   if (u_aov == 1) return dif;
   if (u_aov == 2) return s1;
@@ -143,6 +192,7 @@ vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   return dif + s1 + s2;
 }
 void main() {
+  load_instance();
   /* n1, n2 are the ellipse's axes, already turned by the twist (SATF
    * eq. 1, satf/geometry.h): the phase u is the angle from n1 */
   float A = v_shape.x, B = v_shape.y;
@@ -162,7 +212,27 @@ void main() {
   vec3 hair = normalize(v_hair), v = -d;
   float dom = u_cluster_shadow != 0 ? key_light_dom(P, n1, n2, A, B) : 1.0;
   vec3 df, s1f, s2f, db, s1b, s2b;
+#if !PHYSICAL
   lighting(hair, n_front, v, dom, df, s1f, s2f);
+#else
+  /* the key light's irradiance, direction, and the hairs of other clusters
+   * in front of the point (the deep opacity map's transmittance as a
+   * Poisson count) */
+  vec3 dl0 = u_light_local[0].xyz - u_light_local[0].w * v_local;
+  vec3 l0 = normalize(dl0);
+  vec3 e0 = u_light_color[0] *
+            (u_light_local[0].w > 0.0 ? 1.0 / max(dot(dl0, dl0), 1e-6) : 1.0);
+  float n_dom = -log(max(dom, 1e-6));
+  vec3 back = vec3(0.0), global = vec3(0.0);
+  if (u_cluster_shadow != 0) {
+    global = key_global(hair, v, l0, n_dom + 1.0, back);
+    /* the direct light's local back-scattering from the hair behind the
+     * point (Zinke's eq. 20: f_s + d_b f_back; the records hold what the
+     * point's own sector scatters back) */
+    back *= FIBER_DUAL_DENSITY * e0;
+  }
+  vec3 wi0 = vec3(dot(l0, hair), 0.0, 0.0);
+#endif
   vec3 col = vec3(0.0);
   float transmit = 1.0, noise = -1.0;
   int inner = 0;  /* innermost shell the ray meets */
@@ -175,7 +245,9 @@ void main() {
      * seen from inside the cluster, so its normal facing the viewer is
      * -n_back (the outward one would swap the two highlights there and
      * light the strands seen through a sparse cluster white). */
+#if !PHYSICAL
     if (pass == 1) lighting(hair, -n_back, v, dom, db, s1b, s2b);
+#endif
     for (int j = 0; j < u_layers; j++) {
       int k = pass == 0 ? u_layers - 1 - j : inner + j;
       if (k >= u_layers) break;
@@ -190,20 +262,43 @@ void main() {
        * meets no strands there (clamping t would shade a phantom cap with
        * the end row) */
       if (t < 0.0 || t > 1.0) continue;
+#if PHYSICAL
+      /* the key light's radiance and alpha; the other lights' and the
+       * s-map sum (maps_fiber.h) */
+      vec4 mk = fetch_map(u_turns, t, 2 * k);
+      vec4 mf = fetch_map(u_turns, t, 2 * k + 1);
+      vec2 ra = vec2(1.0, mk.a);
+      if (ra.y < 1.0 / 1024.0) continue;
+      /* the direct light crosses the outer layers' hairs as a Poisson
+       * count (exp(-n), Zinke's model; the paper's k_shadow belongs to
+       * the kk mode) */
+      float tau = u_self_shadow != 0 ? exp(-mf.a) : 1.0;
+#else
       vec4 m = fetch_map(u_turns, t, k);
       vec2 ra = reflectance_alpha(m);
       if (ra.y < 1.0 / 1024.0) continue;
       /* SATF eq. 12: exponential s-map from the outer layers' alpha */
       float tau = u_self_shadow != 0 ? exp(-u_kshadow * m.b) : 1.0;
+#endif
       vec3 y;
       if (u_aov == 4) y = vec3(tau * dom);
       else if (u_aov == 5) y = vec3(1.0);
       else {
+#if PHYSICAL
+        /* the key light shadowed by this cluster's outer layers (eq. 12)
+         * and the other clusters (deep opacity map), as in the paper's
+         * mode; the records hold the shadowing inside an HSV */
+        y = (mk.rgb + back) * (tau * dom) + mf.rgb;
+        if (u_cluster_shadow != 0) /* forward-scattered: Zinke 2008 */
+          y += e0 * fiber_dual_scattered(u_fiber_tables, wi0,
+                                         n_dom + mf.a) * global;
+#else
         if (noise < 0.0) /* once per ray: the strands it meets first */
           noise = mix(1.0, 2.0 * strand_noise(u_turns, t), u_noise);
         vec3 L = pass == 0 ? select_aov(df, s1f, s2f * noise)
                            : select_aov(db, s1b, s2b * noise);
         y = L * ra.x * tau;  /* SATF eq. 13 */
+#endif
       }
       col += transmit * ra.y * y;
       transmit *= 1.0 - ra.y;

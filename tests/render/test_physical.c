@@ -1,0 +1,237 @@
+/* test_physical.c - the physical shading mode of the cluster path (issue
+ * 11; online/render/maps_fiber.c, glsl/shade_fs.glsl with PHYSICAL): the
+ * hair's colour follows its melanin, back-lit hair glows with transmitted
+ * light, an absorption-free fibre is neutral, every light adds its own
+ * look-ups, and a Phong database is refused. */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+/* cmocka needs the headers above first */
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_fixture.h"
+#include "satf/common.h"
+#include "satf/render.h"
+#include "test_util.h"
+
+#define W 120
+#define H 120
+
+static fixture_gl *gl;
+static satf_db *fiber_db;
+
+/* A fibre database small enough for a test (seconds): 24 sectors, 12 x 12
+ * azimuths, records of 16 samples. */
+static int setup(void **state) {
+  (void)state;
+  if (!(gl = fixture_gl_create(W, H)))
+    return -1;
+  satf_build_params p = satf_build_params_default_fiber();
+  p.samples = 24;
+  p.n_view = p.n_light = 12;
+  p.grid = 12;
+  p.trace.width = 16;
+  p.fiber.sub_rays = 4;
+  satf_error err;
+  if (satf_build(&p, 0, NULL, NULL, &fiber_db, &err) != SATF_OK) {
+    fprintf(stderr, "fibre database: %s\n", err.message);
+    return -1;
+  }
+  return 0;
+}
+
+static int teardown(void **state) {
+  (void)state;
+  satf_db_destroy(fiber_db);
+  fixture_gl_free(gl);
+  return 0;
+}
+
+/* One straight vertical cluster seen from +z, under `lights` (JSON), with
+ * the material's fibre `material` (JSON keys) and the effects given. */
+static void scene_json(char *buf, size_t size, const char *material,
+                       const char *lights, int shadows) {
+  snprintf(buf, size,
+           "{\"macro_clusters\": [{\"prototype\": {"
+           "  \"trajectory\": [[0, -2, 0], [0, 2, 0]], \"a\": 1.0,"
+           "  \"shell\": {\"layers\": 4, \"st\": 8, \"su\": 10},"
+           "  \"density\": {\"strands\": 500, \"seed\": 2,"
+           "               \"strand_width\": 0.05}}}],"
+           " \"camera\": {\"position\": [0, 0, 9], \"target\": [0, 0, 0],"
+           "              \"fov_y\": 40},"
+           " \"lights\": [%s],"
+           " \"material\": {\"model\": \"physical\"%s%s},"
+           " \"effects\": {\"cluster_shadows\": %s, \"self_shadow\": %s},"
+           " \"image\": {\"width\": %d, \"height\": %d}}",
+           lights, material[0] ? ", " : "", material,
+           shadows ? "true" : "false", shadows ? "true" : "false", W, H);
+}
+
+static satf_image *render(const char *json) {
+  satf_scene *s = fixture_scene(json);
+  assert_non_null(s);
+  satf_renderer *r = NULL;
+  satf_error err;
+  if (satf_renderer_create(s, fiber_db, W, H, 0, &r, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  satf_image *img = NULL;
+  satf_frame_timing t;
+  if (satf_renderer_render_image(r, 0, &img, &t, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(s);
+  return img;
+}
+
+/* Mean R, G, B (premultiplied) over the pixels the hair covers (A > 0.5),
+ * and their count. */
+static int mean_rgb(const satf_image *img, double rgb[3]) {
+  const char *ch[3] = {"R", "G", "B"};
+  const float *A = fixture_plane(img, "A");
+  int n = 0;
+  rgb[0] = rgb[1] = rgb[2] = 0.0;
+  for (int c = 0; c < 3; c++) {
+    const float *P = fixture_plane(img, ch[c]);
+    for (int i = 0; i < W * H; i++)
+      if (A[i] > 0.5f) {
+        rgb[c] += P[i];
+        n += c == 0;
+      }
+  }
+  for (int c = 0; c < 3; c++)
+    rgb[c] /= n > 0 ? n : 1;
+  return n;
+}
+
+static double luminance(const double rgb[3]) {
+  return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
+}
+
+static const char *const FRONT =
+    "{\"direction\": [-0.3, -0.4, -0.87], \"intensity\": 3}";
+
+/* Blond (melanin 0.2) is brighter than dark brown (0.8); brown hair is
+ * red over green over blue, as eumelanin absorbs blue most (Cycles'
+ * cross-sections, satf/fiber.h). */
+static void test_colour_follows_melanin(void **state) {
+  (void)state;
+  char json[2048];
+  double blond[3], dark[3];
+  scene_json(json, sizeof json, "\"melanin\": 0.2", FRONT, 1);
+  satf_image *a = render(json);
+  scene_json(json, sizeof json, "\"melanin\": 0.8", FRONT, 1);
+  satf_image *b = render(json);
+  int na = mean_rgb(a, blond), nb = mean_rgb(b, dark);
+  printf("blond %.4f %.4f %.4f (%d px), dark %.4f %.4f %.4f (%d px)\n",
+         blond[0], blond[1], blond[2], na, dark[0], dark[1], dark[2], nb);
+  assert_true(na > 500 && abs(na - nb) < na / 10);
+  assert_true(luminance(blond) > 1.5 * luminance(dark));
+  assert_true(dark[0] > dark[1] && dark[1] > dark[2]);
+  assert_true(blond[0] > blond[1] && blond[1] > blond[2]);
+  satf_image_destroy(a);
+  satf_image_destroy(b);
+}
+
+/* Light from behind the hair towards the camera reaches the eye through
+ * the fibres (TT): a back-lit blond cluster glows, coloured by the
+ * absorption on the way through. */
+static void test_back_lit_glow(void **state) {
+  (void)state;
+  char json[2048];
+  double front[3], back[3];
+  scene_json(json, sizeof json, "\"melanin\": 0.2", FRONT, 0);
+  satf_image *a = render(json);
+  scene_json(json, sizeof json, "\"melanin\": 0.2",
+             "{\"direction\": [0.1, -0.2, 0.97], \"intensity\": 3}", 0);
+  satf_image *b = render(json);
+  mean_rgb(a, front);
+  mean_rgb(b, back);
+  printf("front-lit %.4f, back-lit %.4f (R/B %.2f)\n", luminance(front),
+         luminance(back), back[0] / fmax(back[2], 1e-9));
+  assert_true(luminance(back) > 0.15 * luminance(front));
+  assert_true(back[0] > 1.3 * back[2]);
+  satf_image_destroy(a);
+  satf_image_destroy(b);
+}
+
+/* A fibre that absorbs nothing under white light is white: every channel
+ * of every covered pixel equal within half-float rounding. */
+static void test_clear_fibre_is_neutral(void **state) {
+  (void)state;
+  char json[2048];
+  scene_json(json, sizeof json, "\"absorption\": [0, 0, 0]", FRONT, 1);
+  satf_image *img = render(json);
+  double rgb[3];
+  assert_true(mean_rgb(img, rgb) > 500);
+  printf("clear fibre %.5f %.5f %.5f\n", rgb[0], rgb[1], rgb[2]);
+  assert_true(luminance(rgb) > 0.01);
+  assert_near(rgb[0], rgb[1], 2e-3 * rgb[1]);
+  assert_near(rgb[2], rgb[1], 2e-3 * rgb[1]);
+  satf_image_destroy(img);
+}
+
+/* Every light gets its own look-ups: without shadows (which only the key
+ * light casts) two lights give the sum of each alone. */
+static void test_lights_add(void **state) {
+  (void)state;
+  const char *l1 = "{\"direction\": [-0.3, -0.4, -0.87], \"intensity\": 2}";
+  const char *l2 = "{\"direction\": [0.7, 0.1, -0.7], \"intensity\": 1.5,"
+                   " \"color\": [0.6, 0.8, 1]}";
+  char json[2048], both[512];
+  snprintf(both, sizeof both, "%s, %s", l1, l2);
+  scene_json(json, sizeof json, "", l1, 0);
+  satf_image *a = render(json);
+  scene_json(json, sizeof json, "", l2, 0);
+  satf_image *b = render(json);
+  scene_json(json, sizeof json, "", both, 0);
+  satf_image *ab = render(json);
+  const char *ch[3] = {"R", "G", "B"};
+  double worst = 0.0, peak = 0.0;
+  for (int c = 0; c < 3; c++) {
+    const float *pa = fixture_plane(a, ch[c]), *pb = fixture_plane(b, ch[c]);
+    const float *pab = fixture_plane(ab, ch[c]);
+    for (int i = 0; i < W * H; i++) {
+      worst = fmax(worst, fabs(pab[i] - pa[i] - pb[i]));
+      peak = fmax(peak, pab[i]);
+    }
+  }
+  printf("two lights: max |AB - A - B| %.5f of a peak %.4f\n", worst, peak);
+  assert_true(peak > 0.01);
+  assert_true(worst < 0.01 * peak);
+  satf_image_destroy(a);
+  satf_image_destroy(b);
+  satf_image_destroy(ab);
+}
+
+/* A physical scene with a Phong database: refused with a message that
+ * says what is needed. */
+static void test_phong_database_refused(void **state) {
+  (void)state;
+  char json[2048];
+  scene_json(json, sizeof json, "", FRONT, 1);
+  satf_scene *s = fixture_scene(json);
+  satf_renderer *r = NULL;
+  satf_error err;
+  assert_int_equal(satf_renderer_create(s, gl->db, W, H, 0, &r, &err),
+                   SATF_ERR_INCOMPATIBLE);
+  assert_null(r);
+  assert_non_null(strstr(err.message, "fibre database"));
+  satf_scene_destroy(s);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_colour_follows_melanin),
+      cmocka_unit_test(test_back_lit_glow),
+      cmocka_unit_test(test_clear_fibre_is_neutral),
+      cmocka_unit_test(test_lights_add),
+      cmocka_unit_test(test_phong_database_refused),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
