@@ -23,6 +23,14 @@ static float field(const float *t, int k, int fld, int c) {
   return t[((size_t)k * SATF_FIBER_DUAL_FIELDS + fld) * 3 + c];
 }
 
+/* The default material with the given melanin, and its tables. */
+static void brown_tables(float melanin, satf_fiber *f, float *t) {
+  satf_fiber_material m = satf_fiber_material_default();
+  m.melanin = melanin;
+  satf_fiber_init(f, &m);
+  satf_fiber_dual_tables(f, NB, t);
+}
+
 static void np_integral_matches_quadrature(void **state) {
   (void)state;
   const float scales[] = {0.05f, 0.25f, 1.0f};
@@ -73,12 +81,9 @@ static void lossless_fractions_sum_to_one(void **state) {
  * half-circle and over h. */
 static void absorbing_fractions(void **state) {
   (void)state;
-  satf_fiber_material m = satf_fiber_material_default();
-  m.melanin = 0.3f;
   satf_fiber f;
-  satf_fiber_init(&f, &m);
   float t[NB * SATF_FIBER_DUAL_FIELDS * 3];
-  satf_fiber_dual_tables(&f, NB, t);
+  brown_tables(0.3f, &f, t);
   for (int k = 0; k < NB; k++) {
     for (int c = 0; c < 3; c++) {
       float af = field(t, k, SATF_FIBER_DUAL_AF, c);
@@ -120,12 +125,9 @@ static void absorbing_fractions(void **state) {
 /* Eq. 11 and 13's closed forms against their sums, term by term. */
 static void closed_forms_match_sums(void **state) {
   (void)state;
-  satf_fiber_material m = satf_fiber_material_default();
-  m.melanin = 0.15f;
   satf_fiber f;
-  satf_fiber_init(&f, &m);
   float t[NB * SATF_FIBER_DUAL_FIELDS * 3];
-  satf_fiber_dual_tables(&f, NB, t);
+  brown_tables(0.15f, &f, t);
   for (int k = 0; k < NB; k += 5)
     for (int c = 0; c < 3; c++) {
       double af = field(t, k, SATF_FIBER_DUAL_AF, c);
@@ -148,12 +150,9 @@ static void closed_forms_match_sums(void **state) {
 /* f_back integrates over the sphere of incident directions to A_b. */
 static void back_integrates_to_ab(void **state) {
   (void)state;
-  satf_fiber_material m = satf_fiber_material_default();
-  m.melanin = 0.2f;
   satf_fiber f;
-  satf_fiber_init(&f, &m);
   float t[NB * SATF_FIBER_DUAL_FIELDS * 3];
-  satf_fiber_dual_tables(&f, NB, t);
+  brown_tables(0.2f, &f, t);
   const double thetas[] = {0.0, 0.5, -0.9};
   for (int i = 0; i < 3; i++) {
     double to = thetas[i];
