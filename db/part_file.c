@@ -9,30 +9,29 @@
 
 #define SHARD_FORMAT "satf-hrirdb-shard"
 
-typedef struct place_attr {
-  const char *name;
-  int *field;
-} place_attr;
+/* The part's place in the build: the attributes, and the fields of the
+ * part they hold, in one order for writer and reader. */
+static const char *const PLACE_NAMES[4] = {"satf:shardIndex", "satf:shardCount",
+                                           "satf:first", "satf:count"};
 
-/* The part's place in the build, one table for writer and reader. */
-#define PLACE_ATTRS(q)                                                         \
-  {                                                                            \
-    {"satf:shardIndex", &(q)->index}, {"satf:shardCount", &(q)->parts},        \
-        {"satf:first", &(q)->first}, {                                         \
-      "satf:count", &(q)->count                                                \
-    }                                                                          \
-  }
+static void place_fields(satf_db_part *q, int *field[4]) {
+  field[0] = &q->index;
+  field[1] = &q->parts;
+  field[2] = &q->first;
+  field[3] = &q->count;
+}
 
 static satf_status write_attrs(void *ctx, exr_context_t exr, int part,
                                satf_error *err) {
   satf_db_part q = *(const satf_db_part *)ctx;
-  place_attr place[] = PLACE_ATTRS(&q);
+  int *place[4];
+  place_fields(&q, place);
   exr_result_t rc = satf_db_format_attrs_write(exr, part, SHARD_FORMAT,
                                                satf_db_part_hash(&q));
   if (rc == EXR_ERR_SUCCESS)
     rc = satf_db_params_attrs_write(exr, part, &q.p);
   for (int i = 0; i < 4 && rc == EXR_ERR_SUCCESS; i++)
-    rc = exr_attr_set_int(exr, part, place[i].name, *place[i].field);
+    rc = exr_attr_set_int(exr, part, PLACE_NAMES[i], *place[i]);
   if (rc == EXR_ERR_SUCCESS)
     rc = exr_attr_set_float_vector(exr, part, "satf:features",
                                    q.count * SATF_FEATURES, q.features);
@@ -115,7 +114,8 @@ static satf_status read_attrs(void *vctx, exr_const_context_t exr, int part,
   read_ctx *rc = vctx;
   const char *path = rc->path;
   satf_db_part *q = &rc->q;
-  place_attr place[] = PLACE_ATTRS(q);
+  int *place[4];
+  place_fields(q, place);
   satf_status st = satf_db_format_attrs_read(path, exr, part, SHARD_FORMAT,
                                              "an satf database shard", err);
   if (st == SATF_OK)
@@ -123,10 +123,10 @@ static satf_status read_attrs(void *vctx, exr_const_context_t exr, int part,
   if (st == SATF_OK)
     st = satf_db_hex_attr_read(path, exr, part, "satf:hash", &rc->hash, err);
   for (int i = 0; i < 4 && st == SATF_OK; i++)
-    if (exr_attr_get_int(exr, part, place[i].name, place[i].field) !=
+    if (exr_attr_get_int(exr, part, PLACE_NAMES[i], place[i]) !=
         EXR_ERR_SUCCESS)
       st = satf_error_set(err, SATF_ERR_CORRUPT, "%s: missing %s", path,
-                          place[i].name);
+                          PLACE_NAMES[i]);
   if (st == SATF_OK)
     st = check_place(path, q, err);
   if (st != SATF_OK)
