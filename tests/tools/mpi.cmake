@@ -9,7 +9,7 @@ string(REPLACE ";" " " mpi_build "${mpi_build}")
 
 # The database of one process, of 3 ranks (1 and 2 threads each), of 3
 # ranks with more ranks than some have samples, and of 3 and 5 merged
-# shards (given in any order): the same bytes.
+# shards (given in any order): the same bytes; fibre records too.
 add_test(NAME mpi_build_identity COMMAND sh -c
   "set -e; d=${mpi_dir}/identity; rm -rf $d; mkdir -p $d; \
    ${mpi_build} --threads 2 -o $d/one.exr; \
@@ -27,7 +27,14 @@ add_test(NAME mpi_build_identity COMMAND sh -c
    $<TARGET_FILE:satf-db> merge $d/part5_*.exr -o $d/merged5.exr; \
    cmp $d/one.exr $d/merged5.exr; \
    if cmp -s $d/part3_0.exr $d/part5_0.exr; then exit 1; fi; \
-   $<TARGET_FILE:satf-db> verify $d/mpi1.exr")
+   $<TARGET_FILE:satf-db> verify $d/mpi1.exr; \
+   f='--kind fiber --samples 6 --angles 4x4 --width 8 --sub-rays 2'; \
+   ${mpi_build} $f -o $d/fib1.exr; \
+   ${mpirun} ${mpi_build} $f --threads 1 -o $d/fib3.exr; \
+   ${mpi_build} $f --shard 0/2 -o $d/fibp0.exr; \
+   ${mpi_build} $f --shard 1/2 -o $d/fibp1.exr; \
+   $<TARGET_FILE:satf-db> merge $d/fibp1.exr $d/fibp0.exr -o $d/fibm.exr; \
+   cmp $d/fib1.exr $d/fib3.exr; cmp $d/fib1.exr $d/fibm.exr")
 set_tests_properties(mpi_build_identity PROPERTIES LABELS "cli;mpi"
                      ENVIRONMENT "${mpi_env}")
 
