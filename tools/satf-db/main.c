@@ -70,6 +70,20 @@ static int shard_describe(const char *path) {
   return 0;
 }
 
+/* The fibre tracer's parameters (format version 2, satf/db.h). */
+static void print_fiber(const satf_build_params *p) {
+  const satf_fiber_trace_params *f = &p->fiber;
+  printf("  tracing       2-D fibre path tracing: eta %g, radial roughness "
+         "%g, %d sub-rays per sample, at most %d bounces\n",
+         (double)f->eta, (double)f->beta_n, f->sub_rays, f->max_bounces);
+  printf("  channels      %d: Y (R+TT0+TRT0+MS0), A, R_lobe, TT, TRT, MS at "
+         "sigma_a",
+         satf_build_params_channels(p));
+  for (int k = 0; k < f->levels; k++)
+    printf("%s%g", k ? ", " : " ", (double)f->sigma_a[k]);
+  printf(" per unit fibre radius\n");
+}
+
 static int cmd_info(const char *path) {
   int shard = shard_describe(path);
   if (shard >= 0)
@@ -87,19 +101,23 @@ static int cmd_info(const char *path) {
          satf_format_bytes((double)satf_file_size(path), size, sizeof size));
   printf("  samples       %d sectors\n", p->samples);
   printf("  azimuths      %d view x %d light\n", p->n_view, p->n_light);
-  printf("  records       %lld HRIRs of %d samples (reflectance + alpha)\n",
-         (long long)p->samples * p->n_view * p->n_light, p->trace.width);
+  printf("  records       %lld HRIRs of %d samples (%s)\n",
+         (long long)p->samples * p->n_view * p->n_light, p->trace.width,
+         p->kind == SATF_RECORD_FIBER ? "fibre lobes" : "reflectance + alpha");
   printf("  seed          %" PRIu64 "\n", p->seed);
   printf("  grid          %d x %d density nodes\n", p->grid, p->grid);
   printf("  sector        r %.3g..%.3g, phase span %.4g rad\n",
          (double)p->shape.r_inner, (double)p->shape.r_outer,
          (double)p->shape.phase_span);
-  printf("  tracing       extinction %g, Phong ka %g kd %g ks %g n %g, "
-         "epsilon %g, self-shadow %s, smoothing %gx strand width\n",
-         (double)p->trace.extinction, (double)p->trace.ambient,
-         (double)p->trace.diffuse, (double)p->trace.specular,
-         (double)p->trace.shininess, (double)p->trace.epsilon,
-         p->trace.self_shadow ? "on" : "off", (double)p->trace.smooth_ratio);
+  if (p->kind == SATF_RECORD_FIBER)
+    print_fiber(p);
+  else
+    printf("  tracing       extinction %g, Phong ka %g kd %g ks %g n %g, "
+           "epsilon %g, self-shadow %s, smoothing %gx strand width\n",
+           (double)p->trace.extinction, (double)p->trace.ambient,
+           (double)p->trace.diffuse, (double)p->trace.specular,
+           (double)p->trace.shininess, (double)p->trace.epsilon,
+           p->trace.self_shadow ? "on" : "off", (double)p->trace.smooth_ratio);
   printf("  rho_st        %.4f .. %.4f (mean density)\n", (double)lo[0],
          (double)hi[0]);
   printf("  rho_s         %.4f .. %.4f (density centroid along s)\n",
