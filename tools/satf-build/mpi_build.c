@@ -5,19 +5,31 @@
 
 #include <stdlib.h>
 
-enum { TAG_DATA = 7101 };
+enum { TAG_DATA = 7101, TAG_GO = 7102 };
 
 /* Large parts travel in chunks: MPI counts are ints, and a chunk at a time
  * is what the network and rank 0 hold in flight, not the whole part. */
 #define CHUNK_FLOATS ((size_t)1 << 24) /* 64 MB */
 
-static void send_floats(const float *data, size_t n, int to) {
+/* A rank waits, napping (satf_mpi_wait), for rank 0 to ask for its part,
+ * then sends at full speed: a transfer without single-copy support moves
+ * fragment by fragment as both sides progress, which a napping sender
+ * would slow down. */
+static void send_floats(const float *data, size_t n) {
   for (size_t at = 0; at < n; at += CHUNK_FLOATS) {
     size_t k = n - at < CHUNK_FLOATS ? n - at : CHUNK_FLOATS;
-    MPI_Request req; /* rank 0 may still be tracing: wait idle */
-    MPI_Isend(data + at, (int)k, MPI_FLOAT, to, TAG_DATA, MPI_COMM_WORLD, &req);
-    satf_mpi_wait(&req, MPI_STATUS_IGNORE);
+    MPI_Send(data + at, (int)k, MPI_FLOAT, 0, TAG_DATA, MPI_COMM_WORLD);
   }
+}
+
+static void send_part(const float *features, const float *rec, int count,
+                      size_t per) {
+  int go = 0;
+  MPI_Request req;
+  MPI_Irecv(&go, 1, MPI_INT, 0, TAG_GO, MPI_COMM_WORLD, &req);
+  satf_mpi_wait(&req, MPI_STATUS_IGNORE);
+  send_floats(features, (size_t)count * SATF_FEATURES);
+  send_floats(rec, (size_t)count * per);
 }
 
 /* Receives straight into place: rank 0 holds no copy of a part. */
@@ -42,6 +54,8 @@ static void gather(const satf_mpi *m, const satf_build_params *p, satf_db *db) {
     satf_db_part_range(p->samples, r, m->size, &first, &count);
     if (count == 0)
       continue;
+    int go = 1;
+    MPI_Send(&go, 1, MPI_INT, r, TAG_GO, MPI_COMM_WORLD);
     recv_floats(satf_db_sample_features(db, first),
                 (size_t)count * SATF_FEATURES, r);
     recv_floats(satf_db_samples_mut(db, first), (size_t)count * per, r);
@@ -87,8 +101,7 @@ satf_status satf_mpi_build(const satf_mpi *m, const satf_build_params *p,
     if (m->rank == 0) {
       gather(m, p, db);
     } else if (count > 0) {
-      send_floats(features, (size_t)count * SATF_FEATURES, 0);
-      send_floats(rec, (size_t)count * per, 0);
+      send_part(features, rec, count, per);
     }
     times->gather = satf_now_seconds() - t1;
   }
