@@ -296,23 +296,46 @@ void satf_db_neighbors_find(const satf_db *db,
   out->count = found;
 }
 
+/* The four stored azimuth pairs around (theta_v, theta_l), periodically,
+ * and their bilinear weights. */
+typedef struct corners {
+  int v[2], l[2];
+  float bw[4];
+} corners;
+
+static void corners_of(const satf_db *db, float theta_v, float theta_l,
+                       corners *c) {
+  float fv, fl;
+  angle_cell(theta_v, db->p.n_view, &c->v[0], &c->v[1], &fv);
+  angle_cell(theta_l, db->p.n_light, &c->l[0], &c->l[1], &fl);
+  c->bw[0] = (1 - fv) * (1 - fl);
+  c->bw[1] = fv * (1 - fl);
+  c->bw[2] = (1 - fv) * fl;
+  c->bw[3] = fv * fl;
+}
+
+/* The corners' records of neighbour n (all channels) and their weights. */
+static void corner_records(const satf_db *db, const satf_db_neighbors *nb,
+                           int n, const corners *c, const float *r[4],
+                           float weight[4]) {
+  for (int k = 0; k < 4; k++) {
+    r[k] = satf_db_record_channels(db, nb->index[n], c->v[k & 1], c->l[k >> 1]);
+    weight[k] = nb->weight[n] * c->bw[k];
+  }
+}
+
 void satf_db_lookup_neighbors(const satf_db *db, const satf_db_neighbors *nb,
                               float theta_v, float theta_l, float *re,
                               float *alpha) {
   int w = db->p.trace.width;
-  int v0, v1, l0, l1;
-  float fv, fl;
-  angle_cell(theta_v, db->p.n_view, &v0, &v1, &fv);
-  angle_cell(theta_l, db->p.n_light, &l0, &l1, &fl);
-  float bw[4] = {(1 - fv) * (1 - fl), fv * (1 - fl), (1 - fv) * fl, fv * fl};
+  corners cs;
+  corners_of(db, theta_v, theta_l, &cs);
   for (int n = 0; n < nb->count; n++) {
     const float *r[4], *a[4];
-    satf_db_record(db, nb->index[n], v0, l0, &r[0], &a[0]);
-    satf_db_record(db, nb->index[n], v1, l0, &r[1], &a[1]);
-    satf_db_record(db, nb->index[n], v0, l1, &r[2], &a[2]);
-    satf_db_record(db, nb->index[n], v1, l1, &r[3], &a[3]);
-    float s = nb->weight[n];
-    float c[4] = {s * bw[0], s * bw[1], s * bw[2], s * bw[3]};
+    float c[4];
+    corner_records(db, nb, n, &cs, r, c);
+    for (int k = 0; k < 4; k++)
+      a[k] = r[k] + SATF_DB_CH_ALPHA * w;
     blend4(re, r, c, w, n > 0);
     blend4(alpha, a, c, w, n > 0);
   }
@@ -323,18 +346,12 @@ void satf_db_lookup_neighbors_channels(const satf_db *db,
                                        float theta_v, float theta_l,
                                        float *out) {
   int w = db->p.trace.width, nc = satf_db_channels(db);
-  int v0, v1, l0, l1;
-  float fv, fl;
-  angle_cell(theta_v, db->p.n_view, &v0, &v1, &fv);
-  angle_cell(theta_l, db->p.n_light, &l0, &l1, &fl);
-  float bw[4] = {(1 - fv) * (1 - fl), fv * (1 - fl), (1 - fv) * fl, fv * fl};
+  corners cs;
+  corners_of(db, theta_v, theta_l, &cs);
   for (int n = 0; n < nb->count; n++) {
-    const float *r[4] = {satf_db_record_channels(db, nb->index[n], v0, l0),
-                         satf_db_record_channels(db, nb->index[n], v1, l0),
-                         satf_db_record_channels(db, nb->index[n], v0, l1),
-                         satf_db_record_channels(db, nb->index[n], v1, l1)};
-    float s = nb->weight[n];
-    float c[4] = {s * bw[0], s * bw[1], s * bw[2], s * bw[3]};
+    const float *r[4];
+    float c[4];
+    corner_records(db, nb, n, &cs, r, c);
     for (int ch = 0; ch < nc; ch++) {
       const float *src[4] = {r[0] + ch * w, r[1] + ch * w, r[2] + ch * w,
                              r[3] + ch * w};
