@@ -11,7 +11,7 @@
  * what they approximate: the two images differ only by the clusters.
  * With the scene's physical material the strands are shaded with the
  * fibre model (satf/fiber.h, glsl/fiber.glsl) and Zinke's dual
- * scattering, its tables computed here from the material. */
+ * scattering (fiber_gpu.h: its uniforms and tables). */
 #include "renderer_internal.h"
 
 #include <math.h>
@@ -20,8 +20,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fiber_gpu.h"
 #include "satf/common.h"
-#include "satf/fiber.h"
 #include "satf/math.h"
 #include "shaders.h"
 
@@ -45,16 +45,9 @@ struct strands_gpu {
   uint32_t *indices; /* 6 per segment, in the sorted order */
   GLuint vao, vbo, ibo;
   GLuint prog_shade, prog_dom;
-  float lo[3], hi[3];  /* bounds of the ribbons */
-  GLuint fiber_tables; /* dual-scattering tables of `fiber`, RGB32F */
-  int has_tables;
-  satf_fiber fiber; /* what the tables were computed for */
+  float lo[3], hi[3]; /* bounds of the ribbons */
+  fiber_gpu fiber;    /* the physical material's uniforms and tables */
 };
-
-/* Rows (|theta| bins) of the dual-scattering tables. */
-#define FIBER_TABLE_ROWS 32
-/* The texture unit of the tables (0-3 are the passes' maps and DOM). */
-#define FIBER_TABLE_UNIT 6
 
 static void free_data(strands_gpu *s) {
   free(s->points);
@@ -78,8 +71,7 @@ void strands_release(satf_renderer *r) {
     glDeleteProgram(s->prog_shade);
   if (s->prog_dom)
     glDeleteProgram(s->prog_dom);
-  if (s->fiber_tables)
-    glDeleteTextures(1, &s->fiber_tables);
+  fiber_gpu_release(&s->fiber);
   free_data(s);
   free(s);
   r->strands = NULL;
@@ -384,25 +376,10 @@ static void strands_dom(satf_renderer *r) {
   passes_dom_with(r, dom_strands, r->strands);
 }
 
-/* The scene material's fibre (satf/fiber.h): its absorption from melanin
- * or given directly, the tilt in the scene's degrees. */
-static void material_fiber(const satf_scene_material *m, satf_fiber *f) {
-  satf_fiber_material fm;
-  fm.melanin = m->melanin;
-  fm.redness = m->redness;
-  fm.roughness = m->roughness;
-  fm.radial_roughness = m->radial_roughness;
-  fm.cuticle_tilt = m->cuticle_tilt * SATF_PI_F / 180.0f;
-  fm.ior = m->ior;
-  if (m->has_absorption)
-    satf_fiber_init_sigma_a(f, m->absorption, fm.roughness, fm.radial_roughness,
-                            fm.cuticle_tilt, fm.ior);
-  else
-    satf_fiber_init(f, &fm);
-}
-
 /* The physical material's uniforms of `p` and its dual-scattering tables
- * on FIBER_TABLE_UNIT, recomputed when the material changes. */
+ * (fiber_gpu.h). The tables' unit is made active first: the passes leave
+ * unit 3 (the deep opacity map) active, and a first bind of the tables
+ * there replaced the map for that frame. */
 static void set_fiber_uniforms(const satf_renderer *r, strands_gpu *s,
                                GLuint p) {
   const satf_scene_material *m = &r->scene->material;
@@ -410,33 +387,8 @@ static void set_fiber_uniforms(const satf_renderer *r, strands_gpu *s,
   glUniform1i(glGetUniformLocation(p, "u_model"), physical);
   if (!physical)
     return;
-  satf_fiber f;
-  memset(&f, 0, sizeof f);
-  material_fiber(m, &f);
-  /* the tables' own unit before any bind: the passes leave unit 3 (the
-   * deep opacity map) active */
   glActiveTexture(GL_TEXTURE0 + FIBER_TABLE_UNIT);
-  if (!s->has_tables || memcmp(&f, &s->fiber, sizeof f) != 0) {
-    float tab[FIBER_TABLE_ROWS * SATF_FIBER_DUAL_FIELDS * 3];
-    satf_fiber_dual_tables(&f, FIBER_TABLE_ROWS, tab);
-    if (!s->fiber_tables)
-      glGenTextures(1, &s->fiber_tables);
-    glBindTexture(GL_TEXTURE_2D, s->fiber_tables);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, SATF_FIBER_DUAL_FIELDS,
-                 FIBER_TABLE_ROWS, 0, GL_RGB, GL_FLOAT, tab);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    s->fiber = f;
-    s->has_tables = 1;
-  }
-  glBindTexture(GL_TEXTURE_2D, s->fiber_tables);
-  glActiveTexture(GL_TEXTURE0);
-  glUniform1i(glGetUniformLocation(p, "u_fiber_tables"), FIBER_TABLE_UNIT);
-  glUniform1f(glGetUniformLocation(p, "u_fiber_eta"), f.eta);
-  glUniform1f(glGetUniformLocation(p, "u_fiber_s"), f.s);
-  glUniform1f(glGetUniformLocation(p, "u_fiber_alpha"), f.alpha);
-  glUniform4fv(glGetUniformLocation(p, "u_fiber_v"), 1, f.v);
-  glUniform3fv(glGetUniformLocation(p, "u_fiber_sigma_a"), 1, f.sigma_a);
+  fiber_gpu_bind(&s->fiber, m, p);
 }
 
 /* The meshes as the cluster path draws them; then the fragments strands
