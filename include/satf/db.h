@@ -150,6 +150,11 @@ typedef struct satf_fiber_trace_params {
 satf_fiber_trace_params satf_fiber_trace_params_default(void);
 satf_status satf_fiber_trace_params_check(const satf_fiber_trace_params *p,
                                           satf_error *err);
+/* The fewest light azimuths whose grid resolves N_p of radial roughness
+ * beta_n: next-event estimation sums the lobes over the grid, and a grid
+ * coarser than the lobes loses or gains energy (over 1e-3). 32 for the
+ * default 0.3. */
+int satf_fiber_trace_min_lights(float beta_n);
 const char *satf_record_kind_name(satf_record_kind kind);
 /* "phong" or "fiber"; returns -1 for anything else. */
 int satf_record_kind_parse(const char *name, satf_record_kind *kind);

@@ -255,6 +255,14 @@ static int parse_args(int argc, char **argv, options *o) {
     o->p.trace.width = satf_build_params_default_fiber().trace.width;
   if (o->p.kind == SATF_RECORD_FIBER && !o->samples_set)
     o->p.samples = satf_build_params_default_fiber().samples;
+  if (o->p.kind == SATF_RECORD_FIBER &&
+      o->p.n_light < satf_fiber_trace_min_lights(o->p.fiber.beta_n))
+    fprintf(stderr,
+            "%s: warning: %d light azimuths are too few for radial roughness "
+            "%g (its lobes fall between them: energy is not conserved); use "
+            "--angles with at least %d lights\n",
+            PROG, o->p.n_light, (double)o->p.fiber.beta_n,
+            satf_fiber_trace_min_lights(o->p.fiber.beta_n));
   if (!o->out) {
     fprintf(stderr, "%s: no output file: give -o DATABASE.exr (see --help)\n",
             PROG);
