@@ -26,12 +26,16 @@ for scene in samples/*.json; do
   fi
 done
 echo
-echo "Table 1 (paper 001) on this machine, 640x480, $frames frames each:"
+echo "Table 1 (paper 001) on this machine, 640x480, $frames frames each"
+echo "(under each row: fragments of the exact composite, look-ups of a frame"
+echo "after a move and of a still one):"
 first=1
 for mode in exact ordered; do
   for scene in samples/*.json; do
+    # satf-render --bench prints the header, the row, then the fragments line
     row=$("$render" "$scene" --db "$db" --composite "$mode" --bench "$frames")
-    if [ $first = 1 ]; then echo "$row" | head -1 | sed 's/^/composite  /'; first=0; fi
-    echo "$row" | tail -1 | sed "s/^/$(printf '%-10s' $mode) /"
+    if [ $first = 1 ]; then echo "$row" | sed -n 1p | sed 's/^/composite  /'; first=0; fi
+    echo "$row" | sed -n 2p | sed "s/^/$(printf '%-10s' $mode) /"
+    echo "$row" | sed -n 3p | sed 's/^/             /'
   done
 done

@@ -143,6 +143,19 @@ static float *all_texels(const satf_renderer *r, size_t *count) {
   return out;
 }
 
+/* The two renderers' maps are the same, bit for bit. */
+static void assert_same_maps(const satf_renderer *r,
+                             const satf_renderer *full) {
+  size_t na, nb;
+  float *a = all_texels(r, &na), *b = all_texels(full, &nb);
+  assert_non_null(a);
+  assert_non_null(b);
+  assert_int_equal(na, nb);
+  assert_memory_equal(a, b, na * sizeof(float));
+  free(a);
+  free(b);
+}
+
 static long render_lookups(satf_renderer *r) {
   satf_frame_timing t;
   satf_error err;
@@ -175,14 +188,7 @@ static void test_incremental_lookups(void **state) {
     cams[c]->position[0] += 0.7f;
   long moved = render_lookups(r);
   assert_int_equal(moved, render_lookups(full));
-  size_t na, nb;
-  float *a = all_texels(r, &na), *b = all_texels(full, &nb);
-  assert_non_null(a);
-  assert_non_null(b);
-  assert_int_equal(na, nb);
-  assert_memory_equal(a, b, na * sizeof(float));
-  free(a);
-  free(b);
+  assert_same_maps(r, full);
   /* one instance moves: only its HSVs are looked up again */
   satf_scene *next = fixture_scene(SCENE);
   assert_non_null(next);
@@ -197,13 +203,7 @@ static void test_incremental_lookups(void **state) {
   assert_true(one > 0);
   assert_true(one < all / 4);
   assert_int_equal(r->maps_changed, 1);
-  a = all_texels(r, &na);
-  b = all_texels(full, &nb);
-  assert_non_null(a);
-  assert_non_null(b);
-  assert_memory_equal(a, b, na * sizeof(float));
-  free(a);
-  free(b);
+  assert_same_maps(r, full);
   satf_renderer_destroy(r);
   satf_renderer_destroy(full);
   satf_scene_destroy(next);
