@@ -24,6 +24,9 @@ void fiber_from_material(const satf_scene_material *m, satf_fiber *f) {
 void fiber_gpu_bind(fiber_gpu *g, const satf_scene_material *m, GLuint p) {
   satf_fiber f;
   fiber_from_material(m, &f);
+  /* made and bound on its own unit: whatever texture is bound on the
+   * active one (a deep opacity map) stays */
+  glActiveTexture(GL_TEXTURE0 + FIBER_TABLE_UNIT);
   if (!g->has_tables || memcmp(&f, &g->fiber, sizeof f) != 0) {
     float tab[FIBER_TABLE_ROWS * SATF_FIBER_DUAL_FIELDS * 3];
     satf_fiber_dual_tables(&f, FIBER_TABLE_ROWS, tab);
@@ -37,7 +40,6 @@ void fiber_gpu_bind(fiber_gpu *g, const satf_scene_material *m, GLuint p) {
     g->fiber = f;
     g->has_tables = 1;
   }
-  glActiveTexture(GL_TEXTURE0 + FIBER_TABLE_UNIT);
   glBindTexture(GL_TEXTURE_2D, g->tables);
   glActiveTexture(GL_TEXTURE0);
   glUniform1i(glGetUniformLocation(p, "u_fiber_tables"), FIBER_TABLE_UNIT);

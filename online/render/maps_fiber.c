@@ -138,7 +138,12 @@ static void sector_radiance(const satf_maps *m, const satf_maps_fiber *f,
       mp[p] = satf_fiber_mp(i.cos_t, cp, i.sin_t, sp, f->fiber.v[p]);
     }
     mp[3] = satf_fiber_mp(i.cos_t, o.cos_t, i.sin_t, o.sin_t, f->v_ms);
-    satf_db_lookup_neighbors_channels(f->db, nb, o.azimuth, i.azimuth, rec);
+    /* the other lights from the nearest sample alone: a quarter of the
+     * blending for lights that neither shadow nor set the hair's look
+     * (the key light's records blend all k, SATF eq. 4) */
+    satf_db_neighbors nearest = {1, {nb->index[0]}, {1.0f}};
+    satf_db_lookup_neighbors_channels(f->db, li == 0 ? nb : &nearest, o.azimuth,
+                                      i.azimuth, rec);
     float *dst = li == 0 ? key : fill;
     for (int c = 0; c < 3; c++) {
       float e = lights[li].rgb[c] * fall;

@@ -26,19 +26,22 @@ static char *with_defines(const char *src, const char *lines) {
   return out;
 }
 
-/* Compiles one program. Its fragment shader's arrays are sized by the C
- * limits, defined after its #version line with `extra` (glsl/). */
+/* Compiles one program. Its shaders' arrays are sized by the C limits,
+ * defined after their #version lines with `extra` (glsl/). */
 satf_status build_program(const char *label, const char *vs, const char *fs,
                           const char *extra, GLuint *out, satf_error *err) {
   char defines[256];
   snprintf(defines, sizeof defines,
            "#define SATF_MAX_LIGHTS %d\n#define SATF_MAX_FRAGMENTS %d\n%s",
            SATF_SCENE_MAX_LIGHTS, SATF_MAX_FRAGMENTS, extra);
-  char *text = with_defines(fs, defines);
-  if (!text)
-    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  satf_status st = satf_gl_program_build(label, vs, text, out, err);
+  /* both stages see them (cluster_vs.glsl shades per vertex in the
+   * physical mode) */
+  char *text = with_defines(fs, defines), *vtext = with_defines(vs, defines);
+  satf_status st =
+      text && vtext ? satf_gl_program_build(label, vtext, text, out, err)
+                    : satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   free(text);
+  free(vtext);
   return st;
 }
 

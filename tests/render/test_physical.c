@@ -177,32 +177,39 @@ static void test_clear_fibre_is_neutral(void **state) {
 }
 
 /* Every light gets its own look-ups: without shadows (which only the key
- * light casts) two lights give the sum of each alone. */
+ * light casts) two lights give the sum of each alone, each in its own role
+ * (the other one dark: the fill light's look-ups take the nearest sample
+ * only, maps_fiber.c). */
 static void test_lights_add(void **state) {
   (void)state;
-  const char *l1 = "{\"direction\": [-0.3, -0.4, -0.87], \"intensity\": 2}";
-  const char *l2 = "{\"direction\": [0.7, 0.1, -0.7], \"intensity\": 1.5,"
+  const char *l1 = "{\"direction\": [-0.3, -0.4, -0.87], \"intensity\": %g}";
+  const char *l2 = "{\"direction\": [0.7, 0.1, -0.7], \"intensity\": %g,"
                    " \"color\": [0.6, 0.8, 1]}";
-  char json[2048], both[512];
-  snprintf(both, sizeof both, "%s, %s", l1, l2);
-  scene_json(json, sizeof json, "", l1, 0);
+  char json[2048], fmt[512], lights[512];
+  snprintf(fmt, sizeof fmt, "%s, %s", l1, l2);
+  snprintf(lights, sizeof lights, fmt, 2.0, 0.0);
+  scene_json(json, sizeof json, "", lights, 0);
   satf_image *a = render(json);
-  scene_json(json, sizeof json, "", l2, 0);
+  snprintf(lights, sizeof lights, fmt, 0.0, 1.5);
+  scene_json(json, sizeof json, "", lights, 0);
   satf_image *b = render(json);
-  scene_json(json, sizeof json, "", both, 0);
+  snprintf(lights, sizeof lights, fmt, 2.0, 1.5);
+  scene_json(json, sizeof json, "", lights, 0);
   satf_image *ab = render(json);
   const char *ch[3] = {"R", "G", "B"};
-  double worst = 0.0, peak = 0.0;
+  double worst = 0.0, peak = 0.0, fill = 0.0;
   for (int c = 0; c < 3; c++) {
     const float *pa = fixture_plane(a, ch[c]), *pb = fixture_plane(b, ch[c]);
     const float *pab = fixture_plane(ab, ch[c]);
     for (int i = 0; i < W * H; i++) {
       worst = fmax(worst, fabs(pab[i] - pa[i] - pb[i]));
       peak = fmax(peak, pab[i]);
+      fill = fmax(fill, pb[i]);
     }
   }
   printf("two lights: max |AB - A - B| %.5f of a peak %.4f\n", worst, peak);
   assert_true(peak > 0.01);
+  assert_true(fill > 0.2 * peak); /* the fill light does light the hair */
   assert_true(worst < 0.01 * peak);
   satf_image_destroy(a);
   satf_image_destroy(b);

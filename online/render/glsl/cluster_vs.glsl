@@ -28,6 +28,18 @@ out vec3 v_n1;
 out vec3 v_n2;
 out vec4 v_shape;
 out vec3 v_axis;
+#ifndef PHYSICAL
+#define PHYSICAL 0
+#endif
+#if PHYSICAL
+#include "fiber_cluster.glsl"
+/* the eye and lights in the prototype's frame, per instance (shade_fs) */
+struct satf_view { vec4 eye; vec4 light[SATF_MAX_LIGHTS]; };
+layout(std430, binding = 4) readonly buffer satf_views { satf_view g_view[]; };
+uniform int u_cluster_shadow;
+out vec3 v_global; /* the key light's global scattering BCSDF */
+out vec3 v_back;   /* its local back-scattering */
+#endif
 void main() {
   v_instance = u_first + gl_InstanceID;
   v_layer0 = u_first_layer + gl_InstanceID * u_inst_layers;
@@ -41,5 +53,14 @@ void main() {
   v_n2 = a_n2;
   v_shape = a_shape;
   v_axis = a_axis;
+#if PHYSICAL
+  v_global = v_back = vec3(0.0);
+  if (u_cluster_shadow != 0) {
+    vec4 l = g_view[v_instance].light[0];
+    v_global = key_global(normalize(a_tangent),
+                          normalize(g_view[v_instance].eye.xyz - a_pos),
+                          normalize(l.xyz - l.w * a_pos), 1.0, v_back);
+  }
+#endif
   gl_Position = u_viewproj * w;
 }

@@ -34,11 +34,9 @@
 #include "map_fetch.glsl"
 #include "lighting.glsl"
 #if PHYSICAL
-#include "fiber.glsl"
-uniform float u_fiber_eta, u_fiber_s, u_fiber_alpha;
-uniform vec4 u_fiber_v;
-uniform vec3 u_fiber_sigma_a;
-uniform sampler2D u_fiber_tables;
+#include "fiber_cluster.glsl"
+in vec3 v_global; /* the key light's global scattering (cluster_vs.glsl) */
+in vec3 v_back;
 #endif
 in vec3 v_local;
 in vec3 v_world;
@@ -161,30 +159,6 @@ void lighting(vec3 t, vec3 n, vec3 v, float dom, out vec3 dif,
       s2 += c * u_kspe2 * kk_specular(t2, l, v, u_exp2) * u_fspe2;
   }
 }
-#if PHYSICAL
-/* Multiple scattering between clusters (Zinke 2008, fiber.glsl): the key
- * light reaching a layer point after forward scattering through the hairs
- * in front of it. Its BCSDF (f_s^G + d_b f_back^G, with d_f) is a function
- * of the angles and, through the spread, of the depth; our choice: one
- * evaluation per fragment at the depth of the deep opacity map plus one
- * hair (the spread saturates), for the fibre's middle (h = 0), and per
- * layer point only the transmittance with that point's depth (fiber_dual_
- * scattered). In the fibre frame: x along the hair, y the view's
- * direction across it. */
-vec3 key_global(vec3 hair, vec3 v, vec3 l, float n_rep, out vec3 back) {
-  Fiber f = Fiber(u_fiber_eta, u_fiber_v, u_fiber_s, u_fiber_sigma_a,
-                  u_fiber_alpha);
-  vec3 y = v - dot(v, hair) * hair;
-  if (dot(y, y) < 1e-8) y = abs(hair.x) < 0.9 ? cross(hair, vec3(1, 0, 0))
-                                                : cross(hair, vec3(0, 1, 0));
-  y = normalize(y);
-  vec3 z = cross(hair, y);
-  vec3 wo = vec3(dot(v, hair), dot(v, y), dot(v, z));
-  vec3 wi = vec3(dot(l, hair), dot(l, y), dot(l, z));
-  return fiber_dual_global(f, u_fiber_tables, fiber_geom(f, wo, 0.0), wi,
-                           n_rep, back);
-}
-#endif
 vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   if (u_aov == 1) return dif;
   if (u_aov == 2) return s1;
@@ -223,15 +197,14 @@ void main() {
   vec3 e0 = u_light_color[0] *
             (u_light_local[0].w > 0.0 ? 1.0 / max(dot(dl0, dl0), 1e-6) : 1.0);
   float n_dom = -log(max(dom, 1e-6));
-  vec3 back = vec3(0.0), global = vec3(0.0);
-  if (u_cluster_shadow != 0) {
-    global = key_global(hair, v, l0, n_dom + 1.0, back);
-    /* the direct light's local back-scattering from the hair behind the
-     * point (Zinke's eq. 20: f_s + d_b f_back; the records hold what the
-     * point's own sector scatters back) */
-    back *= FIBER_DUAL_DENSITY * e0;
-  }
-  vec3 wi0 = vec3(dot(l0, hair), 0.0, 0.0);
+  /* the direct light's local back-scattering from the hair behind the
+   * point (Zinke's eq. 20: f_s + d_b f_back; the records hold what the
+   * point's own sector scatters back) */
+  vec3 global = v_global, back = FIBER_DUAL_DENSITY * e0 * v_back;
+  /* a_f of the tables at the light's inclination, once per fragment: each
+   * layer point only takes its depth's transmittance (Zinke's eq. 5) */
+  vec3 af0 = fiber_dual_field(u_fiber_tables, 0,
+                              fiber_asin(clamp(dot(l0, hair), -1.0, 1.0)));
 #endif
   vec3 col = vec3(0.0);
   float transmit = 1.0, noise = -1.0;
@@ -290,8 +263,8 @@ void main() {
          * mode; the records hold the shadowing inside an HSV */
         y = (mk.rgb + back) * (tau * dom) + mf.rgb;
         if (u_cluster_shadow != 0) /* forward-scattered: Zinke 2008 */
-          y += e0 * fiber_dual_scattered(u_fiber_tables, wi0,
-                                         n_dom + mf.a) * global;
+          y += e0 * global * max(exp(-(n_dom + mf.a) * (1.0 - af0)) -
+                                 exp(-(n_dom + mf.a)), vec3(0.0));
 #else
         if (noise < 0.0) /* once per ray: the strands it meets first */
           noise = mix(1.0, 2.0 * strand_noise(u_turns, t), u_noise);
