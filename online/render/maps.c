@@ -339,10 +339,8 @@ static void lay_row(const satf_maps *m, const float *re, const float *al,
   const float *fr;
   maps_columns(m, view, &idx, &fr);
   for (int x = 0; x < w; x++) {
-    int i = idx[x];
-    float f = fr[x];
-    float r = re[i] + f * (re[i + 1] - re[i]);
-    float a = al[i] + f * (al[i + 1] - al[i]);
+    float r = maps_sample(re, idx[x], fr[x]);
+    float a = maps_sample(al, idx[x], fr[x]);
     float *t = row + 4 * x;
     t[0] = a > 1e-4f ? re_scale * r / a : 0.0f;
     t[1] = a;

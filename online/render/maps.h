@@ -129,6 +129,10 @@ const satf_db_neighbors *maps_sector_neighbors(const satf_shell_geom *g,
                                                size_t q, int k);
 void maps_columns(const satf_maps *maps, float view, const uint16_t **index,
                   const float **frac);
+/* A record's value between samples i and i + 1 at weight f (a column). */
+static inline float maps_sample(const float *v, int i, float f) {
+  return v[i] + f * (v[i + 1] - v[i]);
+}
 
 /* Texels in one layer: su * width * 2 * st. */
 size_t satf_maps_layer_texels(const satf_shell_geom *g, int width);

@@ -174,12 +174,11 @@ static void lay_fiber_row(const satf_maps *m, const float *key,
   for (int x = 0; x < w; x++) {
     int i = idx[x];
     float f = fr[x];
-    float a = al[i] + f * (al[i + 1] - al[i]);
+    float a = maps_sample(al, i, f);
     float inv = a > 1e-4f ? 1.0f / a : 0.0f;
     for (int c = 0; c < 3; c++) {
-      const float *k = key + c * w, *l = fill + c * w;
-      row_key[4 * x + c] = inv * (k[i] + f * (k[i + 1] - k[i]));
-      row_fill[4 * x + c] = inv * (l[i] + f * (l[i + 1] - l[i]));
+      row_key[4 * x + c] = inv * maps_sample(key + c * w, i, f);
+      row_fill[4 * x + c] = inv * maps_sample(fill + c * w, i, f);
     }
     row_key[4 * x + 3] = a;
     row_fill[4 * x + 3] = 0.0f; /* the s-map, satf_maps_fiber_shadow_sums */

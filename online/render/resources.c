@@ -37,9 +37,9 @@ satf_status build_program(const char *label, const char *vs, const char *fs,
   /* both stages see them (cluster_vs.glsl shades per vertex in the
    * physical mode) */
   char *text = with_defines(fs, defines), *vtext = with_defines(vs, defines);
-  satf_status st =
-      text && vtext ? satf_gl_program_build(label, vtext, text, out, err)
-                    : satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  satf_status st = text && vtext
+                       ? satf_gl_program_build(label, vtext, text, out, err)
+                       : satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   free(text);
   free(vtext);
   return st;
