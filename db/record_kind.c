@@ -24,7 +24,7 @@ satf_fiber_trace_params satf_fiber_trace_params_default(void) {
   p.sigma_a[2] = 1.0f;
   p.sigma_a[3] = 4.0f;
   p.sigma_a[4] = 16.0f;
-  p.sub_rays = 16;
+  p.sub_rays = 24;
   p.max_bounces = 64;
   return p;
 }

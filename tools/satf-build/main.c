@@ -43,7 +43,7 @@ static void usage(FILE *out) {
       "                      Chiang fibres; default 128 samples, width 16)\n"
       "  --levels A,B,..     fiber: absorption levels, sigma_a per unit fibre\n"
       "                      radius, ascending (default 0,0.2,1,4,16)\n"
-      "  --sub-rays N        fiber: eye rays per record sample (default 16)\n"
+      "  --sub-rays N        fiber: eye rays per record sample (default 24)\n"
       "  --radial-roughness B  fiber: beta_n, baked into the records (0.3)\n"
       "  --ior ETA           fiber: index of refraction (default 1.55)\n"
       "  --max-bounces N     fiber: fibre interactions per path (default 64)\n"
