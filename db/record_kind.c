@@ -83,7 +83,7 @@ satf_build_params satf_build_params_default_fiber(void) {
   p.fiber = satf_fiber_trace_params_default();
   /* A record keeps 3 + 3 levels channels instead of 2: narrower records
    * and fewer samples keep the default file near 30 MB and its reading
-   * near 2 s (README, measured). */
+   * near 2.5 s of CPU (README, measured). */
   p.trace.width = 16;
   p.samples = 128;
   return p;
