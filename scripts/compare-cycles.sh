@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# satf's shading against Blender Cycles' Principled Hair (path traced) on
+# the shared ponytail: the physical mode and the paper's kk mode, front-lit
+# (the importer's key and fill lights) and back-lit, at 640x480 with the
+# same camera, lights and material (melanin 0.6, redness 0, roughness 0.3,
+# radial roughness 0.3, offset 2, ior 1.55), Cycles drawing the strands at
+# the width satf's clusters assume. Prints satf-compare's figures (those of
+# ../shared/tools/fidelity.py) and writes reference | satf | difference
+# PNGs into OUT_DIR (the README's gallery). A measuring tool, not a test:
+# it needs `apt-get install blender` and the data in ../shared/data/hair.
+# usage: compare-cycles.sh [BUILD_DIR] [OUT_DIR] [SPP]
+set -euo pipefail
+build=${1:-build}
+out=${2:-docs/gallery}
+spp=${3:-32}
+cd "$(dirname "$0")/.."
+data=../shared/data/hair
+peer=../shared/tools/peer_cycles.py
+for need in blender "$data/ponytail_tail.tfx" "$peer" out/satf-fiber.hrirdb.exr \
+  out/satf-default.hrirdb.exr; do
+  if ! command -v "$need" >/dev/null 2>&1 && [ ! -e "$need" ]; then
+    echo "compare-cycles: $need is missing (blender: apt-get install blender;" \
+      "databases: bash scripts/main.sh)" >&2
+    exit 1
+  fi
+done
+bin=$build/bin
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$out"
+material=(--melanin 0.6 --redness 0 --roughness 0.3 --radial-roughness 0.3)
+"$bin/satf-import" "$data"/ponytail_*.tfx -o "$work/pony.json" -q \
+  --shading physical "${material[@]}"
+# black background (the EXRs are premultiplied over black anyway), and a
+# back-lit copy with one light travelling from behind the hair to the camera;
+# the strands' median width for Cycles' radius
+radius=$(python3 - "$work" <<'PY'
+import glob, json, math, struct, sys
+w = sys.argv[1]
+s = json.load(open(w + "/pony.json"))
+s["background"] = [0, 0, 0]
+json.dump(s, open(w + "/front.json", "w"))
+c = s["camera"]
+d = [a - b for a, b in zip(c["position"], c["target"])]
+n = math.sqrt(sum(x * x for x in d))
+s["lights"] = [{"type": "directional", "color": [1, 1, 1], "intensity": 1,
+                "direction": [d[0] / n, d[1] / n - 0.15, d[2] / n]}]
+json.dump(s, open(w + "/back.json", "w"))
+b = open(glob.glob(w + "/pony.strands-*.hair")[0], "rb").read()
+nh, npt, flags = struct.unpack_from("<3I", b, 4)
+off = 128 + (2 * nh if flags & 1 else 0) + 12 * npt
+th = sorted(struct.unpack_from(f"<{npt}f", b, off)) if flags & 4 else [1.0]
+print(th[len(th) // 2] / 2)
+PY
+)
+for light in front back; do
+  blender -b --factory-startup --python "$peer" -- "$data"/ponytail_*.tfx \
+    --scene "$work/$light.json" --exr --out "$work/cycles_$light.exr" \
+    --spp "$spp" --threads 2 --radius "$radius" "${material[@]}" >/dev/null
+  "$bin/satf-render" "$work/$light.json" --db out/satf-fiber.hrirdb.exr -q \
+    -o "$work/physical_$light.exr"
+  "$bin/satf-render" "$work/$light.json" --db out/satf-default.hrirdb.exr -q \
+    --shading kk -o "$work/kk_$light.exr"
+  for mode in physical kk; do
+    echo "== $mode, $light-lit, against Cycles ($spp spp, strand radius $radius)"
+    "$bin/satf-compare" "$work/cycles_$light.exr" "$work/${mode}_$light.exr" \
+      --png "$out/cycles_${mode}_$light.png"
+  done
+done
