@@ -40,25 +40,35 @@ void frame_light_colors(const satf_renderer *r, float *col) {
       col[3 * k + a] = r->lights[k].color[a] * r->lights[k].intensity;
 }
 
-/* Sector azimuths of instance i towards the eye and the key light; with
- * the eye and light where they were in its frame and its shells unchanged
- * (frame_forget_lookups not called since), they are those of last frame. */
-static int angles_job(void *ctx, size_t i, int thread) {
-  (void)thread;
-  satf_renderer *r = ctx;
-  inst *in = &r->insts[i];
+/* Whether instance `in` sees the eye and the key light where it saw them
+ * (in its own frame) and its shells are unchanged since (no
+ * frame_forget_lookups): then its azimuths are last frame's. Otherwise
+ * the new eye and light are kept for angles_job. */
+static int inst_still(const satf_renderer *r, inst *in) {
   float eye[3], light[4];
   satf_mat4_point(in->inv, r->camera.position, eye);
   frame_light_local(in->inv, &r->lights[0], light);
   /* (the physical mode's maps follow every light: looked up every frame) */
   if (r->incremental && !r->fiber && !in->replaced &&
       !memcmp(eye, in->eye, sizeof eye) &&
-      !memcmp(light, in->light, sizeof light)) {
-    in->still = 1;
-    return 0;
-  }
+      !memcmp(light, in->light, sizeof light))
+    return 1;
   memcpy(in->eye, eye, sizeof eye);
   memcpy(in->light, light, sizeof light);
+  return 0;
+}
+
+/* Sector azimuths of instance moved[i] towards the eye and the key light. */
+typedef struct angle_jobs {
+  satf_renderer *r;
+  const int *moved;
+} angle_jobs;
+
+static int angles_job(void *ctx, size_t i, int thread) {
+  (void)thread;
+  const angle_jobs *j = ctx;
+  satf_renderer *r = j->r;
+  inst *in = &r->insts[j->moved[i]];
   in->replaced = 0;
   satf_maps_angles(&in->geom, in->eye, in->light, in->angles);
   /* nothing to look up again: its layers need no job (build_maps) */
@@ -67,6 +77,26 @@ static int angles_job(void *ctx, size_t i, int thread) {
       !memcmp(in->angles, in->looked_up,
               2 * satf_shell_sector_count(&in->geom.shell) * sizeof(float));
   return 0;
+}
+
+/* Every instance's azimuths; the check for a still instance runs here on
+ * one thread: for a frame where little moved, threads would cost more to
+ * start than the check itself. */
+static satf_status update_angles(satf_renderer *r, satf_error *err) {
+  int *moved = malloc((size_t)(r->ninsts > 0 ? r->ninsts : 1) * sizeof(int));
+  if (!moved)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  size_t n = 0;
+  for (int i = 0; i < r->ninsts; i++) {
+    r->insts[i].still = inst_still(r, &r->insts[i]);
+    if (!r->insts[i].still)
+      moved[n++] = i;
+  }
+  angle_jobs aj = {r, moved};
+  if (n > 0)
+    satf_parallel_for(n, r->threads, angles_job, &aj, NULL, NULL);
+  free(moved);
+  return SATF_OK;
 }
 
 void frame_forget_lookups(inst *in) {
@@ -182,9 +212,11 @@ static satf_status build_maps(satf_renderer *r, long *lookups,
 satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
                               satf_error *err) {
   double t0 = satf_now_seconds();
-  satf_parallel_for((size_t)r->ninsts, r->threads, angles_job, r, NULL, NULL);
+  satf_status st = update_angles(r, err);
+  if (st != SATF_OK)
+    return st;
   double t1 = satf_now_seconds();
-  satf_status st = build_maps(r, &t->lookups, err);
+  st = build_maps(r, &t->lookups, err);
   if (st != SATF_OK)
     return st;
   double t2 = satf_now_seconds();
