@@ -124,9 +124,9 @@ static int fiber_layer(const satf_renderer *r, const inst *in, int k) {
     frame_light_local(in->inv, &r->lights[l], lights[l].local);
     memcpy(lights[l].rgb, col + 3 * l, sizeof lights[l].rgb);
   }
-  return satf_maps_fiber_build_layer(r->maps, r->fiber, &in->geom, in->eye,
-                                     lights, r->nlights, &r->map_opt, k,
-                                     in->texels);
+  return satf_maps_fiber_build_layer(
+      r->maps, r->fiber, &in->geom, in->eye, lights, r->nlights,
+      r->effects.secondary_highlight, &r->map_opt, k, in->texels);
 }
 
 /* Layer k of an instance: only its HSVs whose sectors' azimuths changed

@@ -163,7 +163,7 @@ static void sector_radiance(const satf_maps *m, const satf_maps_fiber *f,
                             const satf_shell_geom *g, size_t q,
                             const satf_db_neighbors *nb, const float eye[3],
                             const satf_fiber_light *lights, int n_lights,
-                            float *key, float *fill, float *alpha,
+                            int trt, float *key, float *fill, float *alpha,
                             float *view) {
   const float *fr = g->frames + 9 * q;
   int w = satf_maps_width(m), n = f->levels;
@@ -184,6 +184,8 @@ static void sector_radiance(const satf_maps *m, const satf_maps_fiber *f,
     direction i = sector_direction(fr, hair, ld);
     float mp[4];
     mp_lookup(f, i.sin_t, o.sin_t, mp);
+    if (!trt)
+      mp[2] = 0.0f;
     /* the other lights from the nearest sample alone: a quarter of the
      * blending for lights that neither shadow nor set the hair's look
      * (the key light's records blend all k, SATF eq. 4) */
@@ -234,7 +236,7 @@ static void lay_fiber_row(const satf_maps *m, const float *key,
 int satf_maps_fiber_build_layer(const satf_maps *m, const satf_maps_fiber *f,
                                 const satf_shell_geom *g, const float eye[3],
                                 const satf_fiber_light *lights, int n_lights,
-                                const satf_map_options *opt, int k,
+                                int trt, const satf_map_options *opt, int k,
                                 float *texels) {
   const satf_shell_params *sh = &g->shell;
   int w = satf_maps_width(m), lookups = 0;
@@ -256,7 +258,7 @@ int satf_maps_fiber_build_layer(const satf_maps *m, const satf_maps_fiber *f,
                                &found);
         nb = &found;
       }
-      sector_radiance(m, f, g, q, nb, eye, lights, n_lights, key, fill, al,
+      sector_radiance(m, f, g, q, nb, eye, lights, n_lights, trt, key, fill, al,
                       &view);
       lookups += n_lights;
       size_t col = (size_t)j * w * 4;

@@ -41,13 +41,14 @@ satf_status satf_maps_fiber_create(const satf_db *db,
 void satf_maps_fiber_destroy(satf_maps_fiber *fiber);
 
 /* Fills slices 2k and 2k + 1 of a cluster's texels (2 * layers slices of
- * satf_maps_layer_texels * 4 floats); lights[0] is the key light. Returns
- * the look-ups made. */
+ * satf_maps_layer_texels * 4 floats); lights[0] is the key light. trt 0
+ * leaves out the TRT lobe, the physical secondary highlight (the Fig. 4b
+ * switch in this mode). Returns the look-ups made. */
 int satf_maps_fiber_build_layer(const satf_maps *maps,
                                 const satf_maps_fiber *fiber,
                                 const satf_shell_geom *g, const float eye[3],
                                 const satf_fiber_light *lights, int n_lights,
-                                const satf_map_options *opt, int k,
+                                int trt, const satf_map_options *opt, int k,
                                 float *texels);
 
 /* Eq. 12 in this layout (channel 3 of the odd slices). */

@@ -73,13 +73,15 @@ static void scene_json(char *buf, size_t size, const char *material,
            shadows ? "true" : "false", shadows ? "true" : "false", W, H);
 }
 
-static satf_image *render(const char *json) {
+/* Renders `json`; secondary 0 switches Fig. 4b's effect off. */
+static satf_image *render_fx(const char *json, int secondary) {
   satf_scene *s = fixture_scene(json);
   assert_non_null(s);
   satf_renderer *r = NULL;
   satf_error err;
   if (satf_renderer_create(s, fiber_db, W, H, 0, &r, &err) != SATF_OK)
     fail_msg("%s", err.message);
+  satf_renderer_effects(r)->secondary_highlight = secondary;
   satf_image *img = NULL;
   satf_frame_timing t;
   if (satf_renderer_render_image(r, 0, &img, &t, &err) != SATF_OK)
@@ -88,6 +90,8 @@ static satf_image *render(const char *json) {
   satf_scene_destroy(s);
   return img;
 }
+
+static satf_image *render(const char *json) { return render_fx(json, 1); }
 
 /* Mean R, G, B (premultiplied) over the pixels the hair covers (A > 0.5),
  * and their count. */
@@ -216,6 +220,26 @@ static void test_lights_add(void **state) {
   satf_image_destroy(ab);
 }
 
+/* Fig. 4b in the physical mode: the secondary highlight is the TRT lobe
+ * (Marschner 2003), coloured by two passes through the fibre; without it
+ * the hair is darker and less red. */
+static void test_no_secondary_drops_trt(void **state) {
+  (void)state;
+  char json[2048];
+  scene_json(json, sizeof json, "\"melanin\": 0.3",
+             "{\"direction\": [0, -0.6, -0.8], \"intensity\": 3}", 0);
+  satf_image *a = render_fx(json, 1), *b = render_fx(json, 0);
+  double with[3], without[3];
+  mean_rgb(a, with);
+  mean_rgb(b, without);
+  printf("with TRT %.4f (R/B %.2f), without %.4f (R/B %.2f)\n", luminance(with),
+         with[0] / with[2], luminance(without), without[0] / without[2]);
+  assert_true(luminance(without) < 0.97 * luminance(with));
+  assert_true(without[0] / without[2] < with[0] / with[2]);
+  satf_image_destroy(a);
+  satf_image_destroy(b);
+}
+
 /* A physical scene with a Phong database: refused with a message that
  * says what is needed. */
 static void test_phong_database_refused(void **state) {
@@ -238,6 +262,7 @@ int main(void) {
       cmocka_unit_test(test_back_lit_glow),
       cmocka_unit_test(test_clear_fibre_is_neutral),
       cmocka_unit_test(test_lights_add),
+      cmocka_unit_test(test_no_secondary_drops_trt),
       cmocka_unit_test(test_phong_database_refused),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
