@@ -21,6 +21,14 @@ for s in cluster_6a hair_7a hair_7c hair_7d; do
   "$bin/satf-render" "samples/$s.json" --db "$db" --size $size --samples 4 \
     -q -o "$work/$s.exr" --png "$out/$s.png"
 done
+# the physical shading of the same hairstyle (the fibre model's default
+# material: melanin 0.6), when the fibre database is there
+fdb=out/satf-fiber.hrirdb.exr
+if [ -s "$fdb" ]; then
+  "$bin/satf-render" samples/hair_7a.json --db "$fdb" --shading physical \
+    --size $size --samples 4 -q -o "$work/p.exr" \
+    --png "$out/hair_7a_physical.png"
+fi
 
 # One imported hairstyle: clusters, then strands, then the comparison.
 # usage: compare NAME IMPORT_ARGS...
