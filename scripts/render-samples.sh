@@ -44,7 +44,7 @@ for mode in $modes; do
   for scene in samples/*.json; do
     # satf-render --bench prints the header, the row, then the fragments line
     if [ "$mode" = physical ]; then
-      row=$("$render" "$scene" --db "$fdb" --shading physical --bench "$frames")
+      row=$("$render" "$scene" --db "$fdb" --shading physical --bench "$frames" -q)
     else
       row=$("$render" "$scene" --db "$db" --composite "$mode" --bench "$frames")
     fi
