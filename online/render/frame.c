@@ -44,12 +44,13 @@ void frame_light_colors(const satf_renderer *r, float *col) {
  * (in its own frame) and its shells are unchanged since (no
  * frame_forget_lookups): then its azimuths are last frame's. Otherwise
  * the new eye and light are kept for angles_job. */
-static int inst_still(const satf_renderer *r, inst *in) {
+static int inst_still(const satf_renderer *r, int lights_same, inst *in) {
   float eye[3], light[4];
   satf_mat4_point(in->inv, r->camera.position, eye);
   frame_light_local(in->inv, &r->lights[0], light);
-  /* (the physical mode's maps follow every light: looked up every frame) */
-  if (r->incremental && !r->fiber && !in->replaced &&
+  /* the physical mode's maps follow every light, its colour too: still
+   * only while none changed (lights_same) */
+  if (r->incremental && (!r->fiber || lights_same) && !in->replaced &&
       !memcmp(eye, in->eye, sizeof eye) &&
       !memcmp(light, in->light, sizeof light))
     return 1;
@@ -87,8 +88,15 @@ static satf_status update_angles(satf_renderer *r, satf_error *err) {
   if (!moved)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   size_t n = 0;
+  size_t bytes = (size_t)r->nlights * sizeof(satf_scene_light);
+  int lights_same = r->fiber_nlights == r->nlights &&
+                    r->fiber_trt == r->effects.secondary_highlight &&
+                    !memcmp(r->fiber_lights, r->lights, bytes);
+  memcpy(r->fiber_lights, r->lights, bytes);
+  r->fiber_nlights = r->nlights;
+  r->fiber_trt = r->effects.secondary_highlight;
   for (int i = 0; i < r->ninsts; i++) {
-    r->insts[i].still = inst_still(r, &r->insts[i]);
+    r->insts[i].still = inst_still(r, lights_same, &r->insts[i]);
     if (!r->insts[i].still)
       moved[n++] = i;
   }

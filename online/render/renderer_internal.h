@@ -86,6 +86,10 @@ struct satf_renderer {
   satf_scene_camera camera;
   satf_scene_effects effects;
   satf_scene_light lights[SATF_SCENE_MAX_LIGHTS];
+  /* the lights the physical maps were last made for (frame.c): while
+   * they and an instance's eye stay, its maps stay */
+  satf_scene_light fiber_lights[SATF_SCENE_MAX_LIGHTS];
+  int fiber_nlights, fiber_trt; /* and the TRT switch (Fig. 4b) */
   int nlights;
   int width, height, threads, w;
   float lo[3], hi[3];

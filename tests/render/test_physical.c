@@ -240,6 +240,47 @@ static void test_no_secondary_drops_trt(void **state) {
   satf_image_destroy(b);
 }
 
+/* Look-ups proportional to change in the physical mode: a second frame
+ * with nothing moved looks nothing up and gives the same image; a light's
+ * colour or the TRT switch changing looks everything up again, as a fresh
+ * renderer would. */
+static void test_still_frames(void **state) {
+  (void)state;
+  char json[2048];
+  scene_json(json, sizeof json, "", FRONT, 1);
+  satf_scene *s = fixture_scene(json);
+  satf_renderer *r = NULL;
+  satf_error err;
+  assert_int_equal(satf_renderer_create(s, fiber_db, W, H, 0, &r, &err),
+                   SATF_OK);
+  satf_image *a = NULL, *b = NULL, *c = NULL;
+  satf_frame_timing t1, t2, t3, t4;
+  assert_int_equal(satf_renderer_render_image(r, 0, &a, &t1, &err), SATF_OK);
+  assert_int_equal(satf_renderer_render_image(r, 0, &b, &t2, &err), SATF_OK);
+  assert_true(t1.lookups > 0);
+  assert_int_equal(t2.lookups, 0);
+  assert_true(fixture_same_bits(a, b, "R") && fixture_same_bits(a, b, "B"));
+  satf_renderer_effects(r)->secondary_highlight = 0;
+  assert_int_equal(satf_renderer_render_image(r, 0, &c, &t3, &err), SATF_OK);
+  assert_int_equal(t3.lookups, t1.lookups);
+  assert_false(fixture_same_bits(a, c, "R"));
+  satf_renderer_effects(r)->secondary_highlight = 1;
+  satf_scene_light *l = satf_renderer_light(r, 0);
+  assert_non_null(l);
+  l->color[2] = 0.5f;
+  satf_image_destroy(c);
+  c = NULL;
+  assert_int_equal(satf_renderer_render_image(r, 0, &c, &t4, &err), SATF_OK);
+  assert_int_equal(t4.lookups, t1.lookups);
+  printf("still frames: %ld look-ups, then %ld, %ld, %ld\n", (long)t1.lookups,
+         (long)t2.lookups, (long)t3.lookups, (long)t4.lookups);
+  satf_image_destroy(a);
+  satf_image_destroy(b);
+  satf_image_destroy(c);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(s);
+}
+
 /* A physical scene with a Phong database: refused with a message that
  * says what is needed. */
 static void test_phong_database_refused(void **state) {
@@ -263,6 +304,7 @@ int main(void) {
       cmocka_unit_test(test_clear_fibre_is_neutral),
       cmocka_unit_test(test_lights_add),
       cmocka_unit_test(test_no_secondary_drops_trt),
+      cmocka_unit_test(test_still_frames),
       cmocka_unit_test(test_phong_database_refused),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
