@@ -46,7 +46,7 @@ for mode in $modes; do
     if [ "$mode" = physical ]; then
       row=$("$render" "$scene" --db "$fdb" --shading physical --bench "$frames" -q)
     else
-      row=$("$render" "$scene" --db "$db" --composite "$mode" --bench "$frames")
+      row=$("$render" "$scene" --db "$db" --composite "$mode" --bench "$frames" -q)
     fi
     if [ $first = 1 ]; then echo "$row" | sed -n 1p | sed 's/^/composite  /'; first=0; fi
     echo "$row" | sed -n 2p | sed "s/^/$(printf '%-10s' $mode) /"
