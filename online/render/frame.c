@@ -71,6 +71,8 @@ static int angles_job(void *ctx, size_t i, int thread) {
   satf_renderer *r = j->r;
   inst *in = &r->insts[j->moved[i]];
   in->replaced = 0;
+  if (r->fiber) /* the physical maps find their own angles, every light's */
+    return 0;
   satf_maps_angles(&in->geom, in->eye, in->light, in->angles);
   /* nothing to look up again: its layers need no job (build_maps) */
   in->still =

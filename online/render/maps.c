@@ -249,7 +249,7 @@ size_t satf_maps_layer_texels(const satf_shell_geom *g, int width) {
   return (size_t)g->shell.su * (size_t)width * 2 * (size_t)g->shell.st;
 }
 
-static float azimuth(const float *frame, const float d[3]) {
+float maps_azimuth(const float *frame, const float d[3]) {
   float x = satf_dot3f(d, frame + 3);
   float y = satf_dot3f(d, frame + 6);
   float a = atan2f(y, x);
@@ -264,8 +264,8 @@ void satf_maps_angles(const satf_shell_geom *g, const float eye[3],
     float v[3] = {eye[0] - f[0], eye[1] - f[1], eye[2] - f[2]};
     float l[3] = {light[0] - light[3] * f[0], light[1] - light[3] * f[1],
                   light[2] - light[3] * f[2]};
-    angles[2 * s] = azimuth(f, v);
-    angles[2 * s + 1] = azimuth(f, l);
+    angles[2 * s] = maps_azimuth(f, v);
+    angles[2 * s + 1] = maps_azimuth(f, l);
   }
 }
 

@@ -129,6 +129,10 @@ const satf_db_neighbors *maps_sector_neighbors(const satf_shell_geom *g,
                                                size_t q, int k);
 void maps_columns(const satf_maps *maps, float view, const uint16_t **index,
                   const float **frac);
+/* Azimuth of d in the plane of the sector whose frame (satf_shell_geom's 9
+ * floats) is `frame`: from its outward normal N towards its phase
+ * direction T, in [0, 2 pi); what satf_maps_angles computes. */
+float maps_azimuth(const float *frame, const float d[3]);
 /* A record's value between samples i and i + 1 at weight f (a column). */
 static inline float maps_sample(const float *v, int i, float f) {
   return v[i] + f * (v[i + 1] - v[i]);

@@ -129,13 +129,6 @@ void satf_maps_fiber_destroy(satf_maps_fiber *f) {
   }
 }
 
-/* Azimuth of d in the sector's plane, from its outward normal N towards
- * its phase direction T, in [0, 2 pi) (as satf_maps_angles). */
-static float plane_azimuth(const float *frame, const float d[3]) {
-  float a = atan2f(satf_dot3f(d, frame + 6), satf_dot3f(d, frame + 3));
-  return a < 0.0f ? a + SATF_TWO_PI_F : a;
-}
-
 /* One direction seen from a sector: its azimuth in the sector's plane and
  * its longitudinal angle to the hair (sin, cos), pbrt's theta. */
 typedef struct direction {
@@ -148,7 +141,7 @@ static direction sector_direction(const float *frame, const float hair[3],
   float len = sqrtf(satf_dot3f(d, d));
   float s = len > 0.0f ? satf_dot3f(d, hair) / len : 0.0f;
   s = s > 1.0f ? 1.0f : s < -1.0f ? -1.0f : s;
-  r.azimuth = plane_azimuth(frame, d);
+  r.azimuth = maps_azimuth(frame, d);
   r.sin_t = s;
   r.cos_t = sqrtf(1.0f - s * s);
   return r;

@@ -73,13 +73,23 @@ static void scene_json(char *buf, size_t size, const char *material,
            shadows ? "true" : "false", shadows ? "true" : "false", W, H);
 }
 
+/* A renderer of `json`'s scene (*s, to destroy after it) on database db:
+ * the status of satf_renderer_create, with *r and err->message. */
+static satf_status make_renderer(const char *json, const satf_db *db,
+                                 satf_scene **s, satf_renderer **r,
+                                 satf_error *err) {
+  *s = fixture_scene(json);
+  assert_non_null(*s);
+  *r = NULL;
+  return satf_renderer_create(*s, db, W, H, 0, r, err);
+}
+
 /* Renders `json`; secondary 0 switches Fig. 4b's effect off. */
 static satf_image *render_fx(const char *json, int secondary) {
-  satf_scene *s = fixture_scene(json);
-  assert_non_null(s);
-  satf_renderer *r = NULL;
+  satf_scene *s;
+  satf_renderer *r;
   satf_error err;
-  if (satf_renderer_create(s, fiber_db, W, H, 0, &r, &err) != SATF_OK)
+  if (make_renderer(json, fiber_db, &s, &r, &err) != SATF_OK)
     fail_msg("%s", err.message);
   satf_renderer_effects(r)->secondary_highlight = secondary;
   satf_image *img = NULL;
@@ -248,11 +258,10 @@ static void test_still_frames(void **state) {
   (void)state;
   char json[2048];
   scene_json(json, sizeof json, "", FRONT, 1);
-  satf_scene *s = fixture_scene(json);
-  satf_renderer *r = NULL;
+  satf_scene *s;
+  satf_renderer *r;
   satf_error err;
-  assert_int_equal(satf_renderer_create(s, fiber_db, W, H, 0, &r, &err),
-                   SATF_OK);
+  assert_int_equal(make_renderer(json, fiber_db, &s, &r, &err), SATF_OK);
   satf_image *a = NULL, *b = NULL, *c = NULL;
   satf_frame_timing t1, t2, t3, t4;
   assert_int_equal(satf_renderer_render_image(r, 0, &a, &t1, &err), SATF_OK);
@@ -287,10 +296,10 @@ static void test_phong_database_refused(void **state) {
   (void)state;
   char json[2048];
   scene_json(json, sizeof json, "", FRONT, 1);
-  satf_scene *s = fixture_scene(json);
-  satf_renderer *r = NULL;
+  satf_scene *s;
+  satf_renderer *r;
   satf_error err;
-  assert_int_equal(satf_renderer_create(s, gl->db, W, H, 0, &r, &err),
+  assert_int_equal(make_renderer(json, gl->db, &s, &r, &err),
                    SATF_ERR_INCOMPATIBLE);
   assert_null(r);
   assert_non_null(strstr(err.message, "fibre database"));
