@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "glsl_harness.h"
 #include "satf/fiber.h"
 #include "satf/gl.h"
 #include "shaders.h"
@@ -60,22 +61,9 @@ static const char *fs_main =
 
 static int setup(void **state) {
   (void)state;
-  satf_error err;
-  if (satf_gl_context_create_headless(N, 1, &g_ctx, &err) != SATF_OK) {
-    fprintf(stderr, "%s\n", err.message);
+  if (glsl_harness_create(N, "fiber", vs_src, fs_head, satf_glsl_fiber, fs_main,
+                          &g_ctx, &g_prog) != 0)
     return -1;
-  }
-  size_t len = strlen(fs_head) + strlen(satf_glsl_fiber) + strlen(fs_main);
-  char *fs = malloc(len + 1);
-  if (!fs)
-    return -1;
-  snprintf(fs, len + 1, "%s%s%s", fs_head, satf_glsl_fiber, fs_main);
-  satf_status st = satf_gl_program_build("fiber", vs_src, fs, &g_prog, &err);
-  free(fs);
-  if (st != SATF_OK) {
-    fprintf(stderr, "%s\n", err.message);
-    return -1;
-  }
   glGenVertexArrays(1, &g_vao);
   glGenTextures(1, &g_input);
   glGenTextures(1, &g_tables);

@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "glsl_harness.h"
 #include "satf/gl.h"
 #include "shaders.h"
 
@@ -69,23 +70,9 @@ typedef struct sample_out {
 
 static int setup(void **state) {
   (void)state;
-  satf_error err;
-  if (satf_gl_context_create_headless(MAX_SAMPLES, 1, &g_ctx, &err) !=
-      SATF_OK) {
-    fprintf(stderr, "%s\n", err.message);
+  if (glsl_harness_create(MAX_SAMPLES, "lighting", vs_src, fs_head,
+                          satf_glsl_lighting, fs_main, &g_ctx, &g_prog) != 0)
     return -1;
-  }
-  size_t len = strlen(fs_head) + strlen(satf_glsl_lighting) + strlen(fs_main);
-  char *fs = malloc(len + 1);
-  if (!fs)
-    return -1;
-  snprintf(fs, len + 1, "%s%s%s", fs_head, satf_glsl_lighting, fs_main);
-  satf_status st = satf_gl_program_build("lighting", vs_src, fs, &g_prog, &err);
-  free(fs);
-  if (st != SATF_OK) {
-    fprintf(stderr, "%s\n", err.message);
-    return -1;
-  }
   glGenVertexArrays(1, &g_vao);
   glGenTextures(1, &g_input);
   return 0;
