@@ -52,6 +52,12 @@ satf_status satf_frontend_create_renderer(const satf_frontend *fe, int width,
                                     setup_progress, &bar, out, err);
   if (bar.shown)
     satf_progress_end(&bar.prog);
+  if (st == SATF_OK && fe->sparse_strands >= 0 &&
+      (st = satf_renderer_set_sparse_strands(*out, fe->sparse_strands, err)) !=
+          SATF_OK) {
+    satf_renderer_destroy(*out);
+    *out = NULL;
+  }
   return st;
 }
 
@@ -317,6 +323,22 @@ satf_status satf_frontend_set_shading(const char *prog, satf_frontend *fe,
           "records (give --db, or --shading kk)\n",
           prog, fe->scene->name ? fe->scene->name : "scene", fe->db_path);
   return SATF_ERR_INCOMPATIBLE;
+}
+
+const char *const satf_frontend_sparse_help =
+    "  --sparse-strands N   clusters of at most N strands (satf-import's\n"
+    "                       \"tracks\") are drawn as those strands, with\n"
+    "                       the clusters; 0: every cluster as a cluster\n"
+    "                       (default 8)\n";
+
+int satf_frontend_sparse_flag(satf_cli_args *it, int *max_strands) {
+  if (!satf_cli_is(it, NULL, "--sparse-strands"))
+    return 0;
+  long n;
+  if (satf_cli_value_int(it, 0, SATF_SPARSE_STRANDS_MAX, &n))
+    return -1;
+  *max_strands = (int)n;
+  return 1;
 }
 
 int satf_frontend_shading_flag(satf_cli_args *it, int *model) {

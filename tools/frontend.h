@@ -19,6 +19,9 @@ typedef struct satf_frontend {
   /* --strand-width: > 0 replaces the file's thickness; -1 ("density"):
    * the width the clusters' density assumes */
   float strand_width;
+  /* --sparse-strands N: clusters of at most N strands drawn as strands
+   * (satf_renderer_set_sparse_strands); -1: the renderer's default */
+  int sparse_strands;
   const char *db_path; /* where the database came from, for messages */
 } satf_frontend;
 
@@ -64,6 +67,10 @@ int satf_frontend_shading_flag(satf_cli_args *it, int *model);
 satf_status satf_frontend_set_shading(const char *prog, satf_frontend *fe,
                                       int model);
 extern const char *const satf_frontend_shading_help;
+/* --sparse-strands N (0 to SATF_SPARSE_STRANDS_MAX); returns 1 if arg was
+ * it, -1 after printing a bad value, 0 otherwise. */
+int satf_frontend_sparse_flag(satf_cli_args *it, int *max_strands);
+extern const char *const satf_frontend_sparse_help;
 
 /* Applies --strands or --strand-width W|density (setting *on, *width; -1
  * for density); returns 1 if arg was one of them, -1 after printing a bad

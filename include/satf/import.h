@@ -454,7 +454,7 @@ void satf_import_fit_tracks(const satf_import_projection *proj,
                             satf_import_fit *fit);
 
 /* When the strands carry a thickness: fit->strand_width becomes the
- * members' mean diameter over the cluster radius (0.005..0.5), so the
+ * members' mean diameter over the cluster radius (0.005..2), so the
  * density is that of the file's strands as they are drawn, not of strands
  * widened to fill the cluster. Nothing changes without thickness. */
 void satf_import_width_from_thickness(const satf_strand_set *s,

@@ -190,6 +190,17 @@ void satf_renderer_set_composite(satf_renderer *r, satf_composite mode);
 void satf_renderer_set_samples(satf_renderer *r, int samples);
 int satf_renderer_samples(const satf_renderer *r);
 satf_composite satf_renderer_composite(const satf_renderer *r);
+/* Sparse clusters drawn as their strands: a cluster whose density is its
+ * own strands' tracks (satf-import's "tracks") and holds at most
+ * max_strands of them is drawn as those strands, ribbons of the width its
+ * density assumes, composited with the clusters (0: every cluster is
+ * drawn as a cluster). A handful of strands fills no volume for SATF's
+ * shells to stand for; drawn as strands they look like themselves. */
+#define SATF_SPARSE_STRANDS_DEFAULT SATF_SCENE_SPARSE_STRANDS
+#define SATF_SPARSE_STRANDS_MAX 1024
+satf_status satf_renderer_set_sparse_strands(satf_renderer *r, int max_strands,
+                                             satf_error *err);
+int satf_renderer_sparse_strands(const satf_renderer *r);
 
 /* Renders one frame of `aov` into the renderer's RGBA16F target. */
 satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,

@@ -49,10 +49,14 @@ extern "C" {
 #define SATF_SCENE_MAX_STRANDS 10000000      /* per cluster */
 #define SATF_SCENE_MAX_TRACK_SLICES 256      /* tracks density: t slices */
 #define SATF_SCENE_MAX_TRACK_POINTS 50000000 /* tracks density: per cluster */
-#define SATF_SCENE_MAX_CLUMPS 16             /* clumps or holes per cluster */
-#define SATF_SCENE_MAX_COORD 1e6             /* |coordinate| in scene units */
-#define SATF_SCENE_MAX_IMAGE 16384           /* pixels per side */
-#define SATF_SCENE_MAX_SAMPLES 64 /* anti-aliasing samples per pixel */
+/* A cluster of at most this many strands is drawn as its strands (the
+ * renderer's default, satf_renderer_set_sparse_strands) and fitted one
+ * strand to a cluster (satf-import) */
+#define SATF_SCENE_SPARSE_STRANDS 8
+#define SATF_SCENE_MAX_CLUMPS 16   /* clumps or holes per cluster */
+#define SATF_SCENE_MAX_COORD 1e6   /* |coordinate| in scene units */
+#define SATF_SCENE_MAX_IMAGE 16384 /* pixels per side */
+#define SATF_SCENE_MAX_SAMPLES 64  /* anti-aliasing samples per pixel */
 #define SATF_SCENE_MAX_FILE_BYTES (64u << 20)
 #define SATF_SCENE_MAX_FRAME 10000000 /* |frame| in the animation range */
 #define SATF_SCENE_MAX_FPS 1000.0

@@ -128,8 +128,10 @@ void satf_import_width_from_thickness(const satf_strand_set *s,
   }
   if (count == 0 || !(sum > 0.0) || !(fit->radius > 0.0f))
     return;
+  /* up to 2 (the tracks' range, satf/scene.h): a one-strand cluster's
+   * radius is half its strand's thickness */
   float w = (float)(sum / (double)count) / fit->radius;
-  fit->strand_width = w < 0.005f ? 0.005f : w > 0.5f ? 0.5f : w;
+  fit->strand_width = w < 0.005f ? 0.005f : w > 2.0f ? 2.0f : w;
 }
 
 void satf_import_density_free(satf_import_density *d) {

@@ -146,7 +146,8 @@ static void fill_cluster(const satf_import_fit *f,
   d->strands = f->strands;
   d->seed = seed;
   d->layout = f->layout;
-  d->strand_width = round7(f->strand_width);
+  /* the procedural model's range (the tracks' reaches 2) */
+  d->strand_width = round7(f->strand_width < 0.5f ? f->strand_width : 0.5f);
   d->scale = 1.0f;
   d->gradient = round7(f->gradient);
 }

@@ -98,7 +98,9 @@ static satf_status update_angles(satf_renderer *r, satf_error *err) {
   r->fiber_nlights = r->nlights;
   r->fiber_trt = r->effects.secondary_highlight;
   for (int i = 0; i < r->ninsts; i++) {
-    r->insts[i].still = inst_still(r, lights_same, &r->insts[i]);
+    /* a sparse cluster is drawn as its strands (sparse.c): no maps */
+    r->insts[i].still = r->protos[r->insts[i].proto].sparse ||
+                        inst_still(r, lights_same, &r->insts[i]);
     if (!r->insts[i].still)
       moved[n++] = i;
   }

@@ -107,6 +107,10 @@ static void draw_clusters(const satf_renderer *r, GLuint prog,
   for (int i = 0; i < r->ninsts;) {
     const inst *in = &r->insts[i];
     int n = 1;
+    if (r->protos[in->proto].sparse) { /* drawn as strands (sparse.c) */
+      i++;
+      continue;
+    }
     while (r->instanced && i + n < r->ninsts &&
            r->insts[i + n].proto == in->proto &&
            r->insts[i + n].tex == in->tex &&
@@ -186,6 +190,7 @@ static void dom_clusters(satf_renderer *r, void *ctx, int opacity) {
   if (opacity)
     passes_dom_uniforms(r, r->prog_dom);
   draw_clusters(r, opacity ? r->prog_dom : r->prog_depth, r->light_viewproj, 1);
+  sparse_dom(r, opacity);
 }
 
 /* Deep opacity map (Yuksel & Keyser 2008) from the key light (frame.c
@@ -298,6 +303,7 @@ static void fill_lists(const satf_renderer *r, satf_aov aov,
   glCullFace(GL_BACK);
   draw_clusters(r, r->prog_shade, viewproj, 0);
   glDisable(GL_CULL_FACE);
+  sparse_lists(r, aov, viewproj, mode); /* their strands, sorted with them */
   hair_depth_test(0);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                   GL_TEXTURE_FETCH_BARRIER_BIT);
@@ -364,8 +370,14 @@ satf_status passes_ordered(satf_renderer *r, satf_aov aov,
   GLint loc[LOC_COUNT];
   use_layer_program(r, prog, viewproj, loc);
   glCullFace(GL_BACK);
-  for (int q = 0; q < r->ninsts; q++) /* the order forbids batching */
+  for (int q = 0; q < r->ninsts; q++) { /* the order forbids batching */
+    if (sparse_ordered(r, order[q], aov, viewproj)) { /* its strands */
+      use_layer_program(r, prog, viewproj, loc);
+      continue;
+    }
+    glEnable(GL_CULL_FACE);
     draw_run(r, order[q], 1, loc, 0);
+  }
   glBindVertexArray(0);
   glFrontFace(GL_CCW);
   glDisable(GL_CULL_FACE);

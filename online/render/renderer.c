@@ -72,6 +72,7 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
   r->map_opt = satf_map_options_default();
   r->instanced = 1;
   r->incremental = 1;
+  r->sparse_max = SATF_SPARSE_STRANDS_DEFAULT;
   st = satf_maps_create(db, &r->maps, err);
   if (st != SATF_OK) {
     free(r);
@@ -90,6 +91,8 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
     st = hierarchy_build(r, progress, progress_ctx, err);
   if (st == SATF_OK)
     st = resources_build(r, err);
+  if (st == SATF_OK)
+    st = sparse_build(r, err);
   if (st != SATF_OK) {
     satf_renderer_destroy(r);
     return st;
@@ -102,6 +105,7 @@ void satf_renderer_destroy(satf_renderer *r) {
   if (!r)
     return;
   strands_release(r);
+  sparse_release(r);
   baseline_release(r);
   hierarchy_release(r);
   resources_release(r);
@@ -251,6 +255,24 @@ static satf_status render_frame(satf_renderer *r, satf_aov aov, int refresh,
   return st;
 }
 
+satf_status satf_renderer_set_sparse_strands(satf_renderer *r, int max_strands,
+                                             satf_error *err) {
+  if (max_strands < 0 || max_strands > SATF_SPARSE_STRANDS_MAX)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "sparse strands: %d (0 to %d strands a cluster)",
+                          max_strands, SATF_SPARSE_STRANDS_MAX);
+  if (max_strands == r->sparse_max)
+    return SATF_OK;
+  r->sparse_max = max_strands;
+  r->dom_valid = 0;                   /* other hair casts the shadows now */
+  for (int i = 0; i < r->ninsts; i++) /* a cluster again needs its maps */
+    frame_forget_lookups(&r->insts[i]);
+  return sparse_build(r, err);
+}
+int satf_renderer_sparse_strands(const satf_renderer *r) {
+  return r->sparse_max;
+}
+
 void satf_renderer_set_samples(satf_renderer *r, int samples) {
   r->samples = samples < 1                        ? 1
                : samples > SATF_SCENE_MAX_SAMPLES ? SATF_SCENE_MAX_SAMPLES
@@ -363,6 +385,8 @@ satf_status satf_renderer_set_scene(satf_renderer *r, const satf_scene *scene,
   int moved = 0;
   r->dom_valid = 0; /* hair or meshes may have moved */
   st = hierarchy_update(r, scene, &moved, err);
+  if (st == SATF_OK) /* the sparse clusters' strands move with them */
+    st = sparse_build(r, err);
   take_view(r, scene);
   if (rebuilt)
     *rebuilt = moved;

@@ -40,6 +40,7 @@ typedef struct proto {
    * covers a run of them: passes.c) */
   int first_inst, ninsts, chunk_insts, nchunks;
   GLuint *map_tex;
+  int sparse; /* drawn as its strands (sparse.c), not as a cluster */
 } proto;
 
 /* One placed copy of a prototype with its own maps. */
@@ -61,6 +62,8 @@ typedef struct inst {
   int still;    /* this frame's azimuths are all those of the last look-ups */
   int replaced; /* moved or reshaped since its azimuths were computed */
   int mirrored; /* negative determinant: front faces wind clockwise */
+  /* sparse (its prototype's): its strands' segments in r->sparse */
+  size_t seg0, nsegs;
 } inst;
 
 /* The strand reference path's strands and programs (strands.c). */
@@ -121,6 +124,10 @@ struct satf_renderer {
   satf_gl_target *out, *dom_depth, *dom_opacity;
   float light_viewproj[16], dom_slab;
   strands_gpu *strands; /* strand reference mode (strands.c); NULL: clusters */
+  /* sparse clusters' strands (sparse.c), NULL if none; sparse_max: the
+   * most strands a cluster drawn so may hold (0: none is) */
+  strands_gpu *sparse;
+  int sparse_max;
   struct baseline *baseline; /* the --no-satf path's state (baseline.c) */
   /* anti-aliasing (samples.c): samples per pixel, this sample's camera
    * offset in pixels, and the accumulator */
@@ -260,6 +267,44 @@ void hair_depth_test(int on);
 satf_status strands_render_frame(satf_renderer *r, satf_aov aov, int refresh,
                                  satf_frame_timing *timing, satf_error *err);
 void strands_release(satf_renderer *r);
+/* A set of strands on the GPU as camera-facing ribbons: n strands of
+ * counts[i] points (xyz), each point's width (thickness, or default_width
+ * when thickness is NULL); with `list` also the program that writes into
+ * the per-pixel arrays. *out is NULL for n = 0. */
+satf_status strands_gpu_create(int n, const int *counts, const float *xyz,
+                               const float *thickness, float default_width,
+                               int list, strands_gpu **out, satf_error *err);
+void strands_gpu_destroy(strands_gpu *s);
+/* Segments in the order of their strands (strand i's segments follow
+ * strand i - 1's), for draws of ranges and for the per-pixel arrays, which
+ * need no order. */
+void strands_gpu_in_order(strands_gpu *s);
+size_t strands_gpu_segments(const strands_gpu *s);
+/* The shading program, every fragment (whole or partly covered) blended
+ * "over" (list_mode -1) or into the per-pixel arrays in that mode of
+ * passes_lists, bound with the frame's material, lights and view. */
+void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
+                       const float viewproj[16], int list_mode);
+void strands_gpu_draw(const strands_gpu *s, size_t first, size_t count);
+/* The strands into the bound deep opacity map (passes_dom_hair_fn). */
+void strands_gpu_dom(satf_renderer *r, strands_gpu *s, int opacity);
+
+/* ---- sparse.c: clusters of few strands drawn as those strands -------- */
+
+/* Which prototypes are sparse (their "tracks" density holds 1 ..
+ * r->sparse_max strands: proto.sparse) and their instances' strands on the
+ * GPU, in world space; called when the hierarchy is built or updated. */
+satf_status sparse_build(satf_renderer *r, satf_error *err);
+void sparse_release(satf_renderer *r);
+/* The sparse strands into the per-pixel arrays (list mode of
+ * passes_lists) or into the bound deep opacity map. */
+void sparse_lists(const satf_renderer *r, satf_aov aov,
+                  const float viewproj[16], int mode);
+void sparse_dom(satf_renderer *r, int opacity);
+/* Instance i's strands blended "over" (passes_ordered's order); 0 if it
+ * is not sparse (it is drawn as a cluster). */
+int sparse_ordered(satf_renderer *r, int i, satf_aov aov,
+                   const float viewproj[16]);
 
 /* ---- baseline.c: the --no-satf path (Scheuermann 2004, paper 002) ----- */
 

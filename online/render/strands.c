@@ -45,6 +45,7 @@ struct strands_gpu {
   uint32_t *indices; /* 6 per segment, in the sorted order */
   GLuint vao, vbo, ibo;
   GLuint prog_shade, prog_dom;
+  GLuint prog_list;   /* into the per-pixel arrays (sparse.c), or 0 */
   float lo[3], hi[3]; /* bounds of the ribbons */
   fiber_gpu fiber;    /* the physical material's uniforms and tables */
 };
@@ -59,21 +60,24 @@ static void free_data(strands_gpu *s) {
   free(s->indices);
 }
 
-void strands_release(satf_renderer *r) {
-  strands_gpu *s = r->strands;
+void strands_gpu_destroy(strands_gpu *s) {
   if (!s)
     return;
   GLuint bufs[2] = {s->vbo, s->ibo};
   glDeleteBuffers(2, bufs);
   if (s->vao)
     glDeleteVertexArrays(1, &s->vao);
-  if (s->prog_shade)
-    glDeleteProgram(s->prog_shade);
-  if (s->prog_dom)
-    glDeleteProgram(s->prog_dom);
+  GLuint progs[3] = {s->prog_shade, s->prog_dom, s->prog_list};
+  for (int k = 0; k < 3; k++)
+    if (progs[k])
+      glDeleteProgram(progs[k]);
   fiber_gpu_release(&s->fiber);
   free_data(s);
   free(s);
+}
+
+void strands_release(satf_renderer *r) {
+  strands_gpu_destroy(r->strands);
   r->strands = NULL;
 }
 
@@ -184,12 +188,17 @@ static satf_status upload(strands_gpu *s, const int *counts, satf_error *err) {
   return satf_gl_check("strand buffers", err);
 }
 
-static satf_status build_strand_programs(strands_gpu *s, satf_error *err) {
+static satf_status build_strand_programs(strands_gpu *s, int list,
+                                         satf_error *err) {
   satf_status st = build_program("strands", satf_glsl_strand_vs,
                                  satf_glsl_strand_fs, "", &s->prog_shade, err);
   if (st == SATF_OK)
     st = build_program("strands (opacity map)", satf_glsl_strand_vs,
                        satf_glsl_strand_dom_fs, "", &s->prog_dom, err);
+  if (st == SATF_OK && list)
+    st = build_program("strands (fragment arrays)", satf_glsl_strand_vs,
+                       satf_glsl_strand_fs, "#define LIST 1\n", &s->prog_list,
+                       err);
   return st;
 }
 
@@ -217,18 +226,16 @@ static void grow_bounds(satf_renderer *r, const strands_gpu *s) {
   }
 }
 
-satf_status satf_renderer_set_strands(satf_renderer *r, int n_strands,
-                                      const int *counts, const float *xyz,
-                                      const float *thickness,
-                                      float default_width, satf_error *err) {
+satf_status strands_gpu_create(int n_strands, const int *counts,
+                               const float *xyz, const float *thickness,
+                               float default_width, int list, strands_gpu **out,
+                               satf_error *err) {
+  *out = NULL;
   size_t total = 0;
   satf_status st = check_input(n_strands, counts, xyz, thickness, default_width,
                                &total, err);
-  if (st != SATF_OK)
+  if (st != SATF_OK || n_strands == 0)
     return st;
-  strands_release(r);
-  if (n_strands == 0)
-    return SATF_OK;
   strands_gpu *s = calloc(1, sizeof *s);
   if (!s)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
@@ -252,22 +259,39 @@ satf_status satf_renderer_set_strands(satf_renderer *r, int n_strands,
     memcpy(s->points + 4 * k, xyz + 3 * k, 3 * sizeof(float));
     s->points[4 * k + 3] = thickness ? thickness[k] : default_width;
   }
-  r->strands = s;
   st = upload(s, counts, err);
   if (st == SATF_OK)
-    st = build_strand_programs(s, err);
+    st = build_strand_programs(s, list, err);
   if (st != SATF_OK) {
-    strands_release(r);
+    strands_gpu_destroy(s);
     return st;
   }
   strand_bounds(s);
-  grow_bounds(r, s);
+  *out = s;
+  return SATF_OK;
+}
+
+satf_status satf_renderer_set_strands(satf_renderer *r, int n_strands,
+                                      const int *counts, const float *xyz,
+                                      const float *thickness,
+                                      float default_width, satf_error *err) {
+  strands_gpu *s = NULL;
+  satf_status st = strands_gpu_create(n_strands, counts, xyz, thickness,
+                                      default_width, 0, &s, err);
+  if (st != SATF_OK)
+    return st;
+  strands_release(r);
+  r->strands = s;
+  if (s)
+    grow_bounds(r, s);
   return SATF_OK;
 }
 
 int satf_renderer_strand_count(const satf_renderer *r) {
   return r->strands ? r->strands->nstrands : 0;
 }
+
+static void write_indices(strands_gpu *s, const uint32_t *order);
 
 /* Segments far to near from the eye: an LSD radix sort (four byte passes)
  * of their midpoints' squared distances, whose float bits order as the
@@ -305,10 +329,18 @@ static void sort_far_to_near(strands_gpu *s, const float eye[3]) {
     o0 = o1;
     o1 = t;
   }
-  /* four passes: the sorted arrays are back in keys/order; each segment
-   * is two triangles of its points' side vertices */
+  /* four passes: the sorted arrays are back in keys/order */
+  write_indices(s, s->order);
+}
+
+void strands_gpu_in_order(strands_gpu *s) { write_indices(s, s->first); }
+
+/* The index buffer: segments (their first points) in the order given, each
+ * two triangles of its points' side vertices. */
+static void write_indices(strands_gpu *s, const uint32_t *order) {
+  size_t n = s->nsegs;
   for (size_t i = 0; i < n; i++) {
-    uint32_t a = 2 * s->order[i], *q = s->indices + 6 * i;
+    uint32_t a = 2 * order[i], *q = s->indices + 6 * i;
     q[0] = a;
     q[1] = a + 2;
     q[2] = a + 3;
@@ -354,22 +386,32 @@ static void bind_strands(GLuint prog, const float viewproj[16], int w, int h) {
   glUniform1f(glGetUniformLocation(prog, "u_px_scale"), px_scale(viewproj, h));
 }
 
-static void draw_segments(const strands_gpu *s) {
+void strands_gpu_draw(const strands_gpu *s, size_t first, size_t count) {
   glBindVertexArray(s->vao);
-  glDrawElements(GL_TRIANGLES, (GLsizei)(6 * s->nsegs), GL_UNSIGNED_INT, NULL);
+  glDrawElements(GL_TRIANGLES, (GLsizei)(6 * count), GL_UNSIGNED_INT,
+                 (void *)(6 * first * sizeof(uint32_t)));
   glBindVertexArray(0);
+}
+
+static void draw_segments(const strands_gpu *s) {
+  strands_gpu_draw(s, 0, s->nsegs);
+}
+
+size_t strands_gpu_segments(const strands_gpu *s) { return s->nsegs; }
+
+void strands_gpu_dom(satf_renderer *r, strands_gpu *s, int opacity) {
+  bind_strands(s->prog_dom, r->light_viewproj, DOM_SIZE, DOM_SIZE);
+  glUniform1i(glGetUniformLocation(s->prog_dom, "u_depth_only"), !opacity);
+  if (opacity)
+    passes_dom_uniforms(r, s->prog_dom);
+  draw_segments(s);
 }
 
 /* The deep opacity map of passes_dom with the strands in the clusters'
  * place: the first hair's depth from the strand segments and the meshes,
  * then each segment's coverage summed into the slab it falls in. */
 static void dom_strands(satf_renderer *r, void *ctx, int opacity) {
-  strands_gpu *s = ctx;
-  bind_strands(s->prog_dom, r->light_viewproj, DOM_SIZE, DOM_SIZE);
-  glUniform1i(glGetUniformLocation(s->prog_dom, "u_depth_only"), !opacity);
-  if (opacity)
-    passes_dom_uniforms(r, s->prog_dom);
-  draw_segments(s);
+  strands_gpu_dom(r, ctx, opacity);
 }
 
 static void strands_dom(satf_renderer *r) {
@@ -391,6 +433,22 @@ static void set_fiber_uniforms(const satf_renderer *r, strands_gpu *s,
   fiber_gpu_bind(&s->fiber, m, p);
 }
 
+void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
+                       const float viewproj[16], int list_mode) {
+  GLuint p = list_mode >= 0 ? s->prog_list : s->prog_shade;
+  set_shading_uniforms(r, p, aov);
+  set_fiber_uniforms(r, s, p);
+  float vec[4 * SATF_SCENE_MAX_LIGHTS];
+  for (int k = 0; k < r->nlights; k++)
+    frame_light_vector(&r->lights[k], vec + 4 * k);
+  glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
+  glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
+  bind_strands(p, viewproj, r->width, r->height);
+  glUniform1i(glGetUniformLocation(p, "u_whole"), -1);
+  if (list_mode >= 0)
+    glUniform1i(glGetUniformLocation(p, "u_list_mode"), list_mode);
+}
+
 /* The meshes as the cluster path draws them; then the fragments strands
  * cover whole, with the depth test and writes of opaque surfaces (exact
  * visibility among overlapping wide strands, which painter's order per
@@ -404,14 +462,7 @@ static void strands_composite(satf_renderer *r, satf_aov aov,
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
   GLuint p = s->prog_shade;
-  set_shading_uniforms(r, p, aov);
-  set_fiber_uniforms(r, s, p);
-  float vec[4 * SATF_SCENE_MAX_LIGHTS];
-  for (int k = 0; k < r->nlights; k++)
-    frame_light_vector(&r->lights[k], vec + 4 * k);
-  glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
-  glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
-  bind_strands(p, viewproj, r->width, r->height);
+  strands_gpu_begin(r, s, aov, viewproj, -1);
   if (any_wide(s, viewproj, r->height)) { /* hair thinner than a pixel: no */
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);

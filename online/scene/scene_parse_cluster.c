@@ -253,7 +253,9 @@ static satf_status parse_tracks(scene_ctx *ctx, const cJSON *obj,
   static const char *const keys[] = {"type",  "slices", "strand_width",
                                      "scale", "tracks", NULL};
   static const scene_range r_slices = {2, SATF_SCENE_MAX_TRACK_SLICES, 0, 1};
-  static const scene_range r_width = {0, 0.5, 1, 0};
+  /* up to 2: a one-strand cluster is as thin as its strand (satf-import
+   * floors its radius at half the strand's thickness), a diameter of 2 */
+  static const scene_range r_width = {0, 2, 1, 0};
   static const scene_range r_scale = {0, 100, 1, 0};
   const cJSON *arr;
   int n = 0;

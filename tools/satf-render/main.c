@@ -51,11 +51,12 @@ static void usage(FILE *out) {
       "  --threads N          CPU threads for the map stage (0 = all)\n"
       "  --samples N          anti-aliasing: N jittered samples per pixel\n"
       "                       (1-64; default: the scene's image.samples, 1)\n"
-      "%s%s%s%s"
+      "%s%s%s%s%s"
       "  -q, --quiet          no summary\n"
       "  -h, --help           this help\n",
       PROG, satf_frontend_shading_help, satf_frontend_effect_help,
-      satf_frontend_strand_help, satf_frontend_budget_help);
+      satf_frontend_strand_help, satf_frontend_sparse_help,
+      satf_frontend_budget_help);
 }
 
 typedef struct options {
@@ -63,8 +64,9 @@ typedef struct options {
   long w, h, bench, threads, samples;
   int resume, aov, quiet, composite, bg_in_exr, strands;
   float strand_width;
-  double budget; /* --memory-budget, bytes (0: the default) */
-  int shading;   /* --shading: SATF_MATERIAL_*, -1: the scene's */
+  double budget;      /* --memory-budget, bytes (0: the default) */
+  int shading;        /* --shading: SATF_MATERIAL_*, -1: the scene's */
+  int sparse_strands; /* --sparse-strands N, -1: the default */
   satf_scene_effects off;
 #ifdef SATF_MPI
   const satf_mpi *mpi; /* the job's ranks share --frames */
@@ -125,6 +127,8 @@ static int parse_one(satf_cli_args *it, options *o) {
     return strand < 0 ? -1 : 0;
   else if ((strand = satf_frontend_shading_flag(it, &o->shading)) != 0)
     return strand < 0 ? -1 : 0;
+  else if ((strand = satf_frontend_sparse_flag(it, &o->sparse_strands)) != 0)
+    return strand < 0 ? -1 : 0;
   else if ((strand = satf_frontend_strand_flag(it, &o->strands,
                                                &o->strand_width)) != 0)
     return strand < 0 ? -1 : 0;
@@ -183,6 +187,7 @@ static int parse_args(int argc, char **argv, options *o) {
   memset(o, 0, sizeof *o);
   o->off = (satf_scene_effects){1, 1, 1, 1};
   o->shading = -1;
+  o->sparse_strands = -1;
   o->composite = SATF_COMPOSITE_EXACT;
   satf_cli_args it;
   satf_cli_begin(&it, PROG, argc, argv);
@@ -344,6 +349,7 @@ static int render_job(options *o) {
                          &o->h, &fe) != SATF_OK)
     return 1;
   fe.strand_width = o->strand_width;
+  fe.sparse_strands = o->sparse_strands;
   if (satf_frontend_set_shading(PROG, &fe, o->shading) != SATF_OK) {
     satf_frontend_free(&fe);
     return 1;

@@ -37,10 +37,11 @@ static void usage(FILE *out) {
       "  --screenshot PATH    render --frames frames, save the window's\n"
       "                       last frame as PATH (.png or .exr), and exit\n"
       "  --frames N           frames before --screenshot (default 3)\n"
-      "%s%s%s%s"
+      "%s%s%s%s%s"
       "  -h, --help           this help\n",
       PROG, satf_frontend_shading_help, satf_frontend_effect_help,
-      satf_frontend_strand_help, satf_frontend_budget_help);
+      satf_frontend_strand_help, satf_frontend_sparse_help,
+      satf_frontend_budget_help);
 }
 
 typedef struct options {
@@ -48,8 +49,9 @@ typedef struct options {
   long w, h, samples;
   int strands;
   float strand_width;
-  double budget; /* --memory-budget, bytes (0: the default) */
-  int shading;   /* --shading: SATF_MATERIAL_*, -1: the scene's */
+  double budget;      /* --memory-budget, bytes (0: the default) */
+  int shading;        /* --shading: SATF_MATERIAL_*, -1: the scene's */
+  int sparse_strands; /* --sparse-strands N, -1: the default */
   viewer_opts view;
 } options;
 
@@ -87,6 +89,9 @@ static int parse_one(satf_cli_args *it, options *o) {
   int shading = satf_frontend_shading_flag(it, &o->shading);
   if (shading != 0)
     return shading < 0 ? -1 : 0;
+  int sparse = satf_frontend_sparse_flag(it, &o->sparse_strands);
+  if (sparse != 0)
+    return sparse < 0 ? -1 : 0;
   if (!satf_cli_positional(it)) {
     satf_cli_unknown(it);
     return -1;
@@ -104,6 +109,7 @@ static int parse_args(int argc, char **argv, options *o) {
   memset(o, 0, sizeof *o);
   o->view.off = (satf_scene_effects){1, 1, 1, 1};
   o->shading = -1;
+  o->sparse_strands = -1;
   o->view.composite = SATF_COMPOSITE_ORDERED;
   o->view.prefix = "satf-view";
   o->view.frames = 3;
@@ -134,6 +140,7 @@ int main(int argc, char **argv) {
                          &fe) != SATF_OK)
     return 1;
   fe.strand_width = o.strand_width;
+  fe.sparse_strands = o.sparse_strands;
   if (satf_frontend_set_shading(PROG, &fe, o.shading) != SATF_OK) {
     satf_frontend_free(&fe);
     return 1;

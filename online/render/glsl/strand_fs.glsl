@@ -22,7 +22,14 @@
  * the hairs in the way (summed coverage), which gives the direct and the
  * forward-scattered parts, and the local back-scattering comes from the
  * tables (u_fiber_tables, satf_fiber_dual_tables). AOVs there: 1 all but
- * R and TRT (TT, the remainder, multiple scattering), 2 R, 3 TRT. */
+ * R and TRT (TT, the remainder, multiple scattering), 2 R, 3 TRT.
+ *
+ * Compiled with LIST for sparse clusters drawn as strands in the cluster
+ * path (sparse.c): each fragment goes, whole or partly covered, into the
+ * per-pixel arrays (list_write.glsl) beside the clusters' fragments. */
+#ifndef LIST
+#define LIST 0
+#endif
 #include "lighting.glsl"
 #include "strand_cover.glsl"
 #include "fiber.glsl"
@@ -46,13 +53,25 @@ uniform mat4 u_light_viewproj;
 uniform float u_dom_slab;
 uniform float u_kcluster;
 uniform int u_aov; /* 0 beauty, 1 diffuse, 2 specI, 3 specII, 4 shadow, 5 alpha */
-uniform int u_whole; /* 1: only whole coverage, 0: only partial */
+uniform int u_whole; /* 1: only whole coverage, 0: only partial, -1: all */
 uniform int u_model; /* 0 Kajiya-Kay (SATF eq. 9-11), 1 the fibre model */
 uniform float u_fiber_eta, u_fiber_s, u_fiber_alpha;
 uniform vec4 u_fiber_v;
 uniform vec3 u_fiber_sigma_a;
 uniform sampler2D u_fiber_tables;
+#if LIST
+#include "list_write.glsl"
+#else
 out vec4 o_color;
+#endif
+/* the fragment's colour (premultiplied) and coverage */
+void emit(vec3 col, float alpha) {
+#if LIST
+  list_write(col, alpha);
+#else
+  o_color = vec4(col, alpha);
+#endif
+}
 #include "dom_lookup.glsl"
 /* shade_fs.glsl's noise hash; here one column per strand, varying slowly
  * along the strand's t as there along the cluster's */
@@ -118,7 +137,7 @@ void main() {
   if (cover < 1.0 / 1024.0) discard;
   /* whole: the same test in both passes, so each fragment is drawn once */
   bool whole = cover >= 1.0 - 1.0 / 1024.0;
-  if (whole != (u_whole != 0)) discard;
+  if (u_whole >= 0 && whole != (u_whole != 0)) discard;
   if (whole) cover = 1.0;
   /* a hairpin's tip has no direction: a zero tangent lights as one
    * across every light (sin 1), never as NaN */
@@ -152,7 +171,7 @@ void main() {
     else if (u_aov == 4) y = vec3(dom);
     else if (u_aov == 5) y = vec3(1.0);
     else y = total;
-    o_color = vec4(y * cover, cover);
+    emit(y * cover, cover);
     return;
   }
   vec3 dif = vec3(0.0), s1 = vec3(0.0), s2 = vec3(0.0);
@@ -175,5 +194,5 @@ void main() {
   else if (u_aov == 4) y = vec3(dom);
   else if (u_aov == 5) y = vec3(1.0);
   else y = dif + s1 + s2;
-  o_color = vec4(y * cover, cover);
+  emit(y * cover, cover);
 }

@@ -1,0 +1,38 @@
+/* list_write.glsl - one fragment into the per-pixel fragment arrays that
+ * resolve_fs.glsl sorts and composites (SATF eq. 14 over everything the
+ * pixel sees): a cluster's composite along the pixel's ray
+ * (shade_fs.glsl) or a sparse cluster's strand (strand_fs.glsl with LIST,
+ * sparse.c), so the two kinds of hair are ordered by depth together. */
+/* The depth test against the opaque meshes must run before the shader:
+ * a fragment's image stores happen whatever a later test decides, so hair
+ * behind a head would otherwise be composited over it. */
+layout(early_fragment_tests) in;
+uniform int u_slots;
+/* 0: every fragment takes the next slot; 1: only the depth keys of the
+ * u_slots nearest are kept (u_keys); 2: fragments no farther than the
+ * u_slots-th nearest take slots (passes.c, passes_lists) */
+uniform int u_list_mode;
+layout(binding = 0, r32ui) uniform coherent uimage2D u_counts;
+layout(binding = 1, rgba32ui) uniform writeonly uimage2DArray u_frags;
+layout(binding = 2, r32ui) uniform coherent uimage2DArray u_keys;
+/* col premultiplied by alpha */
+void list_write(vec3 col, float alpha) {
+  ivec2 px = ivec2(gl_FragCoord.xy);
+  /* depth >= 0, so its bits order as the depths do */
+  uint key = floatBitsToUint(gl_FragCoord.z);
+  if (u_list_mode == 1) {
+    /* lock-free sorted insertion: each atomicMin keeps the smaller key in
+     * slot i and carries the larger on, so slot i ends as the (i+1)-th
+     * smallest key whatever the arrival order */
+    for (int i = 0; i < u_slots && key != 0xFFFFFFFFu; i++)
+      key = max(key, imageAtomicMin(u_keys, ivec3(px, i), key));
+    return;
+  }
+  if (u_list_mode == 2 &&
+      key > imageLoad(u_keys, ivec3(px, u_slots - 1)).r) return;
+  int slot = int(imageAtomicAdd(u_counts, px, 1u));
+  if (slot >= u_slots) return;
+  imageStore(u_frags, ivec3(px, slot),
+             uvec4(packHalf2x16(col.rg), packHalf2x16(vec2(col.b, alpha)),
+                   floatBitsToUint(gl_FragCoord.z), 0u));
+}

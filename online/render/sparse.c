@@ -1,0 +1,196 @@
+/* sparse.c - owns the clusters drawn as their own strands (issue 10 item
+ * 4). A cluster of a handful of strands fills no volume: SATF's shells
+ * spread its strands' coverage over HSVs wider than the strands, so one
+ * strand renders as a faint smear and a few as a twisted sheet. When a
+ * prototype's density is "tracks" (the importer's record of where each
+ * member strand crosses the cross-section, satf/scene.h) with at most
+ * r->sparse_max strands, its instances are drawn instead as those
+ * strands: each track, slice by slice, placed by the cluster's own
+ * generalized cylinder (SATF eq. 1 with the twist, satf/geometry.h) and
+ * the instance's transform, as anti-aliased ribbons (strands.c) of the
+ * width the density assumes. In the exact mode they go into the same
+ * per-pixel arrays as the clusters' fragments (strand_fs.glsl with LIST),
+ * so the two are sorted together; in the ordered mode they are drawn at
+ * their instance's place in the far-to-near order; they cast shadows into
+ * the deep opacity map. Their clusters are neither looked up nor drawn. */
+#include "renderer_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mat4.h"
+#include "satf/math.h"
+
+static int is_sparse(const satf_scene_cluster *c, int max) {
+  const satf_scene_density *d = &c->density;
+  return d->type == SATF_SCENE_DENSITY_TRACKS && d->n_tracks > 0 &&
+         d->n_tracks <= max;
+}
+
+static float curve_mean(const satf_scene_curve *c) {
+  double sum = 0.0;
+  for (int i = 0; i < c->count; i++)
+    sum += c->values[i];
+  return c->count > 0 ? (float)(sum / c->count) : 0.0f;
+}
+
+static float curve_at(const satf_scene_curve *c, float t) {
+  double v;
+  satf_bspline_eval(c->values, c->count, 1, t, &v, NULL, NULL);
+  return (float)v;
+}
+
+/* SATF eq. 1 at the normalised cross-section point xy = v (cos u, sin u):
+ * T + A x e1 + B y e2, with the ellipse's axes e1, e2 the rotation-
+ * minimising normals turned by theta (satf/geometry.h). A, B and theta
+ * are the scene's own curves: the renderer's cluster takes them resampled
+ * to the trajectory's control count (hierarchy.c), a slightly different
+ * spline, and where a one-strand cluster's fitted twist swings by radians
+ * between control points that difference moves the strand by its offset
+ * from the trajectory; the importer placed the tracks with these. */
+static void section_point(const satf_cluster *cluster,
+                          const satf_scene_cluster *c, float t,
+                          const float xy[2], float out[3]) {
+  satf_cluster_section sec;
+  satf_cluster_section_at(cluster, t, &sec);
+  float a = curve_at(&c->a, t), b = curve_at(&c->b, t);
+  float th = curve_at(&c->twist, t), ct = cosf(th), st = sinf(th);
+  for (int k = 0; k < 3; k++) {
+    float e1 = ct * sec.rmf_n1[k] + st * sec.rmf_n2[k];
+    float e2 = -st * sec.rmf_n1[k] + ct * sec.rmf_n2[k];
+    out[k] = sec.center[k] + a * xy[0] * e1 + b * xy[1] * e2;
+  }
+}
+
+/* Strands and points of every sparse instance (their tracks' slices). */
+static void count_strands(const satf_renderer *r, int *strands,
+                          size_t *points) {
+  *strands = 0;
+  *points = 0;
+  for (int m = 0; m < r->nprotos; m++) {
+    const proto *p = &r->protos[m];
+    if (!p->sparse)
+      continue;
+    const satf_scene_density *d =
+        &r->scene->macro_clusters[m].prototype.density;
+    for (int k = 0; k < d->n_tracks; k++)
+      if (d->track_count[k] >= 2) {
+        *strands += p->ninsts;
+        *points += (size_t)p->ninsts * (size_t)d->track_count[k];
+      }
+  }
+}
+
+/* Instance `in` of prototype m: its strands' points into xyz and widths,
+ * their point counts into counts; returns the strands written. */
+static int place_instance(const satf_renderer *r, int m, inst *in, int *counts,
+                          float *xyz, float *width) {
+  const satf_scene_cluster *c = &r->scene->macro_clusters[m].prototype;
+  const satf_scene_density *d = &c->density;
+  const proto *p = &r->protos[m];
+  /* "strand_width" is a diameter in units of the cluster radius
+   * sqrt(mean A * mean B) (satf/scene.h; what satf-import writes and the
+   * strand reference draws), scaled by the instance's size */
+  float radius = sqrtf(curve_mean(&c->a) * curve_mean(&c->b));
+  float w = d->strand_width * radius * cbrtf(fabsf(satf_mat4_det3(in->m)));
+  float denom = d->track_slices > 1 ? (float)(d->track_slices - 1) : 1.0f;
+  const float *xy = d->track_xy;
+  int n = 0;
+  size_t at = 0;
+  for (int k = 0; k < d->n_tracks; k++) {
+    int count = d->track_count[k];
+    if (count < 2) { /* a strand in one slice has no length to draw */
+      xy += 2 * (size_t)count;
+      continue;
+    }
+    for (int j = 0; j < count; j++, xy += 2) {
+      float t = (float)(d->track_first[k] + j) / denom, local[3];
+      section_point(p->cluster, c, t, xy, local);
+      satf_mat4_point(in->m, local, xyz + 3 * (at + (size_t)j));
+      width[at + (size_t)j] = w;
+    }
+    counts[n++] = count;
+    at += (size_t)count;
+  }
+  return n;
+}
+
+void sparse_release(satf_renderer *r) {
+  strands_gpu_destroy(r->sparse);
+  r->sparse = NULL;
+  for (int m = 0; r->protos && m < r->nprotos; m++)
+    r->protos[m].sparse = 0;
+}
+
+satf_status sparse_build(satf_renderer *r, satf_error *err) {
+  sparse_release(r);
+  for (int m = 0; m < r->nprotos; m++)
+    r->protos[m].sparse =
+        is_sparse(&r->scene->macro_clusters[m].prototype, r->sparse_max);
+  int strands = 0;
+  size_t points = 0;
+  count_strands(r, &strands, &points);
+  for (int i = 0; i < r->ninsts; i++)
+    r->insts[i].seg0 = r->insts[i].nsegs = 0;
+  if (strands == 0)
+    return SATF_OK;
+  int *counts = malloc((size_t)strands * sizeof(int));
+  float *xyz = malloc(3 * points * sizeof(float));
+  float *width = malloc(points * sizeof(float));
+  satf_status st = SATF_OK;
+  if (!counts || !xyz || !width)
+    st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  int n = 0;
+  size_t at = 0, seg = 0;
+  for (int m = 0; m < r->nprotos && st == SATF_OK; m++) {
+    const proto *p = &r->protos[m];
+    for (int i = 0; p->sparse && i < p->ninsts; i++) {
+      inst *in = &r->insts[p->first_inst + i];
+      int got = place_instance(r, m, in, counts + n, xyz + 3 * at, width + at);
+      in->seg0 = seg;
+      for (int k = n; k < n + got; k++) {
+        at += (size_t)counts[k];
+        seg += (size_t)counts[k] - 1;
+      }
+      in->nsegs = seg - in->seg0;
+      n += got;
+    }
+  }
+  if (st == SATF_OK)
+    st = strands_gpu_create(n, counts, xyz, width, 0.0f, 1, &r->sparse, err);
+  if (st == SATF_OK && r->sparse)
+    strands_gpu_in_order(r->sparse);
+  free(counts);
+  free(xyz);
+  free(width);
+  if (st != SATF_OK)
+    sparse_release(r);
+  return st;
+}
+
+void sparse_lists(const satf_renderer *r, satf_aov aov,
+                  const float viewproj[16], int mode) {
+  if (!r->sparse)
+    return;
+  strands_gpu_begin(r, r->sparse, aov, viewproj, mode);
+  strands_gpu_draw(r->sparse, 0, strands_gpu_segments(r->sparse));
+}
+
+void sparse_dom(satf_renderer *r, int opacity) {
+  if (r->sparse)
+    strands_gpu_dom(r, r->sparse, opacity);
+}
+
+int sparse_ordered(satf_renderer *r, int i, satf_aov aov,
+                   const float viewproj[16]) {
+  const inst *in = &r->insts[i];
+  if (!r->protos[in->proto].sparse)
+    return 0;
+  if (r->sparse && in->nsegs > 0) {
+    glDisable(GL_CULL_FACE); /* a ribbon faces the eye either way round */
+    strands_gpu_begin(r, r->sparse, aov, viewproj, -1);
+    strands_gpu_draw(r->sparse, in->seg0, in->nsegs);
+  }
+  return 1;
+}

@@ -1,0 +1,260 @@
+/* test_sparse_strands.c - clusters of few strands drawn as those strands
+ * (satf_renderer_set_sparse_strands, online/render/sparse.c): a one-strand
+ * "tracks" cluster renders as the strand reference path draws the same
+ * strand, and not as SATF's shells do; it is sorted with the clusters'
+ * fragments by depth (hidden behind a dense cluster, on top in front of
+ * it) in both compositing modes; it moves with its instance; and the
+ * setting's bounds are checked. Whole frames on llvmpipe through EGL. */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+/* cmocka needs the headers above first */
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_fixture.h"
+#include "satf/common.h"
+#include "satf/render.h"
+#include "test_util.h"
+
+#define W 128
+#define H 96
+#define DIST 20.0  /* camera on +z, looking at the origin */
+#define FOV_Y 30.0 /* degrees */
+#define RADIUS 0.1 /* the sparse cluster's a = b */
+#define WIDTH 2.0  /* its strand_width: a diameter of 2 radii, 0.2 units */
+
+/* One sparse cluster, a vertical strand along its trajectory at x = X,
+ * z = Z (slices 5, the track on the axis), and with `dense` a wide dense
+ * procedural cluster at z = DZ behind or in front of it. */
+static char *scene_text(float x, float z, int dense, float dz) {
+  static char buf[4096];
+  char other[1024] = "";
+  if (dense)
+    snprintf(other, sizeof other,
+             ", {\"prototype\": {\"trajectory\": [[0, -3, %g], [0, 3, %g]], "
+             "\"a\": 1.5, \"b\": 0.5, \"shell\": {\"layers\": 4, \"st\": 8, "
+             "\"su\": 16}, \"density\": {\"strands\": 6000}}}",
+             (double)dz, (double)dz);
+  snprintf(buf, sizeof buf,
+           "{\"macro_clusters\": [{\"prototype\": {"
+           "  \"trajectory\": [[%g, -3, %g], [%g, 3, %g]], \"a\": %g,"
+           "  \"shell\": {\"layers\": 3, \"st\": 4, \"su\": 8},"
+           "  \"density\": {\"type\": \"tracks\", \"slices\": 5,"
+           "    \"strand_width\": %g,"
+           "    \"tracks\": [[0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]]}}}%s],"
+           " \"camera\": {\"position\": [0, 0, 20], \"target\": [0, 0, 0],"
+           "              \"fov_y\": 30},"
+           " \"lights\": [{\"direction\": [-1, 0, -1]}],"
+           " \"background\": [0, 0, 0],"
+           " \"image\": {\"width\": 128, \"height\": 96}}",
+           (double)x, (double)z, (double)x, (double)z, RADIUS, WIDTH, other);
+  return buf;
+}
+
+static int setup(void **state) {
+  *state = fixture_gl_create(W, H);
+  return *state ? 0 : -1;
+}
+
+static int teardown(void **state) {
+  fixture_gl_free(*state);
+  return 0;
+}
+
+static double px_per_unit(void) {
+  return 0.5 * H / (DIST * tan(0.5 * FOV_Y * 3.14159265358979 / 180.0));
+}
+
+typedef struct how {
+  int sparse;    /* satf_renderer_set_sparse_strands, -1: the default */
+  int reference; /* draw the strand itself (satf_renderer_set_strands) */
+  int ordered;
+} how;
+
+static satf_image *render(const fixture_gl *f, const char *json, how h) {
+  satf_scene *scene = fixture_scene(json);
+  assert_non_null(scene);
+  satf_renderer *r = NULL;
+  satf_error err;
+  if (satf_renderer_create(scene, f->db, W, H, 0, &r, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  assert_int_equal(satf_renderer_sparse_strands(r),
+                   SATF_SPARSE_STRANDS_DEFAULT);
+  if (h.sparse >= 0 &&
+      satf_renderer_set_sparse_strands(r, h.sparse, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  if (h.ordered)
+    satf_renderer_set_composite(r, SATF_COMPOSITE_ORDERED);
+  if (h.reference) { /* the cluster's strand: its trajectory, 0.2 wide */
+    const float *p = scene->macro_clusters[0].prototype.trajectory;
+    int count = 5;
+    float xyz[15], w[5];
+    for (int j = 0; j < 5; j++) {
+      for (int c = 0; c < 3; c++)
+        xyz[3 * j + c] = p[c] + (p[3 + c] - p[c]) * (float)j / 4.0f;
+      w[j] = (float)(WIDTH * RADIUS);
+    }
+    if (satf_renderer_set_strands(r, 1, &count, xyz, w, 0.0f, &err) != SATF_OK)
+      fail_msg("%s", err.message);
+  }
+  satf_image *img = NULL;
+  if (satf_renderer_render_image(r, 0, &img, NULL, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(scene);
+  return img;
+}
+
+static float px(const satf_image *img, const char *ch, int col, int row) {
+  return fixture_plane(img, ch)[(size_t)row * W + (size_t)col];
+}
+
+/* Alpha summed over a row, and its centre column. */
+static double row_alpha(const satf_image *img, int row, double *centre) {
+  double s = 0.0, m = 0.0;
+  for (int c = 0; c < W; c++) {
+    s += px(img, "A", c, row);
+    m += c * px(img, "A", c, row);
+  }
+  if (centre)
+    *centre = s > 0.0 ? m / s : -1.0;
+  return s;
+}
+
+/* The sparse cluster is its strand: the strand reference path's image
+ * within rounding; its alpha across a row is the strand's width in
+ * pixels. Drawn as a cluster (sparse strands 0) it is not (a one-strand
+ * cluster as thin as its strand is close: 1.91 px of alpha for 1.79). */
+static void test_sparse_cluster_is_its_strand(void **state) {
+  const char *json = scene_text(0.0f, 0.0f, 0, 0.0f);
+  satf_image *sparse = render(*state, json, (how){-1, 0, 0});
+  satf_image *ref = render(*state, json, (how){-1, 1, 0});
+  satf_image *cluster = render(*state, json, (how){0, 0, 0});
+  double width_px = WIDTH * RADIUS * px_per_unit();
+  for (int row = 30; row <= 66; row += 12) {
+    double a = row_alpha(sparse, row, NULL), b = row_alpha(ref, row, NULL);
+    double c = row_alpha(cluster, row, NULL);
+    printf("row %d: alpha across the strand %.3f (reference %.3f, width "
+           "%.3f px), as a cluster %.3f\n",
+           row, a, b, width_px, c);
+    assert_near(a, width_px, 0.1 * width_px);
+    assert_near(a, b, 0.02);
+  }
+  double d_ref = fixture_max_diff(sparse, ref, "A");
+  double d_cluster = fixture_max_diff(cluster, ref, "A");
+  double d_rgb = fixture_max_diff(sparse, ref, "G");
+  double d_cluster_rgb = fixture_max_diff(cluster, ref, "G");
+  printf("max |alpha - reference|: sparse %.4f, as a cluster %.4f; max "
+         "|G - reference| %.4f, as a cluster %.4f\n",
+         d_ref, d_cluster, d_rgb, d_cluster_rgb);
+  assert_true(d_ref < 0.01);
+  assert_true(d_rgb < 0.01);
+  /* the shells' records are not the strand: this tells the two apart */
+  assert_true(d_cluster > 0.03 || d_cluster_rgb > 0.03);
+  satf_image_destroy(sparse);
+  satf_image_destroy(ref);
+  satf_image_destroy(cluster);
+}
+
+/* Mean |difference| of two images' R over the strand's columns. */
+static double strand_diff(const satf_image *a, const satf_image *b) {
+  double s = 0.0;
+  int n = 0;
+  for (int row = 30; row <= 66; row++)
+    for (int c = W / 2 - 2; c <= W / 2 + 1; c++, n++)
+      s += fabs(px(a, "R", c, row) - px(b, "R", c, row));
+  return s / n;
+}
+
+/* In front of a dense cluster the strand shows; behind it, it barely
+ * does: its fragments are sorted with the cluster's (exact mode), or drawn
+ * in its instance's place far to near (ordered mode). The reference for
+ * both is the dense cluster alone (the strand moved out of the picture). */
+static void test_sparse_strand_sorted_with_clusters(void **state) {
+  for (int ordered = 0; ordered < 2; ordered++) {
+    how h = {-1, 0, ordered};
+    satf_image *alone = render(*state, scene_text(40.0f, 0.0f, 1, 0.0f), h);
+    satf_image *front = render(*state, scene_text(0.0f, 2.0f, 1, 0.0f), h);
+    satf_image *back = render(*state, scene_text(0.0f, -2.0f, 1, 0.0f), h);
+    double df = strand_diff(front, alone), db = strand_diff(back, alone);
+    printf("%s: strand in front changes the cluster by %.4f, behind by "
+           "%.4f (cluster alpha %.3f)\n",
+           ordered ? "ordered" : "exact", df, db, px(alone, "A", W / 2, H / 2));
+    assert_true(px(alone, "A", W / 2, H / 2) > 0.7f);
+    assert_true(df > 0.01);
+    assert_true(db < 0.5 * df);
+    satf_image_destroy(alone);
+    satf_image_destroy(front);
+    satf_image_destroy(back);
+  }
+}
+
+/* A new scene (an animation's next frame) with the cluster moved one unit
+ * along x moves its strand by that many pixels. */
+static void test_sparse_strand_moves_with_scene(void **state) {
+  fixture_gl *f = *state;
+  satf_scene *a = fixture_scene(scene_text(0.0f, 0.0f, 0, 0.0f));
+  satf_scene *b = fixture_scene(scene_text(1.0f, 0.0f, 0, 0.0f));
+  assert_non_null(a);
+  assert_non_null(b);
+  satf_renderer *r = NULL;
+  satf_error err;
+  if (satf_renderer_create(a, f->db, W, H, 0, &r, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  double c0, c1;
+  satf_image *img = NULL;
+  if (satf_renderer_render_image(r, 0, &img, NULL, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  row_alpha(img, H / 2, &c0);
+  satf_image_destroy(img);
+  if (satf_renderer_set_scene(r, b, NULL, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  if (satf_renderer_render_image(r, 0, &img, NULL, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  row_alpha(img, H / 2, &c1);
+  satf_image_destroy(img);
+  printf("strand centre column %.3f, moved %.3f (expected %.3f)\n", c0, c1 - c0,
+         px_per_unit());
+  assert_near(c1 - c0, px_per_unit(), 0.3);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(a);
+  satf_scene_destroy(b);
+}
+
+static void test_sparse_setting_bounds(void **state) {
+  fixture_gl *f = *state;
+  satf_scene *s = fixture_scene(scene_text(0.0f, 0.0f, 0, 0.0f));
+  assert_non_null(s);
+  satf_renderer *r = NULL;
+  satf_error err;
+  if (satf_renderer_create(s, f->db, W, H, 0, &r, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  assert_int_equal(satf_renderer_set_sparse_strands(r, -1, &err),
+                   SATF_ERR_ARGUMENT);
+  assert_non_null(strstr(err.message, "sparse strands"));
+  assert_int_equal(
+      satf_renderer_set_sparse_strands(r, SATF_SPARSE_STRANDS_MAX + 1, &err),
+      SATF_ERR_ARGUMENT);
+  assert_int_equal(satf_renderer_sparse_strands(r),
+                   SATF_SPARSE_STRANDS_DEFAULT);
+  assert_int_equal(satf_renderer_set_sparse_strands(r, 0, &err), SATF_OK);
+  assert_int_equal(satf_renderer_sparse_strands(r), 0);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(s);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_sparse_cluster_is_its_strand),
+      cmocka_unit_test(test_sparse_strand_sorted_with_clusters),
+      cmocka_unit_test(test_sparse_strand_moves_with_scene),
+      cmocka_unit_test(test_sparse_setting_bounds),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
