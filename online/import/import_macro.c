@@ -202,6 +202,14 @@ void satf_import_macro_free(satf_import_macro *m) {
   }
 }
 
+/* A cluster of few strands is drawn as those strands
+ * (SATF_SCENE_SPARSE_STRANDS): a transform of another cluster within the
+ * tolerance (a few per cent of its length) would move each strand by
+ * several of its widths, so it stays a prototype of its own. */
+static int sparse(const satf_import_fit *f) {
+  return f->strands <= SATF_SCENE_SPARSE_STRANDS;
+}
+
 static size_t cluster_bytes(const satf_import_fit *f) {
   return (3 * (size_t)f->n_ctrl + 3 * (size_t)f->n_radius) * sizeof(float);
 }
@@ -245,10 +253,10 @@ satf_status satf_import_find_macro(const satf_import_fit *fits, int n,
     float *mp = out->transform + 16 * (size_t)p;
     mp[0] = mp[5] = mp[10] = mp[15] = 1.0f;
     out->bytes_shared += cluster_bytes(&fits[p]);
-    if (tolerance <= 0.0f)
+    if (tolerance <= 0.0f || sparse(&fits[p]))
       continue;
     for (int c = p + 1; c < n; c++) {
-      if (out->macro_of[c] >= 0)
+      if (out->macro_of[c] >= 0 || sparse(&fits[c]))
         continue;
       double m[16];
       double rms =

@@ -12,10 +12,19 @@
 
 /* Slices per cluster: two per HSV along t (the shell's st, about one per
  * cluster width), so a strand that winds about the axis is followed
- * between the sectors' own t. */
-static int slice_count(const satf_import_fit *fit) {
+ * between the sectors' own t; and for a cluster of few strands, which the
+ * renderer draws as those strands rebuilt from their tracks
+ * (SATF_SCENE_SPARSE_STRANDS), at least as many as its longest strand has
+ * points, so a curl is not cut short into a polygon of a few slices. */
+static int slice_count(const satf_import_projection *proj,
+                       const satf_import_fit *fit) {
   satf_scene_shell sh = satf_import_choose_shell(fit);
   int n = 2 * sh.st + 1;
+  if (proj->n_strands <= SATF_SCENE_SPARSE_STRANDS)
+    for (int i = 0; i < proj->n_strands; i++) {
+      size_t points = proj->offset[i + 1] - proj->offset[i];
+      n = points > (size_t)n ? (int)(points < 1000 ? points : 1000) : n;
+    }
   return n < 9 ? 9 : n > 129 ? 129 : n;
 }
 
@@ -31,7 +40,7 @@ void satf_import_fit_tracks(const satf_import_projection *proj,
   fit->track_first = fit->track_count = NULL;
   fit->track_xy = NULL;
   fit->n_tracks = 0;
-  int n = proj->n_strands, slices = slice_count(fit);
+  int n = proj->n_strands, slices = slice_count(proj, fit);
   int *first = malloc(((size_t)n + 1) * sizeof(int));
   int *count = malloc(((size_t)n + 1) * sizeof(int));
   float *xy = malloc(((size_t)n * (size_t)slices * 2 + 1) * sizeof(float));
