@@ -254,8 +254,9 @@ static void angle_cell(float theta, int n, int *i0, int *i1, float *f) {
     x = r;
   int i = (int)floor(x);
   *f = (float)(x - i);
-  *i0 = i % n;
-  *i1 = (i + 1) % n;
+  /* i is in [0, n] (n after snapping up): a wrap, no division */
+  *i0 = i >= n ? i - n : i;
+  *i1 = *i0 + 1 == n ? 0 : *i0 + 1;
 }
 
 /* out = (accumulate ? out : 0) + sum_c c[c] src[c]; separate, restrict-
