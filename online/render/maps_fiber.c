@@ -220,12 +220,17 @@ static void lay_fiber_row(const satf_maps *m, const float *key,
     float f = fr[x];
     float a = maps_sample(al, i, f);
     float inv = a > 1e-4f ? 1.0f / a : 0.0f;
+    /* whole texels, one store each (the maps do not fit the cache); the
+     * fill's s-map (3) is satf_maps_fiber_shadow_sums' */
+    float tk[4], tf[4];
     for (int c = 0; c < 3; c++) {
-      row_key[4 * x + c] = inv * maps_sample(key + c * w, i, f);
-      row_fill[4 * x + c] = inv * maps_sample(fill + c * w, i, f);
+      tk[c] = inv * maps_sample(key + c * w, i, f);
+      tf[c] = inv * maps_sample(fill + c * w, i, f);
     }
-    row_key[4 * x + 3] = a;
-    row_fill[4 * x + 3] = 0.0f; /* the s-map, satf_maps_fiber_shadow_sums */
+    tk[3] = a;
+    tf[3] = 0.0f;
+    memcpy(row_key + 4 * x, tk, sizeof tk);
+    memcpy(row_fill + 4 * x, tf, sizeof tf);
   }
 }
 
@@ -276,15 +281,16 @@ int satf_maps_fiber_build_layer(const satf_maps *m, const satf_maps_fiber *f,
       sector_radiance(m, f, g, q, nb, eye, lights, n_lights, trt, key, fill, al,
                       &view);
       lookups += n_lights;
-      size_t col = (size_t)j * w * 4;
-      if (i < sh->st) /* the top row of HSV i */
-        lay_fiber_row(m, key, fill, al, view,
-                      key_slice + (size_t)(2 * i) * row_floats + col,
-                      fill_slice + (size_t)(2 * i) * row_floats + col);
-      if (i > 0) /* the bottom row of HSV i - 1 */
-        lay_fiber_row(m, key, fill, al, view,
-                      key_slice + (size_t)(2 * i - 1) * row_floats + col,
-                      fill_slice + (size_t)(2 * i - 1) * row_floats + col);
+      /* the top row of HSV i and the bottom row of HSV i - 1, the same
+       * texels: laid once, copied */
+      size_t col = (size_t)j * w * 4, bytes = (size_t)w * 4 * sizeof(float);
+      size_t first = (size_t)(i > 0 ? 2 * i - 1 : 0) * row_floats + col;
+      lay_fiber_row(m, key, fill, al, view, key_slice + first,
+                    fill_slice + first);
+      if (i > 0 && i < sh->st) {
+        memcpy(key_slice + first + row_floats, key_slice + first, bytes);
+        memcpy(fill_slice + first + row_floats, fill_slice + first, bytes);
+      }
     }
   }
   return lookups;
