@@ -466,27 +466,35 @@ static seam_figures seam_measure(const fixture *f, const satf_shell_geom *g,
   return s;
 }
 
-static void test_default_lookup_reduces_seams(void **state) {
-  fixture *f = *state;
+/* Shells `sh` over the fixture's cluster holding 1500 clumped strands,
+ * with their density features; *strands to destroy after. */
+static void clumped_shells(const fixture *f, uint64_t seed, int clumps,
+                           const satf_shell_params *sh, satf_shell_geom *g,
+                           satf_strands **strands) {
   satf_scene_density d;
   memset(&d, 0, sizeof d);
   d.type = SATF_SCENE_DENSITY_PROCEDURAL;
   d.strands = 1500;
-  d.seed = 11;
+  d.seed = seed;
   d.layout = SATF_SCENE_LAYOUT_CLUMPED;
-  d.clumps = 6;
+  d.clumps = clumps;
   d.clump_spread = 0.3f;
   d.strand_width = 0.03f;
   d.scale = 1.0f;
-  satf_strands *strands = NULL;
   satf_error err;
-  assert_int_equal(satf_strands_create(&d, &strands, &err), SATF_OK);
+  assert_int_equal(satf_strands_create(&d, strands, &err), SATF_OK);
+  assert_int_equal(satf_shell_geom_create(f->cluster, sh, g, &err), SATF_OK);
+  assert_int_equal(satf_sector_features(f->cluster, sh, *strands, NULL, NULL, 0,
+                                        g->features, &err),
+                   SATF_OK);
+}
+
+static void test_default_lookup_reduces_seams(void **state) {
+  fixture *f = *state;
   satf_shell_params sh = {4, 12, 16, 0.3f};
   satf_shell_geom g;
-  assert_int_equal(satf_shell_geom_create(f->cluster, &sh, &g, &err), SATF_OK);
-  assert_int_equal(satf_sector_features(f->cluster, &sh, strands, NULL, NULL, 0,
-                                        g.features, &err),
-                   SATF_OK);
+  satf_strands *strands = NULL;
+  clumped_shells(f, 11, 6, &sh, &g, &strands);
   satf_map_options one = satf_map_options_default(), def = one;
   one.k_nearest = 1;
   seam_figures s1 = seam_measure(f, &g, &one);
@@ -515,25 +523,11 @@ static void test_default_lookup_reduces_seams(void **state) {
  * what moved (satf_maps_update_layer) gives the full build's maps. */
 static void test_cached_lookups_equal_searched(void **state) {
   fixture *f = *state;
-  satf_scene_density d;
-  memset(&d, 0, sizeof d);
-  d.type = SATF_SCENE_DENSITY_PROCEDURAL;
-  d.strands = 1500;
-  d.seed = 5;
-  d.layout = SATF_SCENE_LAYOUT_CLUMPED;
-  d.clumps = 5;
-  d.clump_spread = 0.3f;
-  d.strand_width = 0.03f;
-  d.scale = 1.0f;
-  satf_strands *strands = NULL;
-  satf_error err;
-  assert_int_equal(satf_strands_create(&d, &strands, &err), SATF_OK);
   satf_shell_params sh = {3, 10, 12, 0.3f};
   satf_shell_geom g;
-  assert_int_equal(satf_shell_geom_create(f->cluster, &sh, &g, &err), SATF_OK);
-  assert_int_equal(satf_sector_features(f->cluster, &sh, strands, NULL, NULL, 0,
-                                        g.features, &err),
-                   SATF_OK);
+  satf_strands *strands = NULL;
+  satf_error err;
+  clumped_shells(f, 5, 5, &sh, &g, &strands);
   int w = satf_maps_width(f->maps);
   size_t n = satf_maps_layer_texels(&g, w) * 4 * (size_t)sh.layers;
   size_t layer = satf_maps_layer_texels(&g, w) * 4;
