@@ -254,15 +254,28 @@ static void angle_cell(float theta, int n, int *i0, int *i1, float *f) {
     x = r;
   int i = (int)floor(x);
   *f = (float)(x - i);
-  *i0 = i % n;
-  *i1 = (i + 1) % n;
+  /* i is in [0, n] (n after snapping up): a wrap, no division */
+  *i0 = i >= n ? i - n : i;
+  *i1 = *i0 + 1 == n ? 0 : *i0 + 1;
 }
+
+/* A clone of a function for processors with AVX2 (8 floats a vector
+ * against SSE2's 4), chosen when the program loads; the same operations
+ * in the same order (no fused multiply-adds: C11 does not contract), so
+ * the same values. GCC on x86-64 only (clang's clones need a newer
+ * compiler than the CI's). */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&         \
+    defined(__linux__)
+#define AVX2_CLONE __attribute__((target_clones("avx2", "default")))
+#else
+#define AVX2_CLONE
+#endif
 
 /* out = (accumulate ? out : 0) + sum_c c[c] src[c]; separate, restrict-
  * qualified streams so the compiler vectorises it. With c = (1, 0, 0, 0)
  * the result is src[0] exactly. */
-static void blend4(float *restrict out, const float *const src[4],
-                   const float c[4], int w, int accumulate) {
+AVX2_CLONE static void blend4(float *restrict out, const float *const src[4],
+                              const float c[4], int w, int accumulate) {
   const float *restrict s0 = src[0], *restrict s1 = src[1];
   const float *restrict s2 = src[2], *restrict s3 = src[3];
   if (accumulate) {
@@ -314,50 +327,82 @@ static void corners_of(const satf_db *db, float theta_v, float theta_l,
   c->bw[3] = fv * fl;
 }
 
-/* The corners' records of neighbour n (all channels) and their weights. */
-static void corner_records(const satf_db *db, const satf_db_neighbors *nb,
-                           int n, const corners *c, const float *r[4],
-                           float weight[4]) {
-  for (int k = 0; k < 4; k++) {
-    r[k] = satf_db_record_channels(db, nb->index[n], c->v[k & 1], c->l[k >> 1]);
-    weight[k] = nb->weight[n] * c->bw[k];
+/* Channels [ch0, ch0 + nch) of the corners' records of every neighbour:
+ * one contiguous run of nch * width values each (records are
+ * channel-major), blended into out in one pass per neighbour (blend4).
+ * Per value the sums run in the order of a channel-by-channel blend, so
+ * any range gives the values of the full look-up, bit for bit. */
+static void blend_range(const satf_db *db, const satf_db_neighbors *nb,
+                        const corners *cs, int ch0, int nch, float *out) {
+  int run = nch * db->p.trace.width;
+  size_t skip = (size_t)ch0 * (size_t)db->p.trace.width;
+  for (int n = 0; n < nb->count; n++) {
+    const float *r[4];
+    float c[4];
+    for (int k = 0; k < 4; k++) {
+      r[k] = satf_db_record_channels(db, nb->index[n], cs->v[k & 1],
+                                     cs->l[k >> 1]) +
+             skip;
+      c[k] = nb->weight[n] * cs->bw[k];
+    }
+    blend4(out, r, c, run, n > 0);
   }
+}
+
+void satf_db_lookup_neighbors_range(const satf_db *db,
+                                    const satf_db_neighbors *nb, float theta_v,
+                                    float theta_l, int ch0, int nch,
+                                    float *out) {
+  corners cs;
+  corners_of(db, theta_v, theta_l, &cs);
+  blend_range(db, nb, &cs, ch0, nch, out);
+}
+
+void satf_db_prefetch(const satf_db *db, const satf_db_neighbors *nb,
+                      float theta_v, float theta_l, int ch0, int nch) {
+#if defined(__GNUC__) || defined(__clang__)
+  corners cs;
+  corners_of(db, theta_v, theta_l, &cs);
+  size_t w = (size_t)db->p.trace.width;
+  size_t bytes = (size_t)nch * w * sizeof(float);
+  for (int n = 0; n < nb->count; n++)
+    for (int k = 0; k < 4; k++) {
+      const char *r =
+          (const char *)(satf_db_record_channels(db, nb->index[n], cs.v[k & 1],
+                                                 cs.l[k >> 1]) +
+                         (size_t)ch0 * w);
+      for (size_t b = 0; b < bytes; b += 64)
+        __builtin_prefetch(r + b);
+      __builtin_prefetch(r + bytes - 1); /* a run need not start a line */
+    }
+#else
+  (void)db, (void)nb, (void)theta_v, (void)theta_l, (void)ch0, (void)nch;
+#endif
 }
 
 void satf_db_lookup_neighbors(const satf_db *db, const satf_db_neighbors *nb,
                               float theta_v, float theta_l, float *re,
                               float *alpha) {
+  float both[2 * SATF_DB_LOOKUP_MAX_WIDTH];
   int w = db->p.trace.width;
-  corners cs;
-  corners_of(db, theta_v, theta_l, &cs);
-  for (int n = 0; n < nb->count; n++) {
-    const float *r[4], *a[4];
-    float c[4];
-    corner_records(db, nb, n, &cs, r, c);
-    for (int k = 0; k < 4; k++)
-      a[k] = r[k] + SATF_DB_CH_ALPHA * w;
-    blend4(re, r, c, w, n > 0);
-    blend4(alpha, a, c, w, n > 0);
+  if (w > SATF_DB_LOOKUP_MAX_WIDTH) { /* rare: blend one channel at a time */
+    satf_db_lookup_neighbors_range(db, nb, theta_v, theta_l,
+                                   SATF_DB_CH_REFLECTANCE, 1, re);
+    satf_db_lookup_neighbors_range(db, nb, theta_v, theta_l, SATF_DB_CH_ALPHA,
+                                   1, alpha);
+    return;
   }
+  satf_db_lookup_neighbors_range(db, nb, theta_v, theta_l, 0, 2, both);
+  memcpy(re, both, (size_t)w * sizeof(float));
+  memcpy(alpha, both + w, (size_t)w * sizeof(float));
 }
 
 void satf_db_lookup_neighbors_channels(const satf_db *db,
                                        const satf_db_neighbors *nb,
                                        float theta_v, float theta_l,
                                        float *out) {
-  int w = db->p.trace.width, nc = satf_db_channels(db);
-  corners cs;
-  corners_of(db, theta_v, theta_l, &cs);
-  for (int n = 0; n < nb->count; n++) {
-    const float *r[4];
-    float c[4];
-    corner_records(db, nb, n, &cs, r, c);
-    for (int ch = 0; ch < nc; ch++) {
-      const float *src[4] = {r[0] + ch * w, r[1] + ch * w, r[2] + ch * w,
-                             r[3] + ch * w};
-      blend4(out + ch * w, src, c, w, n > 0);
-    }
-  }
+  satf_db_lookup_neighbors_range(db, nb, theta_v, theta_l, 0,
+                                 satf_db_channels(db), out);
 }
 
 void satf_db_lookup(const satf_db *db, const float feature[SATF_FEATURES],

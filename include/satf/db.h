@@ -261,6 +261,24 @@ void satf_db_lookup_neighbors_channels(const satf_db *db,
                                        const satf_db_neighbors *nb,
                                        float theta_v, float theta_l,
                                        float *out);
+/* The blend of channels [ch0, ch0 + nch) only (0 <= ch0, ch0 + nch <=
+ * satf_db_channels): out holds nch x width values, channel ch0 + c at
+ * c * width, each equal bit for bit to that channel of the full look-up.
+ * A caller that never reads some channels (a fibre renderer, reflectance)
+ * skips their blending. */
+void satf_db_lookup_neighbors_range(const satf_db *db,
+                                    const satf_db_neighbors *nb, float theta_v,
+                                    float theta_l, int ch0, int nch,
+                                    float *out);
+/* Asks the processor to fetch the records that the same look-up will read,
+ * for a caller to issue one look-up ahead: the records of a look-up are
+ * scattered over the database (tens of MB), so each look-up otherwise
+ * waits for memory. Changes no value. */
+void satf_db_prefetch(const satf_db *db, const satf_db_neighbors *nb,
+                      float theta_v, float theta_l, int ch0, int nch);
+/* Records up to this width take satf_db_lookup_neighbors' one-pass blend
+ * (wider ones blend a channel at a time, the same values). */
+#define SATF_DB_LOOKUP_MAX_WIDTH 512
 
 /* relevel.c - a fibre database at other absorption levels. The value at
  * sigma of a lobe stored at `count` ascending levels, interpolated as the

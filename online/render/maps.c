@@ -341,11 +341,10 @@ static void lay_row(const satf_maps *m, const float *re, const float *al,
   for (int x = 0; x < w; x++) {
     float r = maps_sample(re, idx[x], fr[x]);
     float a = maps_sample(al, idx[x], fr[x]);
-    float *t = row + 4 * x;
-    t[0] = a > 1e-4f ? re_scale * r / a : 0.0f;
-    t[1] = a;
-    t[2] = 0.0f; /* the s-map sum, filled by satf_maps_shadow_sums */
-    t[3] = density;
+    /* the s-map sum (2) is filled by satf_maps_shadow_sums; one store of
+     * the whole texel, which misses the cache (the maps are tens of MB) */
+    float t[4] = {a > 1e-4f ? re_scale * r / a : 0.0f, a, 0.0f, density};
+    memcpy(row + 4 * x, t, sizeof t);
   }
 }
 
@@ -360,18 +359,20 @@ static params sector_params(const satf_shell_geom *g, const float *angles,
 }
 
 /* A record at p (SATF eq. 4): from the cached neighbours nb when there
- * are some, else from the k nearest samples. Returns its reflectance
- * scale: the neighbours' scales blended with the weights that blend their
- * records (exact for k = 1; for k > 1 the blend of ratios, not the ratio
- * of the blended record's sums). */
+ * are some, else from the k nearest samples; rec gets reflectance, then
+ * alpha at rec + width. Returns its reflectance scale: the neighbours'
+ * scales blended with the weights that blend their records (exact for
+ * k = 1; for k > 1 the blend of ratios, not the ratio of the blended
+ * record's sums). */
 static float lookup(const satf_maps *m, const satf_db_neighbors *nb,
-                    const params *p, int k, float *re, float *al) {
+                    const params *p, int k, float *rec) {
   satf_db_neighbors found;
   if (!nb) {
     satf_db_neighbors_find(m->db, p->f, k, &found);
     nb = &found;
   }
-  satf_db_lookup_neighbors(m->db, nb, p->view, p->light, re, al);
+  satf_db_lookup_neighbors_range(m->db, nb, p->view, p->light,
+                                 SATF_DB_CH_REFLECTANCE, 2, rec);
   float scale = 0.0f;
   for (int c = 0; c < nb->count; c++)
     scale += nb->weight[c] * m->re_scale[nb->index[c]];
@@ -382,6 +383,56 @@ static float lookup(const satf_maps *m, const satf_db_neighbors *nb,
  * (NaN: never looked up). */
 static int sector_moved(const float *angles, const float *prev, size_t q) {
   return angles[2 * q] != prev[2 * q] || angles[2 * q + 1] != prev[2 * q + 1];
+}
+
+/* What HSV (i, k, j) looks up: nothing (its sectors' azimuths are those
+ * of its last look-up), one record at its averaged parameters (uniform,
+ * SATF sec. 6.2.2) or its two boundary sectors' (eq. 7). */
+typedef struct hsv_plan {
+  enum { HSV_KEEP, HSV_UNIFORM, HSV_TWO } kind;
+  size_t st0, st1; /* its sectors */
+  params top, bot; /* their parameters */
+  params ave;      /* HSV_UNIFORM: the averaged parameters */
+  const satf_db_neighbors *nb_ave, *nb_top, *nb_bot; /* cached, or NULL */
+} hsv_plan;
+
+static void plan_hsv(const satf_maps *m, const satf_shell_geom *g,
+                     const float *angles, const float *prev,
+                     const satf_map_options *opt, const satf_neighbor_cache *nc,
+                     int i, int k, int j, hsv_plan *h) {
+  const satf_shell_params *sh = &g->shell;
+  h->st0 = sector_index(sh, i, k, j);
+  h->st1 = sector_index(sh, i + 1, k, j);
+  /* an HSV's texels follow from its two sectors' parameters alone
+   * (features and neighbours are fixed): the same azimuths, the same
+   * texels */
+  if (prev && !sector_moved(angles, prev, h->st0) &&
+      !sector_moved(angles, prev, h->st1)) {
+    h->kind = HSV_KEEP;
+    return;
+  }
+  h->top = sector_params(g, angles, h->st0);
+  h->bot = sector_params(g, angles, h->st1);
+  h->nb_ave = nc ? &nc->hsv[h->st0] : NULL;
+  h->nb_top = nc ? &nc->sector[h->st0] : NULL;
+  h->nb_bot = nc ? &nc->sector[h->st1] : NULL;
+  if (params_distance(m, &h->top, &h->bot) < opt->k_threshold) {
+    h->kind = HSV_UNIFORM;
+    h->ave = params_average(&h->top, &h->bot);
+  } else {
+    h->kind = HSV_TWO;
+  }
+}
+
+/* Fetches the records of HSV h's last look-up ahead (satf_db_prefetch);
+ * its top record, when it has two, is mostly the HSV before's bottom. */
+static void prefetch_hsv(const satf_maps *m, const hsv_plan *h) {
+  if (h->kind == HSV_UNIFORM && h->nb_ave)
+    satf_db_prefetch(m->db, h->nb_ave, h->ave.view, h->ave.light,
+                     SATF_DB_CH_REFLECTANCE, 2);
+  else if (h->kind == HSV_TWO && h->nb_bot)
+    satf_db_prefetch(m->db, h->nb_bot, h->bot.view, h->bot.light,
+                     SATF_DB_CH_REFLECTANCE, 2);
 }
 
 int satf_maps_build_layer(const satf_maps *m, const satf_shell_geom *g,
@@ -396,54 +447,48 @@ int satf_maps_update_layer(const satf_maps *m, const satf_shell_geom *g,
   const satf_shell_params *sh = &g->shell;
   int w = m->width, lookups = 0, kn = opt->k_nearest;
   size_t row_floats = (size_t)sh->su * (size_t)w * 4;
-  float re_top[MAPS_MAX_WIDTH], al_top[MAPS_MAX_WIDTH];
-  float re_bot[MAPS_MAX_WIDTH], al_bot[MAPS_MAX_WIDTH];
+  /* reflectance then alpha, of the HSV's top and bottom records */
+  float top_rec[2 * MAPS_MAX_WIDTH], bot_rec[2 * MAPS_MAX_WIDTH];
   const satf_neighbor_cache *nc =
       g->neighbors && g->neighbors->k == kn ? g->neighbors : NULL;
   for (int j = 0; j < sh->su; j++) {
     int have_top = 0; /* the previous HSV's bottom record is this top's */
     float sc_top = 1.0f;
+    hsv_plan cur, next;
+    plan_hsv(m, g, angles, prev, opt, nc, 0, k, j, &next);
     for (int i = 0; i < sh->st; i++) {
-      size_t st0 = sector_index(sh, i, k, j),
-             st1 = sector_index(sh, i + 1, k, j);
-      /* an HSV's texels follow from its two sectors' parameters alone
-       * (features and neighbours are fixed): the same azimuths, the same
-       * texels */
-      if (prev && !sector_moved(angles, prev, st0) &&
-          !sector_moved(angles, prev, st1)) {
+      cur = next;
+      if (i + 1 < sh->st) { /* the next HSV's records load meanwhile */
+        plan_hsv(m, g, angles, prev, opt, nc, i + 1, k, j, &next);
+        prefetch_hsv(m, &next);
+      }
+      if (cur.kind == HSV_KEEP) {
         have_top = 0;
         continue;
       }
-      params top = sector_params(g, angles, st0);
-      params bot = sector_params(g, angles, st1);
       float *row0 = texels + (size_t)(2 * i) * row_floats + (size_t)j * w * 4;
       float *row1 = row0 + row_floats;
-      float dens = 0.5f * (top.f[0] + bot.f[0]);
-      if (params_distance(m, &top, &bot) < opt->k_threshold) {
+      float dens = 0.5f * (cur.top.f[0] + cur.bot.f[0]);
+      if (cur.kind == HSV_UNIFORM) {
         /* uniform HSV: one look-up at the averaged parameters, swept along
          * the HSV (SATF sec. 6.2.2); the HSV's index is its top sector's */
-        params ave = params_average(&top, &bot);
-        float sc =
-            lookup(m, nc ? &nc->hsv[st0] : NULL, &ave, kn, re_top, al_top);
+        float sc = lookup(m, cur.nb_ave, &cur.ave, kn, top_rec);
         lookups++;
-        lay_row(m, re_top, al_top, sc, ave.view, dens, row0);
-        lay_row(m, re_top, al_top, sc, ave.view, dens, row1);
+        lay_row(m, top_rec, top_rec + w, sc, cur.ave.view, dens, row0);
+        memcpy(row1, row0, (size_t)w * 4 * sizeof(float));
         have_top = 0;
       } else {
         /* two look-ups, interpolated along the HSV by the texture fetch
          * (SATF eq. 7) */
         if (!have_top) {
-          sc_top =
-              lookup(m, nc ? &nc->sector[st0] : NULL, &top, kn, re_top, al_top);
+          sc_top = lookup(m, cur.nb_top, &cur.top, kn, top_rec);
           lookups++;
         }
-        float sc_bot =
-            lookup(m, nc ? &nc->sector[st1] : NULL, &bot, kn, re_bot, al_bot);
+        float sc_bot = lookup(m, cur.nb_bot, &cur.bot, kn, bot_rec);
         lookups++;
-        lay_row(m, re_top, al_top, sc_top, top.view, dens, row0);
-        lay_row(m, re_bot, al_bot, sc_bot, bot.view, dens, row1);
-        memcpy(re_top, re_bot, (size_t)w * sizeof(float));
-        memcpy(al_top, al_bot, (size_t)w * sizeof(float));
+        lay_row(m, top_rec, top_rec + w, sc_top, cur.top.view, dens, row0);
+        lay_row(m, bot_rec, bot_rec + w, sc_bot, cur.bot.view, dens, row1);
+        memcpy(top_rec, bot_rec, 2 * (size_t)w * sizeof(float));
         sc_top = sc_bot;
         have_top = 1;
       }

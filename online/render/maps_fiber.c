@@ -166,7 +166,9 @@ static void sector_radiance(const satf_maps *m, const satf_maps_fiber *f,
   float vd[3] = {eye[0] - fr[0], eye[1] - fr[1], eye[2] - fr[2]};
   direction o = sector_direction(fr, hair, vd);
   *view = o.azimuth;
-  float rec[(3 + 3 * 3) * MAPS_MAX_WIDTH];
+  /* alpha and the lobes (SATF_DB_CH_ALPHA on): the reflectance channel,
+   * a total for Phong-style readers, is never read here */
+  float rec[(2 + 3 * 3) * MAPS_MAX_WIDTH];
   memset(key, 0, 3 * (size_t)w * sizeof(float));
   memset(fill, 0, 3 * (size_t)w * sizeof(float));
   for (int li = 0; li < n_lights; li++) {
@@ -183,22 +185,23 @@ static void sector_radiance(const satf_maps *m, const satf_maps_fiber *f,
      * blending for lights that neither shadow nor set the hair's look
      * (the key light's records blend all k, SATF eq. 4) */
     satf_db_neighbors nearest = {1, {nb->index[0]}, {1.0f}};
-    satf_db_lookup_neighbors_channels(f->db, li == 0 ? nb : &nearest, o.azimuth,
-                                      i.azimuth, rec);
+    satf_db_lookup_neighbors_range(
+        f->db, li == 0 ? nb : &nearest, o.azimuth, i.azimuth, SATF_DB_CH_ALPHA,
+        satf_db_channels(f->db) - SATF_DB_CH_ALPHA, rec);
     float *dst = li == 0 ? key : fill;
     for (int c = 0; c < 3; c++) {
       float e = lights[li].rgb[c] * fall;
       int k = f->level_of[c];
-      const float *r = rec + SATF_DB_CH_R * w;
-      const float *tt = rec + SATF_DB_CH_TT(k) * w;
-      const float *trt = rec + SATF_DB_CH_TRT(k, n) * w;
-      const float *ms = rec + SATF_DB_CH_MS(k, n) * w;
+      const float *r = rec + (SATF_DB_CH_R - SATF_DB_CH_ALPHA) * w;
+      const float *tt = rec + (SATF_DB_CH_TT(k) - SATF_DB_CH_ALPHA) * w;
+      const float *trt = rec + (SATF_DB_CH_TRT(k, n) - SATF_DB_CH_ALPHA) * w;
+      const float *ms = rec + (SATF_DB_CH_MS(k, n) - SATF_DB_CH_ALPHA) * w;
       for (int x = 0; x < w; x++)
         dst[c * w + x] +=
             e * (mp[0] * r[x] + mp[1] * tt[x] + mp[2] * trt[x] + mp[3] * ms[x]);
     }
     if (li == 0)
-      memcpy(alpha, rec + SATF_DB_CH_ALPHA * w, (size_t)w * sizeof(float));
+      memcpy(alpha, rec, (size_t)w * sizeof(float));
   }
 }
 
@@ -217,13 +220,34 @@ static void lay_fiber_row(const satf_maps *m, const float *key,
     float f = fr[x];
     float a = maps_sample(al, i, f);
     float inv = a > 1e-4f ? 1.0f / a : 0.0f;
+    /* whole texels, one store each (the maps do not fit the cache); the
+     * fill's s-map (3) is satf_maps_fiber_shadow_sums' */
+    float tk[4], tf[4];
     for (int c = 0; c < 3; c++) {
-      row_key[4 * x + c] = inv * maps_sample(key + c * w, i, f);
-      row_fill[4 * x + c] = inv * maps_sample(fill + c * w, i, f);
+      tk[c] = inv * maps_sample(key + c * w, i, f);
+      tf[c] = inv * maps_sample(fill + c * w, i, f);
     }
-    row_key[4 * x + 3] = a;
-    row_fill[4 * x + 3] = 0.0f; /* the s-map, satf_maps_fiber_shadow_sums */
+    tk[3] = a;
+    tf[3] = 0.0f;
+    memcpy(row_key + 4 * x, tk, sizeof tk);
+    memcpy(row_fill + 4 * x, tf, sizeof tf);
   }
+}
+
+/* Fetches ahead the records of sector q's key light look-up (from its
+ * cached neighbours; none without a cache): satf_db_prefetch. */
+static void prefetch_key(const satf_maps_fiber *f, const satf_shell_geom *g,
+                         size_t q, int k_nearest, const float eye[3],
+                         const satf_fiber_light *lights) {
+  const satf_db_neighbors *nb = maps_sector_neighbors(g, q, k_nearest);
+  if (!nb)
+    return;
+  const float *fr = g->frames + 9 * q, *L = lights[0].local;
+  float vd[3] = {eye[0] - fr[0], eye[1] - fr[1], eye[2] - fr[2]};
+  float ld[3] = {L[0] - L[3] * fr[0], L[1] - L[3] * fr[1], L[2] - L[3] * fr[2]};
+  satf_db_prefetch(f->db, nb, maps_azimuth(fr, vd), maps_azimuth(fr, ld),
+                   SATF_DB_CH_ALPHA,
+                   satf_db_channels(f->db) - SATF_DB_CH_ALPHA);
 }
 
 int satf_maps_fiber_build_layer(const satf_maps *m, const satf_maps_fiber *f,
@@ -244,6 +268,9 @@ int satf_maps_fiber_build_layer(const satf_maps *m, const satf_maps_fiber *f,
      * boundary i in row 2i and boundary i + 1 in row 2i + 1 (SATF eq. 7) */
     for (int i = 0; i <= sh->st; i++) {
       size_t q = maps_sector_index(sh, i, k, j);
+      if (i < sh->st) /* the next boundary's records load meanwhile */
+        prefetch_key(f, g, maps_sector_index(sh, i + 1, k, j), opt->k_nearest,
+                     eye, lights);
       satf_db_neighbors found;
       const satf_db_neighbors *nb = maps_sector_neighbors(g, q, opt->k_nearest);
       if (!nb) {
@@ -254,15 +281,16 @@ int satf_maps_fiber_build_layer(const satf_maps *m, const satf_maps_fiber *f,
       sector_radiance(m, f, g, q, nb, eye, lights, n_lights, trt, key, fill, al,
                       &view);
       lookups += n_lights;
-      size_t col = (size_t)j * w * 4;
-      if (i < sh->st) /* the top row of HSV i */
-        lay_fiber_row(m, key, fill, al, view,
-                      key_slice + (size_t)(2 * i) * row_floats + col,
-                      fill_slice + (size_t)(2 * i) * row_floats + col);
-      if (i > 0) /* the bottom row of HSV i - 1 */
-        lay_fiber_row(m, key, fill, al, view,
-                      key_slice + (size_t)(2 * i - 1) * row_floats + col,
-                      fill_slice + (size_t)(2 * i - 1) * row_floats + col);
+      /* the top row of HSV i and the bottom row of HSV i - 1, the same
+       * texels: laid once, copied */
+      size_t col = (size_t)j * w * 4, bytes = (size_t)w * 4 * sizeof(float);
+      size_t first = (size_t)(i > 0 ? 2 * i - 1 : 0) * row_floats + col;
+      lay_fiber_row(m, key, fill, al, view, key_slice + first,
+                    fill_slice + first);
+      if (i > 0 && i < sh->st) {
+        memcpy(key_slice + first + row_floats, key_slice + first, bytes);
+        memcpy(fill_slice + first + row_floats, fill_slice + first, bytes);
+      }
     }
   }
   return lookups;

@@ -134,6 +134,67 @@ static void lookup_over_every_channel(void **state) {
   free(alpha);
 }
 
+/* A channel range blends those channels bit for bit as the full look-up
+ * does, and the full look-up is SATF eq. 4 (the neighbours' weights times
+ * the periodic bilinear weights of the four stored azimuth pairs), summed
+ * here in double straight from the records. */
+static void lookup_range_is_a_slice_of_eq4(void **state) {
+  (void)state;
+  const satf_build_params *p = satf_db_params(g_db);
+  int w = p->trace.width, nc = satf_db_channels(g_db);
+  float *all = malloc((size_t)nc * (size_t)w * sizeof(float));
+  float *part = malloc((size_t)nc * (size_t)w * sizeof(float));
+  assert_non_null(all);
+  assert_non_null(part);
+  float feature[SATF_FEATURES] = {0.4f, 0.45f, 0.55f};
+  satf_db_neighbors nb;
+  satf_db_neighbors_find(g_db, feature, 4, &nb);
+  assert_true(nb.count >= 2);
+  /* between stored azimuths, and across the periodic seam */
+  const float angles[3][2] = {{0.7f, 2.9f}, {6.2f, 0.05f}, {-0.3f, 7.5f}};
+  for (int a = 0; a < 3; a++) {
+    float tv = angles[a][0], tl = angles[a][1];
+    satf_db_lookup_neighbors_channels(g_db, &nb, tv, tl, all);
+    double fv = fmod(fmod(tv / SATF_TWO_PI * p->n_view, p->n_view) + p->n_view,
+                     p->n_view);
+    double fl =
+        fmod(fmod(tl / SATF_TWO_PI * p->n_light, p->n_light) + p->n_light,
+             p->n_light);
+    int v0 = (int)floor(fv), l0 = (int)floor(fl);
+    fv -= v0;
+    fl -= l0;
+    for (int c = 0; c < nc; c++)
+      for (int x = 0; x < w; x++) {
+        double want = 0.0;
+        for (int n = 0; n < nb.count; n++)
+          for (int k = 0; k < 4; k++) {
+            int iv = (v0 + (k & 1)) % p->n_view;
+            int il = (l0 + (k >> 1)) % p->n_light;
+            double bw = ((k & 1) ? fv : 1 - fv) * ((k >> 1) ? fl : 1 - fl);
+            want +=
+                nb.weight[n] * bw *
+                satf_db_record_channels(g_db, nb.index[n], iv, il)[c * w + x];
+          }
+        if (fabs(all[c * w + x] - want) > 1e-6 * (1.0 + fabs(want)))
+          fail_msg("azimuths %d channel %d sample %d: %.8f, eq. 4 %.8f", a, c,
+                   x, (double)all[c * w + x], want);
+      }
+    const int ranges[4][2] = {{0, 2}, {1, 3}, {2, 1}, {1, 0}};
+    for (int r = 0; r < 4; r++) {
+      int ch0 = ranges[r][0], count = r == 3 ? nc - 1 : ranges[r][1];
+      satf_db_lookup_neighbors_range(g_db, &nb, tv, tl, ch0, count, part);
+      assert_memory_equal(part, all + (size_t)ch0 * w,
+                          (size_t)count * (size_t)w * sizeof(float));
+    }
+    /* fetching ahead changes nothing */
+    satf_db_prefetch(g_db, &nb, tv, tl, 1, nc - 1);
+    satf_db_lookup_neighbors_range(g_db, &nb, tv, tl, 0, nc, part);
+    assert_memory_equal(part, all, (size_t)nc * (size_t)w * sizeof(float));
+  }
+  free(all);
+  free(part);
+}
+
 static void v2_round_trip(void **state) {
   (void)state;
   satf_db *back = NULL;
@@ -308,6 +369,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(channel_api),
       cmocka_unit_test(lookup_over_every_channel),
+      cmocka_unit_test(lookup_range_is_a_slice_of_eq4),
       cmocka_unit_test(v2_round_trip),
       cmocka_unit_test(hash_covers_channels_and_parameters),
       cmocka_unit_test(truncated_and_corrupt_v2_files_fail),

@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_turn.h"
 #include "renderer_internal.h"
 #include "satf/common.h"
 #include "satf/db.h"
@@ -36,18 +37,6 @@ static const char *const NAMES[NSIT] = {"camera turning", "  one draw/inst",
 static void die(const char *what, const satf_error *err) {
   fprintf(stderr, "bench_frames: %s: %s\n", what, err ? err->message : "");
   exit(1);
-}
-
-/* Turns the camera about its up axis through the target. */
-static void turn(satf_scene_camera *cam, float angle) {
-  float v[3], kx[3];
-  for (int a = 0; a < 3; a++)
-    v[a] = cam->position[a] - cam->target[a];
-  float c = cosf(angle), s = sinf(angle), kv = satf_dot3f(cam->up, v);
-  satf_cross3f(cam->up, v, kx);
-  for (int a = 0; a < 3; a++)
-    cam->position[a] =
-        cam->target[a] + v[a] * c + kx[a] * s + cam->up[a] * kv * (1 - c);
 }
 
 static void add(satf_frame_timing *sum, const satf_frame_timing *t) {
@@ -146,7 +135,7 @@ int main(int argc, char **argv) {
       r->instanced = s != ORBIT_PER_INSTANCE;
       r->incremental = s != STILL_FULL;
       if (s == ORBIT || s == ORBIT_PER_INSTANCE)
-        turn(satf_renderer_camera(r), step);
+        bench_turn(satf_renderer_camera(r), step);
       if (s == STILL || s == STILL_FULL) { /* a frame at the same view */
         if (satf_renderer_render(r, SATF_AOV_BEAUTY, &t, &err) != SATF_OK)
           die("render", &err);

@@ -14,19 +14,35 @@
  *     maps.h (mean jump across HSV boundaries / mean step inside an HSV)
  *     and the map stage's time per frame on one thread (FRAMES frames per
  *     setting, settings taken in turn so load on the machine hits all
- *     alike), plus the features' time per G. */
+ *     alike), plus the features' time per G.
+ *   bench_lookup turn DB SCENE [FRAMES] [kk|physical]
+ *     the renderer's per-frame CPU work (SATF Table 1: I azimuths, C
+ *     look-ups, M upload; frame.c) with the camera turning 2 degrees a frame,
+ *     so every HSV is looked up again: ms per frame on 1 and on 2 threads
+ *     (taken in turn, frame by frame), and I + C + M per 100K HSVs (issue 12
+ *     item 3); and the process's CPU time in those stages, which other
+ *     load on the machine inflates less than their wall time (all threads,
+ *     GL's included). physical: the physical shading mode (give a fibre
+ *     DB).
+ *     With DUMP, writes every instance's texels after the last frame
+ *     there (raw floats), to compare the maps of two builds. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
+#include "bench_turn.h"
 #include "maps.h"
 #include "mat4.h"
 #include "renderer_internal.h"
 #include "satf/common.h"
 #include "satf/density.h"
+#include "satf/gl.h"
 #include "satf/math.h"
 #include "satf/offline.h"
+#include "satf/render.h"
 #include "satf/scene.h"
 
 static const int KS[] = {1, 2, 4, 8};
@@ -306,16 +322,108 @@ static int maps_bench(const satf_db *db, const char *path, int frames) {
   return 0;
 }
 
+/* ---- turn: the renderer's I + C + M with a turning camera -------------- */
+
+/* CPU time of the whole process, every thread, in ms. */
+static double cpu_ms(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return 1e3 * (double)t.tv_sec + 1e-6 * (double)t.tv_nsec;
+}
+
+/* Every instance's texels, raw floats, to `path`. */
+static void dump_texels(const satf_renderer *r, const char *path) {
+  FILE *f = fopen(path, "wb");
+  if (!f)
+    die(path, NULL);
+  for (int i = 0; i < r->ninsts; i++) {
+    const satf_shell_geom *g = &r->insts[i].geom;
+    size_t n = satf_maps_layer_texels(g, r->w) * 4 * (size_t)g->shell.layers *
+               (size_t)r->slices;
+    if (fwrite(r->insts[i].texels, sizeof(float), n, f) != n)
+      die(path, NULL);
+  }
+  if (fclose(f) != 0)
+    die(path, NULL);
+}
+
+static int turn_bench(const satf_db *db, const char *path, int frames,
+                      int physical, const char *dump) {
+  satf_scene *scene = NULL;
+  satf_gl_context *ctx = NULL;
+  satf_renderer *r = NULL;
+  satf_error err;
+  if (satf_scene_load(path, &scene, &err) != SATF_OK)
+    die(path, &err);
+  if (physical)
+    scene->material.model = SATF_MATERIAL_PHYSICAL;
+  if (satf_gl_context_create_headless(64, 64, &ctx, &err) != SATF_OK)
+    die("GL", &err);
+  if (satf_renderer_create(scene, db, 64, 64, 2, &r, &err) != SATF_OK)
+    die("renderer", &err);
+  satf_frame_timing t;
+  if (satf_renderer_render(r, SATF_AOV_BEAUTY, &t, &err) != SATF_OK)
+    die("render", &err);
+  enum { NT = 2 };
+  /* per thread count: sums and minima over frames of I, C, M, I + C + M
+   * and the CPU time; the minimum is what load on the machine spared */
+  double sum[NT][5] = {{0}}, lo[NT][5];
+  for (int th = 0; th < NT; th++)
+    for (int v = 0; v < 5; v++)
+      lo[th][v] = INFINITY;
+  long lookups = 0;
+  float step = 2.0f * SATF_PI_F / 180.0f;
+  for (int f = 0; f < frames; f++)
+    for (int th = 0; th < NT; th++) { /* thread counts in turn */
+      r->threads = th + 1;
+      bench_turn(satf_renderer_camera(r), step);
+      double c0 = cpu_ms();
+      if (frame_update_maps(r, &t, &err) != SATF_OK)
+        die("maps", &err);
+      double v[5] = {t.index_ms, t.maps_ms, t.upload_ms,
+                     t.index_ms + t.maps_ms + t.upload_ms, cpu_ms() - c0};
+      for (int k = 0; k < 5; k++) {
+        sum[th][k] += v[k] / frames;
+        lo[th][k] = v[k] < lo[th][k] ? v[k] : lo[th][k];
+      }
+      lookups = t.lookups;
+    }
+  double hsvs = (double)r->stats.hsvs, per = 1e5 / (hsvs > 0 ? hsvs : 1);
+  printf("%s (%s): %ld clusters, %.0f HSVs, %ld look-ups a frame, camera "
+         "turning 2 degrees a frame, %d frames; ms per frame, mean / "
+         "minimum\n",
+         path, physical ? "physical" : "kk", r->stats.clusters, hsvs, lookups,
+         frames);
+  printf("  threads  I            C            M            I+C+M        "
+         "I+C+M per 100K HSVs  CPU (all threads)\n");
+  for (int th = 0; th < NT; th++) {
+    printf("  %7d", th + 1);
+    for (int k = 0; k < 4; k++)
+      printf("  %5.2f/%5.2f", sum[th][k], lo[th][k]);
+    printf("  %5.2f/%5.2f          %5.2f/%5.2f\n", sum[th][3] * per,
+           lo[th][3] * per, sum[th][4], lo[th][4]);
+  }
+  if (dump)
+    dump_texels(r, dump);
+  satf_renderer_destroy(r);
+  satf_gl_context_destroy(ctx);
+  satf_scene_destroy(scene);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   if (argc < 3 || !strcmp(argv[1], "--help") ||
-      (strcmp(argv[1], "heldout") && strcmp(argv[1], "maps")) ||
-      (!strcmp(argv[1], "maps") && argc < 4)) {
+      (strcmp(argv[1], "heldout") && strcmp(argv[1], "maps") &&
+       strcmp(argv[1], "turn")) ||
+      (strcmp(argv[1], "heldout") && argc < 4)) {
     fprintf(argc < 2 || strcmp(argv[1], "--help") ? stderr : stdout,
             "usage: bench_lookup heldout DB [SECTORS]\n"
             "       bench_lookup maps DB SCENE [FRAMES]\n"
+            "       bench_lookup turn DB SCENE [FRAMES] [kk|physical] [DUMP]\n"
             "Measures the look-up defaults: held-out error and HSV seams "
             "for k = 1, 2, 4, 8 blended samples and feature grids of 8, 16, "
-            "32 nodes, and the map stage's time.\n");
+            "32 nodes, and the map stage's time; the renderer's I + C + M "
+            "with a turning camera.\n");
     return argc >= 2 && !strcmp(argv[1], "--help") ? 0 : 2;
   }
   satf_db *db = NULL;
@@ -325,8 +433,12 @@ int main(int argc, char **argv) {
   int rc;
   if (!strcmp(argv[1], "heldout"))
     rc = heldout(db, argc > 3 ? atoi(argv[3]) : 200);
-  else
+  else if (!strcmp(argv[1], "maps"))
     rc = maps_bench(db, argv[3], argc > 4 ? atoi(argv[4]) : 5);
+  else
+    rc = turn_bench(db, argv[3], argc > 4 ? atoi(argv[4]) : 20,
+                    argc > 5 && !strcmp(argv[5], "physical"),
+                    argc > 6 ? argv[6] : NULL);
   satf_db_destroy(db);
   return rc;
 }

@@ -466,27 +466,35 @@ static seam_figures seam_measure(const fixture *f, const satf_shell_geom *g,
   return s;
 }
 
-static void test_default_lookup_reduces_seams(void **state) {
-  fixture *f = *state;
+/* Shells `sh` over the fixture's cluster holding 1500 clumped strands,
+ * with their density features; *strands to destroy after. */
+static void clumped_shells(const fixture *f, uint64_t seed, int clumps,
+                           const satf_shell_params *sh, satf_shell_geom *g,
+                           satf_strands **strands) {
   satf_scene_density d;
   memset(&d, 0, sizeof d);
   d.type = SATF_SCENE_DENSITY_PROCEDURAL;
   d.strands = 1500;
-  d.seed = 11;
+  d.seed = seed;
   d.layout = SATF_SCENE_LAYOUT_CLUMPED;
-  d.clumps = 6;
+  d.clumps = clumps;
   d.clump_spread = 0.3f;
   d.strand_width = 0.03f;
   d.scale = 1.0f;
-  satf_strands *strands = NULL;
   satf_error err;
-  assert_int_equal(satf_strands_create(&d, &strands, &err), SATF_OK);
+  assert_int_equal(satf_strands_create(&d, strands, &err), SATF_OK);
+  assert_int_equal(satf_shell_geom_create(f->cluster, sh, g, &err), SATF_OK);
+  assert_int_equal(satf_sector_features(f->cluster, sh, *strands, NULL, NULL, 0,
+                                        g->features, &err),
+                   SATF_OK);
+}
+
+static void test_default_lookup_reduces_seams(void **state) {
+  fixture *f = *state;
   satf_shell_params sh = {4, 12, 16, 0.3f};
   satf_shell_geom g;
-  assert_int_equal(satf_shell_geom_create(f->cluster, &sh, &g, &err), SATF_OK);
-  assert_int_equal(satf_sector_features(f->cluster, &sh, strands, NULL, NULL, 0,
-                                        g.features, &err),
-                   SATF_OK);
+  satf_strands *strands = NULL;
+  clumped_shells(f, 11, 6, &sh, &g, &strands);
   satf_map_options one = satf_map_options_default(), def = one;
   one.k_nearest = 1;
   seam_figures s1 = seam_measure(f, &g, &one);
@@ -507,6 +515,84 @@ static void test_default_lookup_reduces_seams(void **state) {
   satf_strands_destroy(strands);
 }
 
+/* The maps from the neighbour cache (satf_maps_prepare: each look-up
+ * blends neighbours found once, its records fetched one look-up ahead)
+ * equal the maps whose every look-up searches the database (SATF eq. 4
+ * as satf_db_lookup), over clumped hair with uniform and non-uniform HSVs
+ * and oblique azimuths; and after the eye turns, looking up again only
+ * what moved (satf_maps_update_layer) gives the full build's maps. */
+static void test_cached_lookups_equal_searched(void **state) {
+  fixture *f = *state;
+  satf_shell_params sh = {3, 10, 12, 0.3f};
+  satf_shell_geom g;
+  satf_strands *strands = NULL;
+  satf_error err;
+  clumped_shells(f, 5, 5, &sh, &g, &strands);
+  int w = satf_maps_width(f->maps);
+  size_t n = satf_maps_layer_texels(&g, w) * 4 * (size_t)sh.layers;
+  size_t layer = satf_maps_layer_texels(&g, w) * 4;
+  size_t ns = satf_shell_sector_count(&sh);
+  float *searched = calloc(n, sizeof(float)),
+        *cached = calloc(n, sizeof(float));
+  float *angles = malloc(2 * ns * sizeof(float));
+  float *prev = malloc(2 * ns * sizeof(float));
+  assert_non_null(searched);
+  assert_non_null(cached);
+  assert_non_null(angles);
+  assert_non_null(prev);
+  satf_map_options opt = satf_map_options_default();
+  const float light[4] = {0.3f, 0.8f, -0.5f, 0.0f};
+  float eye[3] = {6.0f, 4.0f, 7.0f};
+  satf_maps_angles(&g, eye, light, angles);
+  int lookups = 0;
+  for (int k = 0; k < sh.layers; k++)
+    lookups += satf_maps_build_layer(f->maps, &g, angles, &opt, k,
+                                     searched + (size_t)k * layer);
+  /* both kinds of HSV: one look-up (uniform) and two (shared along t) */
+  printf("%d look-ups for %d HSVs\n", lookups, sh.st * sh.su * sh.layers);
+  assert_true(lookups > sh.st * sh.su * sh.layers);
+  int uniform = 0; /* a uniform HSV lays one record in both its rows */
+  size_t row = (size_t)sh.su * (size_t)w * 4;
+  for (int k = 0; k < sh.layers; k++)
+    for (int i = 0; i < sh.st; i++)
+      for (int j = 0; j < sh.su; j++) {
+        const float *r0 = searched + (size_t)k * layer + 2 * (size_t)i * row +
+                          (size_t)j * (size_t)w * 4;
+        uniform += !memcmp(r0, r0 + row, (size_t)w * 4 * sizeof(float));
+      }
+  printf("%d uniform HSVs\n", uniform);
+  assert_true(uniform > 0);
+  assert_int_equal(satf_maps_prepare(f->maps, &g, &opt, &err), SATF_OK);
+  for (int k = 0; k < sh.layers; k++)
+    assert_int_equal(satf_maps_build_layer(f->maps, &g, angles, &opt, k,
+                                           cached + (size_t)k * layer),
+                     satf_maps_build_layer(f->maps, &g, angles, &opt, k,
+                                           cached + (size_t)k * layer));
+  for (size_t x = 0; x < n; x++)
+    if (fabsf(cached[x] - searched[x]) > 1e-6f * (1.0f + fabsf(searched[x])))
+      fail_msg("texel value %zu: %.8f from the cache, %.8f searched", x,
+               (double)cached[x], (double)searched[x]);
+  /* the eye turns: only HSVs whose azimuths moved are looked up again */
+  memcpy(prev, angles, 2 * ns * sizeof(float));
+  eye[0] = 6.5f;
+  satf_maps_angles(&g, eye, light, angles);
+  for (int k = 0; k < sh.layers; k++) {
+    satf_maps_update_layer(f->maps, &g, angles, prev, &opt, k,
+                           cached + (size_t)k * layer);
+    satf_maps_build_layer(f->maps, &g, angles, &opt, k,
+                          searched + (size_t)k * layer);
+  }
+  assert_memory_equal(cached, searched, n * sizeof(float));
+  satf_neighbor_cache_free(g.neighbors);
+  g.neighbors = NULL;
+  satf_shell_geom_destroy(&g);
+  satf_strands_destroy(strands);
+  free(searched);
+  free(cached);
+  free(angles);
+  free(prev);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_sector_frames),
@@ -516,6 +602,7 @@ int main(void) {
       cmocka_unit_test(test_shadow_sums_exact),
       cmocka_unit_test(test_uniform_density_features),
       cmocka_unit_test(test_default_lookup_reduces_seams),
+      cmocka_unit_test(test_cached_lookups_equal_searched),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
