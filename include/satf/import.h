@@ -289,6 +289,8 @@ typedef struct satf_import_fit {
   float radius;       /* sqrt(mean a * mean b), scene units */
   satf_scene_layout layout;
   float gradient; /* for SATF_SCENE_LAYOUT_GRADIENT */
+  float core;     /* the shells' hollow core, v: 3% of the points lie
+                     inside (satf_import_choose_shell); 0.4 until measured */
   /* the members as tracks (satf_import_fit_tracks; the scene density type
    * "tracks", fields as in satf_scene_density); n_tracks 0: none */
   int track_slices, n_tracks;
@@ -443,7 +445,8 @@ satf_status satf_import_write_fit_report(const char *path,
  * strands in the normalised cross-section, so the file's strands fill the
  * cluster as the many more strands of real hair would), fit->radius, and
  * the layout: "gradient" with the slope g of 1 + g (v - 1/2) when the
- * strands' mean v says |g| >= 0.3, else "uniform". */
+ * strands' mean v says |g| >= 0.3, else "uniform"; and fit->core, the v
+ * below which only a few of the points lie (the shells hold the rest). */
 void satf_import_estimate_density(const satf_import_projection *proj,
                                   satf_import_fit *fit);
 /* The members as tracks (import_tracks.c): where each crosses evenly
@@ -483,6 +486,11 @@ double satf_import_density_slice_mass(const satf_import_density *d, int i);
 /* World-space Gaussian width of a cluster's strands: half the strand width
  * times the cluster radius. */
 float satf_import_world_sigma(const satf_import_fit *fit);
+/* The scale of a cluster's density (satf_scene_density.scale) that makes
+ * the database's records, traced with extinction `extinction` per unit
+ * density per cluster radius, as opaque on average as strands of the
+ * density's width: 4 / (pi width extinction), at least 1. */
+float satf_import_density_scale(float strand_width, float extinction);
 
 /* The whole hairstyle's density in world space: every segment of strand i
  * is a tube of width satf_import_world_sigma(fits[labels[i]]) (half the

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "satf/db.h"
 #include "satf/import.h"
 #include "satf/math.h"
 
@@ -94,7 +95,8 @@ satf_scene_shell satf_import_choose_shell(const satf_import_fit *fit) {
   }
   double aspect = ma > mb ? ma / mb : mb / ma;
   sh.su = aspect <= 1.5 ? 16 : aspect <= 3.0 ? 24 : 32;
-  sh.core = 0.4f;
+  /* the core as the strands leave it (satf_import_estimate_density) */
+  sh.core = fit->core >= 0.0f && fit->core <= 0.4f ? fit->core : 0.4f;
   /* around a handful of strands, 8 phases resolve them; and no hollow
    * core: a lone strand's track runs along the axis, which the shells
    * between the core and the envelope would never see */
@@ -127,7 +129,10 @@ static void fill_cluster(const satf_import_fit *f,
     return;
   }
   d->strand_width = round7(f->strand_width);
-  d->scale = 1.0f;
+  /* the default database's extinction: the renderer may be given another
+   * database, but the one the scene names is built with the defaults */
+  d->scale = round7(satf_import_density_scale(
+      f->strand_width, satf_trace_params_default().extinction));
   if (f->n_tracks > 0) { /* the cluster's own strands (issue 10 item 5) */
     size_t points = 0;
     for (int k = 0; k < f->n_tracks; k++)
@@ -148,7 +153,6 @@ static void fill_cluster(const satf_import_fit *f,
   d->layout = f->layout;
   /* the procedural model's range (the tracks' reaches 2) */
   d->strand_width = round7(f->strand_width < 0.5f ? f->strand_width : 0.5f);
-  d->scale = 1.0f;
   d->gradient = round7(f->gradient);
 }
 
