@@ -486,11 +486,13 @@ double satf_import_density_slice_mass(const satf_import_density *d, int i);
 /* World-space Gaussian width of a cluster's strands: half the strand width
  * times the cluster radius. */
 float satf_import_world_sigma(const satf_import_fit *fit);
-/* The scale of a cluster's density (satf_scene_density.scale) that makes
- * the database's records, traced with extinction `extinction` per unit
- * density per cluster radius, as opaque on average as strands of the
- * density's width: 4 / (pi width extinction), at least 1. */
-float satf_import_density_scale(float strand_width, float extinction);
+/* The scale of a cluster's density (satf_scene_density.scale) for the
+ * default database's records (satf_trace_params_default, satf_sector_
+ * shape_default): as opaque on average as strands of the density's width,
+ * 4 / (pi width extinction) but at least 1, times the shell layers' depth
+ * over the records' (a layer takes one record's alpha, traced through the
+ * canonical sector's depth of 0.2 cluster radii). */
+float satf_import_density_scale(float strand_width, float layer_depth);
 
 /* The whole hairstyle's density in world space: every segment of strand i
  * is a tube of width satf_import_world_sigma(fits[labels[i]]) (half the

@@ -10,7 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "satf/db.h"
 #include "satf/import.h"
 #include "satf/math.h"
 
@@ -129,10 +128,8 @@ static void fill_cluster(const satf_import_fit *f,
     return;
   }
   d->strand_width = round7(f->strand_width);
-  /* the default database's extinction: the renderer may be given another
-   * database, but the one the scene names is built with the defaults */
   d->scale = round7(satf_import_density_scale(
-      f->strand_width, satf_trace_params_default().extinction));
+      f->strand_width, (1.0f - c->shell.core) / (float)c->shell.layers));
   if (f->n_tracks > 0) { /* the cluster's own strands (issue 10 item 5) */
     size_t points = 0;
     for (int k = 0; k < f->n_tracks; k++)

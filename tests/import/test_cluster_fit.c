@@ -395,7 +395,8 @@ static void test_fur_density_covers(void **state) {
     d.track_count = f->track_count;
     d.track_xy = f->track_xy;
     d.strand_width = f->strand_width;
-    d.scale = satf_import_density_scale(f->strand_width, ext);
+    /* pieces as deep as the records' sector: no depth factor */
+    d.scale = satf_import_density_scale(f->strand_width, 0.2f);
     satf_strands *st = NULL;
     satf_error err;
     assert_int_equal(satf_strands_create(&d, &st, &err), SATF_OK);
@@ -429,6 +430,11 @@ static void test_fur_density_covers(void **state) {
   assert_true(opaque > 100.0);
   double ratio = records / opaque;
   assert_true(ratio > 0.8 && ratio < 1.25);
+  /* a layer half as deep again as the records' sector: 1.5 times the
+   * density; wide strands: no more than the depth asks */
+  assert_float_equal(satf_import_density_scale(0.05f, 0.3f),
+                     1.5f * satf_import_density_scale(0.05f, 0.2f), 1e-5f);
+  assert_float_equal(satf_import_density_scale(0.4f, 0.2f), 1.0f, 1e-6f);
   outcome_free(&o);
   satf_strand_set_destroy(s);
 }
