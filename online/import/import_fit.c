@@ -16,7 +16,6 @@
 
 #define TABLE 257 /* trajectory samples for the coarse closest-point search */
 #define TWIST_BINS 32
-#define TUFT_CTRL 4 /* control points of a tuft's axis (tuft_axis) */
 
 satf_import_fit_params satf_import_fit_params_default(void) {
   satf_import_fit_params p = {8, 8, 32, 0.95f, 0.0f};
@@ -284,51 +283,42 @@ static double greville(int j, int n) {
   return s / p;
 }
 
-/* The least-squares B-spline with n control points through m points at
- * parameters u in [0, 1], point k weighted by wt[k] (NULL: 1). */
-static int fit_curve(const double *pts, const double *u, const double *wt,
-                     int m, int n, float *ctrl) {
-  double *ata = calloc((size_t)n * n, sizeof(double));
-  double *atb = calloc((size_t)n * 3, sizeof(double));
-  double w[64];
-  int bad = !ata || !atb;
-  for (int k = 0; !bad && k < m; k++) {
-    double g = wt ? wt[k] : 1.0;
-    basis(n, u[k], w);
-    for (int i = 0; i < n; i++) {
-      for (int j = 0; j < n; j++)
-        ata[i * n + j] += g * w[i] * w[j];
-      for (int c = 0; c < 3; c++)
-        atb[i * 3 + c] += g * w[i] * pts[3 * k + c];
-    }
-  }
-  bad = bad || solve(ata, atb, n, 3) != 0;
-  for (int i = 0; !bad && i < 3 * n; i++)
-    ctrl[i] = (float)atb[i];
-  free(ata);
-  free(atb);
-  return bad ? -1 : 0;
-}
-
 /* The least-squares B-spline with n control points through m points
- * parameterised by their chord length (uniform: by their index). */
+ * parameterised by their chord length. */
 static int fit_trajectory_u(const double *pts, int m, int n, int uniform,
                             float *ctrl) {
   double *u = malloc((size_t)m * sizeof(double));
-  if (!u)
-    return -1;
-  u[0] = 0.0;
-  for (int k = 1; k < m; k++) {
-    double dx = pts[3 * k] - pts[3 * k - 3],
-           dy = pts[3 * k + 1] - pts[3 * k - 2],
-           dz = pts[3 * k + 2] - pts[3 * k - 1];
-    u[k] = u[k - 1] + sqrt(dx * dx + dy * dy + dz * dz);
+  double *ata = calloc((size_t)n * n, sizeof(double));
+  double *atb = calloc((size_t)n * 3, sizeof(double));
+  double w[64];
+  int bad = !u || !ata || !atb;
+  if (!bad) {
+    u[0] = 0.0;
+    for (int k = 1; k < m; k++) {
+      double dx = pts[3 * k] - pts[3 * k - 3],
+             dy = pts[3 * k + 1] - pts[3 * k - 2],
+             dz = pts[3 * k + 2] - pts[3 * k - 1];
+      u[k] = u[k - 1] + sqrt(dx * dx + dy * dy + dz * dz);
+    }
+    for (int k = 0; k < m; k++)
+      u[k] = u[m - 1] > 0.0 && !uniform ? u[k] / u[m - 1] : (double)k / (m - 1);
+    for (int k = 0; k < m; k++) {
+      basis(n, u[k], w);
+      for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++)
+          ata[i * n + j] += w[i] * w[j];
+        for (int c = 0; c < 3; c++)
+          atb[i * 3 + c] += w[i] * pts[3 * k + c];
+      }
+    }
+    bad = solve(ata, atb, n, 3) != 0;
+    for (int i = 0; !bad && i < 3 * n; i++)
+      ctrl[i] = (float)atb[i];
   }
-  for (int k = 0; k < m; k++)
-    u[k] = u[m - 1] > 0.0 && !uniform ? u[k] / u[m - 1] : (double)k / (m - 1);
-  int bad = fit_curve(pts, u, NULL, m, n, ctrl);
   free(u);
-  return bad;
+  free(ata);
+  free(atb);
+  return bad ? -1 : 0;
 }
 
 static int fit_trajectory(const double *pts, int m, int n, float *ctrl) {
@@ -810,37 +800,31 @@ static void tuft_axis(const satf_strand_set *s, const int *members, int n,
       sum[4 * b + 3] += 1.0;
     }
   }
-  /* The bin means scatter across the patch's width (a few points each):
-   * the axis is the weighted least-squares cubic through them, at the
-   * bins' places along the direction, sampled evenly. A patch of fur is
-   * nearly straight, so TUFT_CTRL control points follow it; following the
-   * means with more swings the axis from side to side, and the cylinder
-   * folds over itself (issue 10: the fur's chips). */
-  double *pts = malloc(5 * (size_t)m * sizeof(double));
-  if (!pts) { /* the mean strand stands */
-    free(sum);
-    return;
-  }
-  double *u = pts + 3 * (size_t)m, *wt = u + m;
   int used = 0;
   for (int b = 0; b < m; b++)
     if (sum[4 * b + 3] > 0.0) {
       for (int c = 0; c < 3; c++)
-        pts[3 * used + c] = sum[4 * b + c] / sum[4 * b + 3];
-      u[used] = ((double)b + 0.5) / m;
-      wt[used] = sum[4 * b + 3];
+        mean[3 * used + c] = sum[4 * b + c] / sum[4 * b + 3];
       used++;
     }
-  int nc = used < TUFT_CTRL ? used : TUFT_CTRL;
-  float ctrl[3 * TUFT_CTRL];
-  if (nc >= 2 && fit_curve(pts, u, wt, used, nc, ctrl) == 0)
-    for (int k = 0; k < m; k++) {
-      double v[3];
-      satf_bspline_eval(ctrl, nc, 3, (double)k / (m - 1), v, NULL, NULL);
-      for (int c = 0; c < 3; c++)
-        mean[3 * k + c] = v[c];
+  /* fewer points than bins: the used ones spread evenly over m again
+   * (repeated points would leave the end's control points unconstrained) */
+  if (used >= 2 && used < m) {
+    double *tmp = malloc(3 * (size_t)used * sizeof(double));
+    if (tmp) {
+      memcpy(tmp, mean, 3 * (size_t)used * sizeof(double));
+      for (int k = 0; k < m; k++) {
+        double x = (double)k * (used - 1) / (m - 1);
+        int a = (int)x;
+        a = a >= used - 1 ? used - 2 : a;
+        double f = x - a;
+        for (int c = 0; c < 3; c++)
+          mean[3 * k + c] =
+              tmp[3 * a + c] + f * (tmp[3 * a + 3 + c] - tmp[3 * a + c]);
+      }
+      free(tmp);
     }
-  free(pts);
+  }
   free(sum);
 }
 
