@@ -151,11 +151,19 @@ typedef struct satf_frame_timing {
   long fragments; /* fragments stored in the per-pixel lists */
 } satf_frame_timing;
 
+#define SATF_LOD_LEVELS 4
+
 typedef struct satf_render_stats {
   long clusters, layers, strands, hsvs, macro_clusters, prototypes_shared;
   /* pixels of the last frame that received more fragments than the
    * per-pixel arrays hold (64; exact compositing): they keep the nearest */
   long overflow_pixels;
+  /* the last frame's level of detail (satf_renderer_set_lod): clusters per
+   * level (0: every shell layer read; n: every 2^n-th, faded towards
+   * 2^(n+1); the last bin counts n and up), those drawn as one layer, and
+   * those drawn with a coarser proxy */
+  long lod_levels[SATF_LOD_LEVELS];
+  long lod_single, lod_coarse;
 } satf_render_stats;
 
 /* Builds clusters, shells, meshes, density features and GL resources.
@@ -201,6 +209,12 @@ satf_composite satf_renderer_composite(const satf_renderer *r);
 satf_status satf_renderer_set_sparse_strands(satf_renderer *r, int max_strands,
                                              satf_error *err);
 int satf_renderer_sparse_strands(const satf_renderer *r);
+/* Level of detail by size on screen (off at creation: every cluster at
+ * full detail): a cluster a few pixels wide reads fewer shell layers,
+ * each standing for the ones it skips, faded continuously with its width
+ * (no popping), and draws a coarser proxy. */
+void satf_renderer_set_lod(satf_renderer *r, int on);
+int satf_renderer_lod(const satf_renderer *r);
 
 /* Renders one frame of `aov` into the renderer's RGBA16F target. */
 satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,

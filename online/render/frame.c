@@ -242,6 +242,7 @@ satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
     glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, in->layer0, sh->su * r->w,
                     2 * sh->st, sh->layers * r->slices, GL_RGBA, GL_FLOAT,
                     in->texels);
+    lod_mean_alpha(r, i);
     in->stale_upload = 0;
     r->maps_changed++;
   }
@@ -255,8 +256,8 @@ satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
   return satf_gl_check("map upload", err);
 }
 
-/* std430 layout of glsl/shade_fs.glsl's per-instance view: the eye (xyz)
- * and SATF_SCENE_MAX_LIGHTS lights, 4 floats each. */
+/* std430 layout of glsl/shade_fs.glsl's per-instance view: the eye (xyz,
+ * w the level of detail) and SATF_SCENE_MAX_LIGHTS lights, 4 floats each. */
 #define VIEW_FLOATS (4 + 4 * SATF_SCENE_MAX_LIGHTS)
 
 satf_status frame_instance_data(satf_renderer *r, satf_error *err) {
@@ -268,6 +269,7 @@ satf_status frame_instance_data(satf_renderer *r, satf_error *err) {
     free(views);
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }
+  lod_update(r);
   for (int i = 0; i < r->ninsts; i++) {
     const inst *in = &r->insts[i];
     /* GLSL's mat4 is column-major; in->m is row-major */
@@ -276,6 +278,7 @@ satf_status frame_instance_data(satf_renderer *r, satf_error *err) {
         models[16 * (size_t)i + 4 * (size_t)b + (size_t)a] = in->m[4 * a + b];
     float *v = views + VIEW_FLOATS * (size_t)i;
     satf_mat4_point(in->inv, r->camera.position, v);
+    v[3] = in->lod; /* the eye's w: the level (glsl/shade_fs.glsl) */
     for (int k = 0; k < r->nlights; k++)
       frame_light_local(in->inv, &r->lights[k], v + 4 + 4 * k);
   }

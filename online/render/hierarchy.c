@@ -15,10 +15,11 @@
  * traces each ray through the shells analytically (glsl/shade_fs.glsl),
  * so the proxy only has to cover the cluster's silhouette; a CPU
  * rasteriser pays for every triangle on one thread, so it is kept coarse
- * around the cluster and as fine as the HSVs along it. */
+ * around the cluster and as fine as the HSVs along it. Thin clusters far
+ * away take half the columns and coarser rows (lod.h); the deep opacity
+ * map's passes take LOD_PROXY_DOM. */
 #define PROXY_COLUMNS 12
-/* The deep opacity map is coarse: its passes skip rows of the proxy. */
-#define COARSE_ROWS 4
+#define THIN_COLUMNS 6
 
 /* The proxy: (st + 1) x (PROXY_COLUMNS + 1) vertices on an elliptic
  * cylinder circumscribing the outer shell, each with position, hair
@@ -43,12 +44,14 @@ void hierarchy_resample_curve(const satf_scene_curve *c, int n, float *out) {
   }
 }
 
-/* The proxy's vertices (PROXY_FLOATS each, layout above). */
-static void proxy_vertices(const satf_cluster *cluster, int st, float *f) {
-  int cols = PROXY_COLUMNS + 1;
+/* The proxy's vertices (PROXY_FLOATS each, layout above) for `columns`
+ * columns around. */
+static void proxy_vertices(const satf_cluster *cluster, int st, int columns,
+                           float *f) {
+  int cols = columns + 1;
   /* the polygon's edges touch the shell: it covers every pixel the shell
    * covers */
-  float inflate = 1.0f / cosf(SATF_PI_F / PROXY_COLUMNS);
+  float inflate = 1.0f / cosf(SATF_PI_F / (float)columns);
   for (int i = 0; i <= st; i++) {
     satf_cluster_section sec;
     float t = (float)i / (float)st;
@@ -56,10 +59,10 @@ static void proxy_vertices(const satf_cluster *cluster, int st, float *f) {
     float speed = sqrtf(satf_dot3f(sec.dcenter, sec.dcenter));
     for (int j = 0; j < cols; j++) {
       float *v = f + PROXY_FLOATS * ((size_t)i * cols + (size_t)j);
-      float u = SATF_TWO_PI_F * (float)j / PROXY_COLUMNS;
+      float u = SATF_TWO_PI_F * (float)j / (float)columns;
       satf_cluster_section_point(&sec, inflate, u, v);
       satf_cluster_section_hair_tangent(&sec, 1.0f, u, v + 3);
-      v[6] = (float)j / PROXY_COLUMNS;
+      v[6] = (float)j / (float)columns;
       v[7] = t;
       memcpy(v + 8, sec.center, 3 * sizeof(float));
       memcpy(v + 11, sec.n1, 3 * sizeof(float));
@@ -73,26 +76,42 @@ static void proxy_vertices(const satf_cluster *cluster, int st, float *f) {
   }
 }
 
-/* Two triangles between rows i0 and i1 of the proxy for every column,
- * counter-clockwise seen from outside (d/du x d/dt points outwards);
- * returns the end of what was written. */
-static uint32_t *proxy_band(int i0, int i1, uint32_t *q) {
-  int cols = PROXY_COLUMNS + 1;
-  for (int j = 0; j < PROXY_COLUMNS; j++) {
-    uint32_t a = (uint32_t)(i0 * cols + j), b = a + 1;
-    uint32_t c = (uint32_t)(i1 * cols + j), d = c + 1;
+/* Two triangles between rows i0 and i1 of a proxy of `columns` columns
+ * whose vertices start at `base`, for every column, counter-clockwise seen
+ * from outside (d/du x d/dt points outwards); returns the end of what was
+ * written. */
+static uint32_t *proxy_band(int i0, int i1, int columns, uint32_t base,
+                            uint32_t *q) {
+  int cols = columns + 1;
+  for (int j = 0; j < columns; j++) {
+    uint32_t a = base + (uint32_t)(i0 * cols + j), b = a + 1;
+    uint32_t c = base + (uint32_t)(i1 * cols + j), d = c + 1;
     *q++ = a, *q++ = b, *q++ = c;
     *q++ = b, *q++ = d, *q++ = c;
   }
   return q;
 }
 
-/* Every row of the proxy, then the coarse rows of the light passes. */
-static void proxy_indices(int st, uint32_t *q) {
-  for (int i = 0; i < st; i++)
-    q = proxy_band(i, i + 1, q);
-  for (int i = 0; i < st; i += COARSE_ROWS)
-    q = proxy_band(i, i + COARSE_ROWS < st ? i + COARSE_ROWS : st, q);
+/* Triangles of proxy `level` (lod.h) for st rows. */
+static size_t proxy_triangles(int level, int st) {
+  int rows = lod_proxy_rows(level);
+  int cols = lod_proxy_thin(level) ? THIN_COLUMNS : PROXY_COLUMNS;
+  return 2 * (size_t)((st + rows - 1) / rows) * (size_t)cols;
+}
+
+/* Every proxy's bands, one after another (p->lod_first, p->lod_count);
+ * the thin ones' vertices start at `thin_base`. */
+static void proxy_indices(proto *p, int st, uint32_t thin_base, uint32_t *q) {
+  const uint32_t *start = q;
+  for (int level = 0; level < LOD_PROXIES; level++) {
+    int rows = lod_proxy_rows(level), thin = lod_proxy_thin(level);
+    p->lod_first[level] = (GLsizei)(q - start);
+    for (int i = 0; i < st; i += rows)
+      q = proxy_band(i, i + rows < st ? i + rows : st,
+                     thin ? THIN_COLUMNS : PROXY_COLUMNS, thin ? thin_base : 0,
+                     q);
+    p->lod_count[level] = (GLsizei)(q - start) - p->lod_first[level];
+  }
 }
 
 /* The proxy's buffers and vertex attributes, at the locations of
@@ -123,24 +142,26 @@ static void proxy_upload(proto *p, const float *f, size_t nv,
 
 static satf_status build_proxy(proto *p, const satf_shell_params *sh,
                                satf_error *err) {
-  size_t nv = (size_t)(sh->st + 1) * (size_t)(PROXY_COLUMNS + 1);
-  int coarse_rows = (sh->st + COARSE_ROWS - 1) / COARSE_ROWS;
-  size_t ntri = 2 * (size_t)sh->st * PROXY_COLUMNS;
-  size_t ncoarse = 2 * (size_t)coarse_rows * PROXY_COLUMNS;
+  size_t nfull = (size_t)(sh->st + 1) * (size_t)(PROXY_COLUMNS + 1);
+  size_t nv = nfull + (size_t)(sh->st + 1) * (size_t)(THIN_COLUMNS + 1);
+  size_t ntri = 0;
+  for (int level = 0; level < LOD_PROXIES; level++)
+    ntri += proxy_triangles(level, sh->st);
   float *f = malloc(nv * PROXY_FLOATS * sizeof(float));
-  uint32_t *idx = malloc((ntri + ncoarse) * 3 * sizeof(uint32_t));
+  uint32_t *idx = malloc(ntri * 3 * sizeof(uint32_t));
   if (!f || !idx) {
     free(f);
     free(idx);
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }
-  proxy_vertices(p->cluster, sh->st, f);
-  proxy_indices(sh->st, idx);
-  proxy_upload(p, f, nv, idx, (ntri + ncoarse) * 3);
+  proxy_vertices(p->cluster, sh->st, PROXY_COLUMNS, f);
+  proxy_vertices(p->cluster, sh->st, THIN_COLUMNS, f + nfull * PROXY_FLOATS);
+  proxy_indices(p, sh->st, (uint32_t)nfull, idx);
+  lod_measure(f, nfull, PROXY_FLOATS, PROXY_COLUMNS + 1, sh->st, p->lod_sphere,
+              &p->lod_width, &p->lod_sag);
+  proxy_upload(p, f, nv, idx, ntri * 3);
   free(f);
   free(idx);
-  p->proxy_count = (GLsizei)(ntri * 3);
-  p->coarse_count = (GLsizei)(ncoarse * 3);
   return satf_gl_check("cluster proxy", err);
 }
 

@@ -62,6 +62,8 @@ static void use_layer_program(const satf_renderer *r, GLuint prog,
     loc[k] = glGetUniformLocation(prog, names[k]);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->inst_models);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->inst_shading);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, r->lod_alpha);
+  glUniform1i(glGetUniformLocation(prog, "u_lod_stride"), r->lod_stride);
   glActiveTexture(GL_TEXTURE0);
 }
 
@@ -86,13 +88,11 @@ static void draw_run(const satf_renderer *r, int first, int count,
    * mirror has turned them (culling keeps the outward ones) */
   glFrontFace(in->mirrored ? GL_CW : GL_CCW);
   glBindVertexArray(p->proxy_vao);
-  if (coarse)
-    glDrawElementsInstanced(GL_TRIANGLES, p->coarse_count, GL_UNSIGNED_INT,
-                            (void *)((size_t)p->proxy_count * sizeof(uint32_t)),
-                            count);
-  else
-    glDrawElementsInstanced(GL_TRIANGLES, p->proxy_count, GL_UNSIGNED_INT, NULL,
-                            count);
+  /* the light passes' coarse proxy, else the instance's (lod.c) */
+  int q = coarse ? LOD_PROXY_DOM : in->lod_proxy;
+  glDrawElementsInstanced(GL_TRIANGLES, p->lod_count[q], GL_UNSIGNED_INT,
+                          (void *)((size_t)p->lod_first[q] * sizeof(uint32_t)),
+                          count);
 }
 
 /* The outermost shell of every cluster: each fragment accounts for all the
@@ -114,7 +114,8 @@ static void draw_clusters(const satf_renderer *r, GLuint prog,
     while (r->instanced && i + n < r->ninsts &&
            r->insts[i + n].proto == in->proto &&
            r->insts[i + n].tex == in->tex &&
-           r->insts[i + n].mirrored == in->mirrored)
+           r->insts[i + n].mirrored == in->mirrored &&
+           (coarse || r->insts[i + n].lod_proxy == in->lod_proxy))
       n++;
     draw_run(r, i, n, loc, coarse);
     i += n;

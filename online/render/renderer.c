@@ -73,6 +73,7 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
   r->instanced = 1;
   r->incremental = 1;
   r->sparse_max = SATF_SPARSE_STRANDS_DEFAULT;
+  r->lod_opt = lod_defaults(); /* r->lod 0: full detail unless asked */
   st = satf_maps_create(db, &r->maps, err);
   if (st != SATF_OK) {
     free(r);
@@ -150,6 +151,8 @@ void satf_renderer_set_composite(satf_renderer *r, satf_composite mode) {
 satf_composite satf_renderer_composite(const satf_renderer *r) {
   return r->composite;
 }
+void satf_renderer_set_lod(satf_renderer *r, int on) { r->lod = on != 0; }
+int satf_renderer_lod(const satf_renderer *r) { return r->lod; }
 unsigned satf_renderer_texture(const satf_renderer *r) {
   return satf_gl_target_color_texture(r->out, 0);
 }

@@ -10,6 +10,7 @@
 #define SATF_RENDERER_INTERNAL_H
 
 #include "fiber_gpu.h"
+#include "lod.h"
 #include "maps.h"
 #include "maps_fiber.h"
 #include "satf/density.h"
@@ -33,8 +34,10 @@ typedef struct proto {
   int layers;
   GLuint proxy_vao; /* the drawn outer shell (hierarchy.c) */
   GLuint proxy_vbo, proxy_ibo;
-  GLsizei proxy_count;
-  GLsizei coarse_count; /* light passes: coarse rows, after the full ones */
+  /* its proxies (lod.h): index ranges, and the bounding sphere, widest
+   * section and two-row bands' sag lod.c measures */
+  GLsizei lod_first[LOD_PROXIES], lod_count[LOD_PROXIES];
+  float lod_sphere[4], lod_width, lod_sag;
   /* its instances: r->insts[first_inst .. first_inst + ninsts), whose maps
    * share texture arrays of chunk_insts instances each (one draw call
    * covers a run of them: passes.c) */
@@ -64,6 +67,8 @@ typedef struct inst {
   int mirrored; /* negative determinant: front faces wind clockwise */
   /* sparse (its prototype's): its strands' segments in r->sparse */
   size_t seg0, nsegs;
+  float lod;    /* this frame's level and proxy (lod.c) */
+  int lod_proxy;
 } inst;
 
 /* The strand reference path's strands and programs (strands.c). */
@@ -109,8 +114,12 @@ struct satf_renderer {
   /* per instance, for instanced draws (passes.c): the model matrices and
    * the eye and lights in each prototype frame (frame_instance_data) */
   GLuint inst_models, inst_shading;
-  int instanced;    /* 0: one draw per instance (a test's reference) */
-  int incremental;  /* 0: every HSV looked up every frame (the reference) */
+  int instanced;   /* 0: one draw per instance (a test's reference) */
+  int incremental; /* 0: every HSV looked up every frame (the reference) */
+  int lod;         /* level of detail by size on screen (lod.c) */
+  lod_params lod_opt;
+  GLuint lod_alpha; /* mean alpha per instance and layer (lod_mean_alpha) */
+  int lod_stride;   /* floats per instance there: the most layers */
   int maps_changed; /* instances whose maps the last frame changed */
   /* the deep opacity map's inputs when it was drawn (reused while the
    * light, the hair and its maps stay: passes.c) */
@@ -223,6 +232,25 @@ void frame_screen_box(const satf_renderer *r, const float viewproj[16],
                       int box[4]);
 /* Instance indices far to near from the eye (malloc'd; NULL: no memory). */
 int *frame_far_to_near(const satf_renderer *r);
+
+/* ---- lod_frame.c: level of detail per frame (rules: lod.h) ------------ */
+
+/* Instance i's widest section and its two-row bands' sag, in pixels on
+ * screen for r's camera, at the nearest point of its bounding sphere
+ * (1e30 with the eye inside it). */
+void lod_screen_size(const satf_renderer *r, int i, float *width_px,
+                     float *sag_px);
+/* Each instance's level and proxy for the current camera (every level 0
+ * and the full proxy while r->lod is off), and the frame's LOD mix in
+ * r->stats. */
+void lod_update(satf_renderer *r);
+/* The instances' mean alpha per shell layer, which the shading pass gives
+ * the layers a level skips (glsl/shade_fs.glsl, binding 5): allocated
+ * with the instance buffers, refreshed for an instance whose maps were
+ * uploaded, released with them. */
+satf_status lod_alloc(satf_renderer *r, satf_error *err);
+void lod_mean_alpha(satf_renderer *r, int i);
+void lod_release(satf_renderer *r);
 
 /* ---- passes.c: GPU passes (Table 1: L, S) ----------------------------- */
 
