@@ -67,7 +67,7 @@ typedef struct inst {
   int mirrored; /* negative determinant: front faces wind clockwise */
   /* sparse (its prototype's): its strands' segments in r->sparse */
   size_t seg0, nsegs;
-  float lod;    /* this frame's level and proxy (lod.c) */
+  float lod; /* this frame's level and proxy (lod_frame.c) */
   int lod_proxy;
 } inst;
 
