@@ -242,7 +242,6 @@ satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
     glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, in->layer0, sh->su * r->w,
                     2 * sh->st, sh->layers * r->slices, GL_RGBA, GL_FLOAT,
                     in->texels);
-    lod_mean_alpha(r, i);
     in->stale_upload = 0;
     r->maps_changed++;
   }

@@ -6,14 +6,14 @@
  * Layers. A cluster a few pixels wide cannot show its shells apart, yet
  * each of its fragments traces every shell (glsl/shade_fs.glsl). At level
  * n it reads every 2^n-th shell from the outermost, and each read shell
- * stands for the 2^n inwards of it: its alpha a becomes
- * 1 - (1 - a) prod (1 - mean alpha of the others) (SATF eq. 14 over the
- * group, the skipped shells at their mean: compounding a itself would
- * count a sparse inner shell as dense as the outer one), and its s-map sum
- * (eq. 12) grows by half the group's alpha, its middle. Between levels n
- * and n + 1 the shells level n + 1 drops keep a weight 1 - f and those it
- * keeps take f of them, so the image is continuous in the level and the
- * level continuous in the width on screen (log2 full_px / width): no
+ * stands for the 2^n inwards of it: its alpha a becomes 1 - (1 - a)^m
+ * for the m shells it covers (SATF eq. 14 over equal layers; a mean alpha
+ * of the skipped shells, read from a buffer per layer, fitted sparse
+ * clusters better but cost more than the layers it saved on llvmpipe).
+ * Between levels n and n + 1 the shells level n + 1 drops keep a weight
+ * 1 - f and those it keeps take f of them, so the image is continuous in
+ * the level and the level continuous in the width on screen (log2 full_px
+ * / width): no
  * popping, and no second evaluation in the band (it costs what level n
  * costs). Our choice, measured against full detail in
  * /tmp/h/readme-lod.md: the paper has no level of detail.

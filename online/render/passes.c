@@ -62,8 +62,6 @@ static void use_layer_program(const satf_renderer *r, GLuint prog,
     loc[k] = glGetUniformLocation(prog, names[k]);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, r->inst_models);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r->inst_shading);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, r->lod_alpha);
-  glUniform1i(glGetUniformLocation(prog, "u_lod_stride"), r->lod_stride);
   glActiveTexture(GL_TEXTURE0);
 }
 

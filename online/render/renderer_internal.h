@@ -118,8 +118,6 @@ struct satf_renderer {
   int incremental; /* 0: every HSV looked up every frame (the reference) */
   int lod;         /* level of detail by size on screen (lod.c) */
   lod_params lod_opt;
-  GLuint lod_alpha; /* mean alpha per instance and layer (lod_mean_alpha) */
-  int lod_stride;   /* floats per instance there: the most layers */
   int maps_changed; /* instances whose maps the last frame changed */
   /* the deep opacity map's inputs when it was drawn (reused while the
    * light, the hair and its maps stay: passes.c) */
@@ -244,13 +242,6 @@ void lod_screen_size(const satf_renderer *r, int i, float *width_px,
  * and the full proxy while r->lod is off), and the frame's LOD mix in
  * r->stats. */
 void lod_update(satf_renderer *r);
-/* The instances' mean alpha per shell layer, which the shading pass gives
- * the layers a level skips (glsl/shade_fs.glsl, binding 5): allocated
- * with the instance buffers, refreshed for an instance whose maps were
- * uploaded, released with them. */
-satf_status lod_alloc(satf_renderer *r, satf_error *err);
-void lod_mean_alpha(satf_renderer *r, int i);
-void lod_release(satf_renderer *r);
 
 /* ---- passes.c: GPU passes (Table 1: L, S) ----------------------------- */
 

@@ -269,8 +269,6 @@ satf_status resources_build(satf_renderer *r, satf_error *err) {
     st = alloc_dom(r, err);
   if (st == SATF_OK)
     st = alloc_instance_data(r, err);
-  if (st == SATF_OK)
-    st = lod_alloc(r, err);
   return st;
 }
 
@@ -293,7 +291,6 @@ void resources_release(satf_renderer *r) {
   glDeleteTextures(3, texs);
   GLuint bufs[2] = {r->inst_models, r->inst_shading};
   glDeleteBuffers(2, bufs);
-  lod_release(r);
   if (r->list_fbo)
     glDeleteFramebuffers(1, &r->list_fbo);
   samples_release(r);

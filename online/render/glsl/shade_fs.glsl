@@ -153,39 +153,20 @@ void lighting(vec3 t, vec3 n, vec3 v, float dom, out vec3 dif,
 /* Level of detail (lod.c): at level n + f every 2^n-th shell from the
  * outermost is read and stands for the 2^n inwards of it, the ones level
  * n + 1 drops with weight 1 - f, their share going to the ones it keeps
- * (lod_layer_share counts the same). A read shell's alpha a becomes its
- * group's: 1 - (1 - a) times the transmittance of the shells it stands
- * for at their mean alpha (g_lod_alpha), so a sparse inner shell is not
- * counted as dense as the outer one read for it. */
-layout(std430, binding = 5) readonly buffer satf_lod { float g_lod_alpha[]; };
-uniform int u_lod_stride;
-/* The shells k0 down to k0 - count + 1, weight w: adds the log2 of their
- * transmittance to *lt and their alpha to *sum */
-void lod_add(int k0, int count, float w, inout float lt, inout float sum) {
-  for (int i = 0; i < count; i++) {
-    float m = g_lod_alpha[v_instance * u_lod_stride + k0 - i];
-    lt += w * log2(max(1.0 - m, 1e-6));
-    sum += w * m;
-  }
-}
-/* Shell k's alpha a as its group's (k is read: lod_read); *shade: the
- * s-map sum to add for the group's inner shells, shadowed by the shells
- * above them: half the group's alpha, its middle (SATF eq. 12) */
-float lod_alpha(int k, float a, out float shade) {
-  shade = 0.0;
-  if (u_lod <= 0.0) return a;
-  int n = int(u_lod), m1 = 1 << n, m2 = m1 << 1;
-  float f = u_lod - float(n), lt = 0.0, sum = 0.0;
-  int j = u_layers - 1 - k, left = u_layers - j, own = min(m1, left);
-  lod_add(k - 1, own - 1, 1.0, lt, sum);
-  if (j % m2 == 0) lod_add(k - m1, clamp(left - m1, 0, m1), f, lt, sum);
-  float t = log2(max(1.0 - a, 1e-6)) + lt;
-  shade = 0.5 * sum;
-  return 1.0 - exp2(j % m2 == 0 ? t : (1.0 - f) * t);
-}
-/* whether shell k is read: every 2^n-th from the outermost */
+ * (lod_layer_share: the same). A read shell's alpha a becomes that of the
+ * `share` layers it stands for, 1 - (1 - a)^share (SATF eq. 14 over equal
+ * layers). */
 bool lod_read(int k) {
   return u_lod <= 0.0 || (u_layers - 1 - k) % (1 << int(u_lod)) == 0;
+}
+float lod_alpha(int k, float a) {
+  if (u_lod <= 0.0) return a;
+  int n = int(u_lod), m1 = 1 << n, m2 = m1 << 1;
+  float f = u_lod - float(n);
+  int j = u_layers - 1 - k, left = u_layers - j, own = min(m1, left);
+  float share = j % m2 == 0 ? float(own) + f * float(clamp(left - m1, 0, m1))
+                            : (1.0 - f) * float(own);
+  return 1.0 - exp2(share * log2(max(1.0 - a, 1e-6)));
 }
 vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   if (u_aov == 1) return dif;
@@ -269,21 +250,19 @@ void main() {
        * s-map sum (maps_fiber.h) */
       vec4 mk = fetch_map(u_turns, t, 2 * k);
       vec4 mf = fetch_map(u_turns, t, 2 * k + 1);
-      float shade;
-      vec2 ra = vec2(1.0, lod_alpha(k, mk.a, shade));
+      vec2 ra = vec2(1.0, lod_alpha(k, mk.a));
       if (ra.y < 1.0 / 1024.0) continue;
       /* the direct light crosses the outer layers' hairs as a Poisson
        * count (exp(-n), Zinke's model; the paper's k_shadow belongs to
        * the kk mode) */
-      float tau = u_self_shadow != 0 ? exp(-mf.a - shade) : 1.0;
+      float tau = u_self_shadow != 0 ? exp(-mf.a) : 1.0;
 #else
       vec4 m = fetch_map(u_turns, t, k);
       vec2 ra = reflectance_alpha(m);
-      float shade;
-      ra.y = lod_alpha(k, ra.y, shade);
+      ra.y = lod_alpha(k, ra.y);
       if (ra.y < 1.0 / 1024.0) continue;
       /* SATF eq. 12: exponential s-map from the outer layers' alpha */
-      float tau = u_self_shadow != 0 ? exp(-u_kshadow * (m.b + shade)) : 1.0;
+      float tau = u_self_shadow != 0 ? exp(-u_kshadow * m.b) : 1.0;
 #endif
       vec3 y;
       if (u_aov == 4) y = vec3(tau * dom);
