@@ -21,8 +21,17 @@ static float lobe_shift(const satf_fiber *f, int p) {
   }
 }
 
+/* Incident azimuths (relative to the shadow path) over which eq. 6 and
+ * 12 average. */
+#define DUAL_NPSI 32
+
 /* Forward and backward fractions of each lobe for light at |theta|, one
- * channel, averaged over the fibre's width. */
+ * channel, averaged over the fibre's width: Zinke's eq. 6 and 12, the
+ * light arriving isotropically over the half-circle of azimuths around the
+ * shadow path (his "isotropic irradiance along the specular cone", the
+ * forward-scattered light of eq. 7), and the exit split into the half of
+ * the normal plane that goes on along the path (forward) and the half that
+ * returns (backward), both fixed by the path, not by each arriving ray. */
 static void lobe_fractions(const satf_fiber *f, float theta, int c,
                            double fwd[SATF_FIBER_LOBES],
                            double bwd[SATF_FIBER_LOBES]) {
@@ -37,13 +46,19 @@ static void lobe_fractions(const satf_fiber *f, float theta, int c,
     satf_fiber_ap(cos_t, f->eta, h, T, ap);
     float gamma_o = asinf(h), gamma_t = asinf(h / etap);
     for (int p = 0; p < SATF_FIBER_LOBES; p++) {
-      /* backward: the exit azimuth within pi / 2 of the light's */
-      float back =
-          p < 3 ? satf_fiber_np_integral(-0.5f * SATF_PI_F, 0.5f * SATF_PI_F, p,
-                                         f->s, gamma_o, gamma_t)
-                : 0.5f;
+      double back = 0.0;
+      for (int q = 0; q < DUAL_NPSI; q++) {
+        /* the path's returning half-circle seen from a ray arriving psi
+         * off the path: the exit azimuth within pi / 2 of psi */
+        float psi = SATF_PI_F * (((float)q + 0.5f) / DUAL_NPSI - 0.5f);
+        back += p < 3 ? satf_fiber_np_integral(psi - 0.5f * SATF_PI_F,
+                                               psi + 0.5f * SATF_PI_F, p, f->s,
+                                               gamma_o, gamma_t)
+                      : 0.5;
+      }
+      back /= DUAL_NPSI;
       bwd[p] += (double)ap[p] * back / DUAL_NH;
-      fwd[p] += (double)ap[p] * (1.0f - back) / DUAL_NH;
+      fwd[p] += (double)ap[p] * (1.0 - back) / DUAL_NH;
     }
   }
 }
@@ -68,21 +83,33 @@ void satf_fiber_dual_tables(const satf_fiber *f, int n, float *out) {
       alb = ab > 0 ? alb / ab : 0;
       bf = af > 0 ? bf / af : f->v[1];
       bb = ab > 0 ? bb / ab : f->v[0];
-      double af2 = af * af, ab2 = ab * ab, ab3 = ab2 * ab;
-      double one = 1.0 - af2 > 1e-6 ? 1.0 - af2 : 1e-6;
-      double A1 = ab * af2 / one;                /* eq. 11 */
-      double A3 = ab3 * af2 / (one * one * one); /* eq. 13 */
-      double Ab = A1 + A3;                       /* eq. 14 */
-      double delta = alb * (1.0 - 2.0 * ab2 / (one * one)) +
-                     alf * (2.0 * one * one + 4.0 * af2 * ab2) /
-                         (one * one * one); /* eq. 16 */
-      double sf = sqrt(bf), sb = sqrt(bb);
-      double den = ab + ab3 * (2.0 * sf + 3.0 * sb);
-      double sigma = den > 0 ? (1.0 + SATF_FIBER_DUAL_DENSITY * af2) *
-                                   (ab * sqrt(2.0 * bf + bb) +
-                                    ab3 * sqrt(2.0 * bf + 3.0 * bb)) /
-                                   den
-                             : sb; /* eq. 17 */
+      /* Local back-scattering with hair crossings counted as a Poisson
+       * process, the model of the global term (satf_fiber_dual_shade's
+       * e^-n(1 - a_f)): over a path of m expected crossings the light keeps
+       * e^-m(1 - a_f) (it passes between hairs or is forward-scattered),
+       * each crossing returns a_b, and the point's own fibre forward-
+       * scatters the returned light once (a_f). One backward event at depth
+       * m (eq. 11's paths): a_b int_0^inf e^-2cm dm a_f = a_f a_b / (2c),
+       * c = 1 - a_f; three (eq. 13's: back at m1, m2 < m1, m3 > m2):
+       * a_f a_b^3 / (8 c^3). Zinke's sums count a_f^2i, a scattering at
+       * every hair crossed both ways, which leaves out the light that
+       * reaches a hair unscattered (for a_f -> 1 both give a_b / 2c and
+       * a_b^3 / 8c^3). */
+      double c1 = 1.0 - af > 1e-3 ? 1.0 - af : 1e-3;
+      double A1 = af * ab / (2.0 * c1);
+      double A3 = af * ab * ab * ab / (8.0 * c1 * c1 * c1);
+      double Ab = A1 + A3;
+      /* the forward events' expected counts on those paths: the point's own
+       * plus a_f per crossing over the mean path length 1 / c (three back
+       * events: 3 / c) */
+      double n1 = 1.0 + af / c1, n3 = 1.0 + 3.0 * af / c1;
+      double d1 = alb + n1 * alf, d3 = 3.0 * alb + n3 * alf;
+      double v1 = bb + n1 * bf, v3 = 3.0 * bb + n3 * bf;
+      double w1 = Ab > 0 ? A1 / Ab : 1.0, w3 = 1.0 - w1;
+      double delta = w1 * d1 + w3 * d3;
+      /* the mixture's variance */
+      double var = w1 * (v1 + d1 * d1) + w3 * (v3 + d3 * d3) - delta * delta;
+      double sigma = sqrt(var > 1e-6 ? var : 1e-6);
       float *o = out + (size_t)k * SATF_FIBER_DUAL_FIELDS * 3 + c;
       o[3 * SATF_FIBER_DUAL_AF] = (float)af;
       o[3 * SATF_FIBER_DUAL_AB] = (float)ab;

@@ -171,8 +171,14 @@ float satf_fiber_np_integral(float phi0, float phi1, int p, float s,
  * fibre (the tables are even in theta). The shifts are of theta_i +
  * theta_o (radians, the convention of satf_fiber_tilt: R -2 alpha, TT
  * +alpha, TRT +4 alpha, the remainder 0); the variances are d'Eon's v_p
- * (beta_p^2). Forward means the exit azimuth more than pi / 2 from the
- * light's (the light goes on), backward within pi / 2 (it returns). */
+ * (beta_p^2). a_f and a_b are eq. 6 and 12 as written: the light arrives
+ * isotropically over the half-circle of azimuths around the shadow path
+ * (the forward-scattered light of eq. 7), forward is the half of the
+ * normal plane that goes on along the path, backward the half that
+ * returns (so a ray arriving off the path that a wide TT lobe turns
+ * round counts as returned). The local back-scattering A_b, Delta_b,
+ * sigma_b^2 (eq. 11-17) count hair crossings as the Poisson process of the
+ * global term (satf_fiber_dual_shade): fiber_dual.c derives them. */
 enum {
   SATF_FIBER_DUAL_AF = 0,   /* a_f: forward-scattered fraction, eq. 6 */
   SATF_FIBER_DUAL_AB,       /* a_b: backward-scattered fraction, eq. 12 */
@@ -180,9 +186,9 @@ enum {
   SATF_FIBER_DUAL_ALPHA_B,  /* alpha_b: mean backward shift */
   SATF_FIBER_DUAL_BETA_F2,  /* beta_f^2: mean forward variance */
   SATF_FIBER_DUAL_BETA_B2,  /* beta_b^2: mean backward variance */
-  SATF_FIBER_DUAL_A_B,      /* A_b = A_1 + A_3, eq. 11, 13, 14 */
-  SATF_FIBER_DUAL_DELTA_B,  /* Delta_b, eq. 16 */
-  SATF_FIBER_DUAL_SIGMA_B2, /* sigma_b^2, eq. 17 squared */
+  SATF_FIBER_DUAL_A_B,      /* A_b = A_1 + A_3 (eq. 14; 11, 13 Poisson) */
+  SATF_FIBER_DUAL_DELTA_B,  /* Delta_b: mean shift (eq. 16's role) */
+  SATF_FIBER_DUAL_SIGMA_B2, /* sigma_b^2: variance (eq. 17's role) */
   SATF_FIBER_DUAL_FIELDS
 };
 
