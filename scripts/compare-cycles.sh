@@ -6,13 +6,19 @@
 # radial roughness 0.3, offset 2, ior 1.55), Cycles drawing the strands at
 # the width satf's clusters assume. Prints satf-compare's figures (those of
 # ../shared/tools/fidelity.py) and writes reference | satf | difference
-# PNGs into OUT_DIR (the README's gallery). A measuring tool, not a test:
-# it needs `apt-get install blender` and the data in ../shared/data/hair.
-# usage: compare-cycles.sh [BUILD_DIR] [OUT_DIR] [SPP]
+# PNGs into OUT_DIR (the README's gallery). Also the strand reference
+# (`satf-render --strands`, the same fibre shading on the source strands)
+# and a lighter brown (melanin 0.2) front-lit. Cycles takes minutes a
+# frame: with REF_DIR its frames are kept there and reused by later runs
+# (delete them when the scene, material or SPP changes). A measuring tool,
+# not a test: it needs `apt-get install blender` and the data in
+# ../shared/data/hair.
+# usage: compare-cycles.sh [BUILD_DIR] [OUT_DIR] [SPP] [REF_DIR]
 set -euo pipefail
 build=${1:-build}
 out=${2:-docs/gallery}
 spp=${3:-32}
+refs=${4:-}
 cd "$(dirname "$0")/.."
 data=../shared/data/hair
 peer=../shared/tools/peer_cycles.py
@@ -28,9 +34,11 @@ bin=$build/bin
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
-material=(--melanin 0.6 --redness 0 --roughness 0.3 --radial-roughness 0.3)
+material=(--redness 0 --roughness 0.3 --radial-roughness 0.3)
+[ -n "$refs" ] && mkdir -p "$refs"
+refs=${refs:-$work}
 "$bin/satf-import" "$data"/ponytail_*.tfx -o "$work/pony.json" -q \
-  --shading physical "${material[@]}"
+  --shading physical --melanin 0.6 "${material[@]}"
 # black background (the EXRs are premultiplied over black anyway), and a
 # back-lit copy with one light travelling from behind the hair to the camera;
 # the strands' median width for Cycles' radius
@@ -46,6 +54,9 @@ n = math.sqrt(sum(x * x for x in d))
 s["lights"] = [{"type": "directional", "color": [1, 1, 1], "intensity": 1,
                 "direction": [d[0] / n, d[1] / n - 0.15, d[2] / n]}]
 json.dump(s, open(w + "/back.json", "w"))
+f = json.load(open(w + "/front.json"))
+f["material"]["melanin"] = 0.2
+json.dump(f, open(w + "/front_blond.json", "w"))
 b = open(glob.glob(w + "/pony.strands-*.hair")[0], "rb").read()
 nh, npt, flags = struct.unpack_from("<3I", b, 4)
 off = 128 + (2 * nh if flags & 1 else 0) + 12 * npt
@@ -53,17 +64,29 @@ th = sorted(struct.unpack_from(f"<{npt}f", b, off)) if flags & 4 else [1.0]
 print(th[len(th) // 2] / 2)
 PY
 )
-for light in front back; do
-  blender -b --factory-startup --python "$peer" -- "$data"/ponytail_*.tfx \
-    --scene "$work/$light.json" --exr --out "$work/cycles_$light.exr" \
-    --spp "$spp" --threads 2 --radius "$radius" "${material[@]}" >/dev/null
+for light in front back front_blond; do
+  melanin=0.6
+  [ "$light" = front_blond ] && melanin=0.2
+  if [ ! -e "$refs/cycles_$light.exr" ]; then
+    blender -b --factory-startup --python "$peer" -- "$data"/ponytail_*.tfx \
+      --scene "$work/$light.json" --exr --out "$refs/cycles_$light.exr" \
+      --spp "$spp" --threads 2 --radius "$radius" --melanin "$melanin" \
+      "${material[@]}" >/dev/null
+  fi
   "$bin/satf-render" "$work/$light.json" --db out/satf-fiber.hrirdb.exr -q \
     -o "$work/physical_$light.exr"
-  "$bin/satf-render" "$work/$light.json" --db out/satf-default.hrirdb.exr -q \
-    --shading kk -o "$work/kk_$light.exr"
-  for mode in physical kk; do
-    echo "== $mode, $light-lit, against Cycles ($spp spp, strand radius $radius)"
-    "$bin/satf-compare" "$work/cycles_$light.exr" "$work/${mode}_$light.exr" \
+  "$bin/satf-render" "$work/$light.json" --strands --shading physical -q \
+    -o "$work/strands_$light.exr"
+  modes=(physical strands)
+  if [ "$light" != front_blond ]; then
+    "$bin/satf-render" "$work/$light.json" --db out/satf-default.hrirdb.exr -q \
+      --shading kk -o "$work/kk_$light.exr"
+    modes+=(kk)
+  fi
+  for mode in "${modes[@]}"; do
+    echo "== $mode, $light-lit, melanin $melanin, against Cycles ($spp spp," \
+      "strand radius $radius)"
+    "$bin/satf-compare" "$refs/cycles_$light.exr" "$work/${mode}_$light.exr" \
       --png "$out/cycles_${mode}_$light.png"
   done
 done
