@@ -194,7 +194,8 @@ vec3 fiber_dual_field(sampler2D tab, int field, float theta) {
   return mix(a, b, t);
 }
 
-/* Zinke's density factors d_f = d_b */
+/* Zinke's density factors d_f = d_b: a choice, the paper's 0.7
+ * (SATF_FIBER_DUAL_DENSITY says why and what it measured) */
 const float FIBER_DUAL_DENSITY = 0.7;
 
 /* The BCSDF of the globally (forward) scattered light of Zinke 2008 at a
