@@ -84,7 +84,7 @@ for light in front back front_blond; do
     modes+=(kk)
   fi
   for mode in "${modes[@]}"; do
-    echo "== $mode, $light-lit, melanin $melanin, against Cycles ($spp spp," \
+    echo "== $mode, ${light%_blond}-lit, melanin $melanin, against Cycles ($spp spp," \
       "strand radius $radius)"
     "$bin/satf-compare" "$refs/cycles_$light.exr" "$work/${mode}_$light.exr" \
       --png "$out/cycles_${mode}_$light.png"
