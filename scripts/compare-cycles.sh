@@ -10,9 +10,9 @@
 # (`satf-render --strands`, the same fibre shading on the source strands)
 # and a lighter brown (melanin 0.2) front-lit. Cycles takes minutes a
 # frame: with REF_DIR its frames are kept there and reused by later runs
-# (delete them when the scene, material or SPP changes). A measuring tool,
-# not a test: it needs `apt-get install blender` and the data in
-# ../shared/data/hair.
+# of the same strand radius and SPP (delete them when the camera, lights or
+# material change). A measuring tool, not a test: it needs `apt-get install
+# blender` and the data in ../shared/data/hair.
 # usage: compare-cycles.sh [BUILD_DIR] [OUT_DIR] [SPP] [REF_DIR]
 set -euo pipefail
 build=${1:-build}
@@ -67,11 +67,16 @@ PY
 for light in front back front_blond; do
   melanin=0.6
   [ "$light" = front_blond ] && melanin=0.2
-  if [ ! -e "$refs/cycles_$light.exr" ]; then
+  # a kept frame is reused only for the same strand radius and SPP (the
+  # import decides the strands' widths)
+  key="radius $radius spp $spp"
+  if [ ! -e "$refs/cycles_$light.exr" ] ||
+    [ "$(cat "$refs/cycles_$light.txt" 2>/dev/null)" != "$key" ]; then
     blender -b --factory-startup --python "$peer" -- "$data"/ponytail_*.tfx \
       --scene "$work/$light.json" --exr --out "$refs/cycles_$light.exr" \
       --spp "$spp" --threads 2 --radius "$radius" --melanin "$melanin" \
       "${material[@]}" >/dev/null
+    echo "$key" >"$refs/cycles_$light.txt"
   fi
   "$bin/satf-render" "$work/$light.json" --db out/satf-fiber.hrirdb.exr -q \
     -o "$work/physical_$light.exr"
