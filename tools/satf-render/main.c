@@ -54,8 +54,9 @@ static void usage(FILE *out) {
       "  --lod on|off         level of detail by size on screen: clusters a\n"
       "                       few pixels wide read fewer shell layers and\n"
       "                       draw coarser proxies, faded without popping\n"
-      "                       (default on: within soft IoU 0.97, SSIM 0.95\n"
-      "                       of full detail on every sample)\n"
+      "                       (default off: within soft IoU 0.97, SSIM 0.95\n"
+      "                       of full detail on every sample, but no faster\n"
+      "                       on llvmpipe yet; zoomed-out fur drifts)\n"
       "%s%s%s%s%s"
       "  -q, --quiet          no summary\n"
       "  -h, --help           this help\n",
@@ -202,7 +203,7 @@ static int parse_args(int argc, char **argv, options *o) {
   o->shading = -1;
   o->sparse_strands = -1;
   o->composite = SATF_COMPOSITE_EXACT;
-  o->lod = 1;
+  o->lod = 0;
   satf_cli_args it;
   satf_cli_begin(&it, PROG, argc, argv);
   while (satf_cli_next(&it)) {
