@@ -448,11 +448,7 @@ static void baseline_dom(satf_renderer *r) {
  * effects and deep opacity map (set_shading_uniforms), and its own. */
 static void base_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
   set_shading_uniforms(r, p, aov);
-  float vec[4 * SATF_SCENE_MAX_LIGHTS];
-  for (int k = 0; k < r->nlights; k++)
-    frame_light_vector(&r->lights[k], vec + 4 * k);
-  glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
-  glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
+  passes_world_lights(r, p);
   glUniform1f(glGetUniformLocation(p, "u_shift_range"), SHIFT_RANGE);
   glUniform1f(glGetUniformLocation(p, "u_base_scale"), BASE_SCALE);
   /* the paper's ambient occlusion is its self-shadowing approximation:

@@ -239,6 +239,14 @@ void set_shading_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
   set_dom_uniforms(r, p, aov);
 }
 
+void passes_world_lights(const satf_renderer *r, GLuint p) {
+  float vec[4 * SATF_SCENE_MAX_LIGHTS];
+  for (int k = 0; k < r->nlights; k++)
+    frame_light_vector(&r->lights[k], vec + 4 * k);
+  glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
+  glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
+}
+
 /* Clears the frame to transparent black (every pass is premultiplied over
  * it; the background is composited by whoever shows the image) and draws
  * the opaque meshes, leaving their depth for the hair to test against. */
@@ -253,11 +261,7 @@ void begin_frame(const satf_renderer *r, satf_aov aov,
     return;
   GLuint p = r->prog_mesh;
   glUseProgram(p);
-  float vec[4 * SATF_SCENE_MAX_LIGHTS];
-  for (int k = 0; k < r->nlights; k++)
-    frame_light_vector(&r->lights[k], vec + 4 * k);
-  glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
-  glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
+  passes_world_lights(r, p);
   set_light_uniforms(r, p);
   set_dom_uniforms(r, p, aov);
   glActiveTexture(GL_TEXTURE0);

@@ -278,6 +278,9 @@ void set_shading_uniforms(const satf_renderer *r, GLuint p, satf_aov aov);
 void begin_frame(const satf_renderer *r, satf_aov aov,
                  const float viewproj[16]);
 void hair_depth_test(int on);
+/* The eye and every light (xyz, w: 0 direction, 1 position) in world
+ * space: u_eye and u_light_vec of a program shading in world space. */
+void passes_world_lights(const satf_renderer *r, GLuint p);
 
 /* ---- strands.c: the strand reference path ----------------------------- */
 

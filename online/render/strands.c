@@ -438,11 +438,7 @@ void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
   GLuint p = list_mode >= 0 ? s->prog_list : s->prog_shade;
   set_shading_uniforms(r, p, aov);
   set_fiber_uniforms(r, s, p);
-  float vec[4 * SATF_SCENE_MAX_LIGHTS];
-  for (int k = 0; k < r->nlights; k++)
-    frame_light_vector(&r->lights[k], vec + 4 * k);
-  glUniform4fv(glGetUniformLocation(p, "u_light_vec"), r->nlights, vec);
-  glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->camera.position);
+  passes_world_lights(r, p);
   bind_strands(p, viewproj, r->width, r->height);
   glUniform1i(glGetUniformLocation(p, "u_whole"), -1);
   if (list_mode >= 0)
