@@ -295,8 +295,8 @@ static satf_status render_still(const options *o, satf_renderer *r,
 }
 
 /* --bench N: prints the Table 1 row. */
-static satf_status bench(const options *o, satf_renderer *r,
-                         const satf_scene *scene,
+static satf_status bench(const options *o, const satf_gl_context *ctx,
+                         satf_renderer *r, const satf_scene *scene,
                          const satf_render_stats *stats, satf_error *err) {
   satf_frame_timing mean;
   double fps;
@@ -335,6 +335,12 @@ static satf_status bench(const options *o, satf_renderer *r,
            "layers; %ld as one layer, %ld with a coarse proxy\n",
            now.lod_levels[0], now.lod_levels[1], now.lod_levels[2],
            now.lod_levels[3], now.lod_single, now.lod_coarse);
+  /* which machine the figures are of: llvmpipe and a GPU differ 10x */
+  int major = 0, minor = 0;
+  satf_gl_context_version(ctx, &major, &minor);
+  printf("GL %d.%d on %s; %d CPU threads for the maps\n", major, minor,
+         satf_gl_context_renderer(ctx),
+         o->threads > 0 ? (int)o->threads : satf_cpu_count());
   return SATF_OK;
 }
 
@@ -362,7 +368,7 @@ static satf_status run(options *o, const satf_frontend *fe, satf_error *err) {
   if (st == SATF_OK && (o->exr || o->png))
     st = render_still(o, r, &stats, t_setup, err);
   if (st == SATF_OK && o->bench)
-    st = bench(o, r, fe->scene, &stats, err);
+    st = bench(o, ctx, r, fe->scene, &stats, err);
   satf_renderer_destroy(r);
   satf_gl_context_destroy(ctx);
   return st;
