@@ -369,13 +369,14 @@ satf_status passes_ordered(satf_renderer *r, satf_aov aov,
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
   glEnable(GL_CULL_FACE);
   GLuint prog = r->prog_shade_ordered;
+  sparse_ordered_begin(r, aov, viewproj);
   set_shading_uniforms(r, prog, aov);
   GLint loc[LOC_COUNT];
   use_layer_program(r, prog, viewproj, loc);
   glCullFace(GL_BACK);
   for (int q = 0; q < r->ninsts; q++) { /* the order forbids batching */
-    if (sparse_ordered(r, order[q], aov, viewproj)) { /* its strands */
-      use_layer_program(r, prog, viewproj, loc);
+    if (sparse_ordered(r, order[q])) {  /* its strands */
+      glUseProgram(prog); /* the two programs share units and buffers */
       continue;
     }
     glEnable(GL_CULL_FACE);

@@ -308,6 +308,9 @@ size_t strands_gpu_segments(const strands_gpu *s);
 void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
                        const float viewproj[16], int list_mode);
 void strands_gpu_draw(const strands_gpu *s, size_t first, size_t count);
+/* Binds the shading program of strands_gpu_begin again (list_mode -1),
+ * its uniforms as that call left them. */
+void strands_gpu_use(const strands_gpu *s);
 /* The strands into the bound deep opacity map (passes_dom_hair_fn). */
 void strands_gpu_dom(satf_renderer *r, strands_gpu *s, int opacity);
 
@@ -323,10 +326,14 @@ void sparse_release(satf_renderer *r);
 void sparse_lists(const satf_renderer *r, satf_aov aov,
                   const float viewproj[16], int mode);
 void sparse_dom(satf_renderer *r, int opacity);
-/* Instance i's strands blended "over" (passes_ordered's order); 0 if it
- * is not sparse (it is drawn as a cluster). */
-int sparse_ordered(satf_renderer *r, int i, satf_aov aov,
-                   const float viewproj[16]);
+/* The strands' shading program bound once per ordered frame: its
+ * uniforms and textures stay while sparse_ordered switches to it. */
+void sparse_ordered_begin(satf_renderer *r, satf_aov aov,
+                          const float viewproj[16]);
+/* Instance i's strands blended "over" (passes_ordered's order), with the
+ * program of sparse_ordered_begin left bound; 0 if it is not sparse (it is
+ * drawn as a cluster). */
+int sparse_ordered(satf_renderer *r, int i);
 
 /* ---- baseline.c: the --no-satf path (Scheuermann 2004, paper 002) ----- */
 

@@ -182,14 +182,21 @@ void sparse_dom(satf_renderer *r, int opacity) {
     strands_gpu_dom(r, r->sparse, opacity);
 }
 
-int sparse_ordered(satf_renderer *r, int i, satf_aov aov,
-                   const float viewproj[16]) {
+void sparse_ordered_begin(satf_renderer *r, satf_aov aov,
+                          const float viewproj[16]) {
+  /* once a frame: binding the material, lights and view per instance cost
+   * the ponytail's 584 sparse instances more than their draws */
+  if (r->sparse)
+    strands_gpu_begin(r, r->sparse, aov, viewproj, -1);
+}
+
+int sparse_ordered(satf_renderer *r, int i) {
   const inst *in = &r->insts[i];
   if (!r->protos[in->proto].sparse)
     return 0;
   if (r->sparse && in->nsegs > 0) {
     glDisable(GL_CULL_FACE); /* a ribbon faces the eye either way round */
-    strands_gpu_begin(r, r->sparse, aov, viewproj, -1);
+    strands_gpu_use(r->sparse);
     strands_gpu_draw(r->sparse, in->seg0, in->nsegs);
   }
   return 1;

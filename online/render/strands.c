@@ -393,6 +393,8 @@ void strands_gpu_draw(const strands_gpu *s, size_t first, size_t count) {
   glBindVertexArray(0);
 }
 
+void strands_gpu_use(const strands_gpu *s) { glUseProgram(s->prog_shade); }
+
 static void draw_segments(const strands_gpu *s) {
   strands_gpu_draw(s, 0, s->nsegs);
 }
