@@ -457,12 +457,15 @@ static satf_status bench_step(satf_renderer *r, const satf_scene *scene,
 }
 
 satf_status satf_frontend_bench(satf_renderer *r, const satf_scene *scene,
-                                long frames, satf_frame_timing *mean,
-                                double *fps, satf_error *err) {
+                                long frames, satf_frontend_present_fn present,
+                                void *ctx, satf_frame_timing *mean, double *fps,
+                                satf_error *err) {
   satf_scene_camera start = *satf_renderer_camera(r);
   satf_frame_timing t;
   memset(mean, 0, sizeof *mean);
   satf_status st = satf_renderer_render(r, SATF_AOV_BEAUTY, &t, err);
+  if (st == SATF_OK && present)
+    st = present(ctx, err);
   if (st != SATF_OK)
     return st;
   int range[3]; /* animated, first, last */
@@ -476,6 +479,8 @@ satf_status satf_frontend_bench(satf_renderer *r, const satf_scene *scene,
     double s1 = satf_now_seconds();
     if (st == SATF_OK)
       st = satf_renderer_render(r, SATF_AOV_BEAUTY, &t, err);
+    if (st == SATF_OK && present)
+      st = present(ctx, err);
     if (st != SATF_OK)
       break;
     /* interpolating the frame and rebuilding moving clusters counts as

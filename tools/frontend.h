@@ -100,12 +100,18 @@ void satf_frontend_table_row(FILE *out, const char *name,
 satf_status satf_frontend_frame_range(const satf_scene *scene, const char *text,
                                       int *first, int *last, satf_error *err);
 
+/* Called after each benchmark frame is rendered, e.g. to show it in a
+ * window (satf-view); its time counts in the frame rate. */
+typedef satf_status (*satf_frontend_present_fn)(void *ctx, satf_error *err);
+
 /* Table 1's measurement: one warm-up frame, then `frames` timed frames of
  * the scene's animation, or, for a static scene, of the camera orbiting its
- * target once. Fills the mean stage times and the frame rate; on success
- * the renderer shows `scene` from its original camera again. */
+ * target once, each followed by present(ctx) when present is not NULL.
+ * Fills the mean stage times and the frame rate; on success the renderer
+ * shows `scene` from its original camera again. */
 satf_status satf_frontend_bench(satf_renderer *r, const satf_scene *scene,
-                                long frames, satf_frame_timing *mean,
-                                double *fps, satf_error *err);
+                                long frames, satf_frontend_present_fn present,
+                                void *ctx, satf_frame_timing *mean, double *fps,
+                                satf_error *err);
 
 #endif

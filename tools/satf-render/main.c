@@ -300,7 +300,8 @@ static satf_status bench(const options *o, const satf_gl_context *ctx,
                          const satf_render_stats *stats, satf_error *err) {
   satf_frame_timing mean;
   double fps;
-  satf_status st = satf_frontend_bench(r, scene, o->bench, &mean, &fps, err);
+  satf_status st =
+      satf_frontend_bench(r, scene, o->bench, NULL, NULL, &mean, &fps, err);
   if (st != SATF_OK)
     return st;
   const char *base = strrchr(o->scene_path, '/');

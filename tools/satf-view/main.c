@@ -37,6 +37,9 @@ static void usage(FILE *out) {
       "  --screenshot PATH    render --frames frames, save the window's\n"
       "                       last frame as PATH (.png or .exr), and exit\n"
       "  --frames N           frames before --screenshot (default 3)\n"
+      "  --bench N            render N frames of satf-render --bench's\n"
+      "                       orbit (or the animation) in the window, print\n"
+      "                       the same Table 1 row and exit\n"
       "%s%s%s%s%s"
       "  -h, --help           this help\n",
       PROG, satf_frontend_shading_help, satf_frontend_effect_help,
@@ -69,6 +72,8 @@ static int parse_one(satf_cli_args *it, options *o) {
     return satf_cli_value(it, &o->view.shot);
   if (satf_cli_is(it, NULL, "--frames"))
     return satf_cli_value_int(it, 1, 1000000, &o->view.frames);
+  if (satf_cli_is(it, NULL, "--bench"))
+    return satf_cli_value_int(it, 1, 100000, &o->view.bench);
   if (satf_cli_is(it, NULL, "--composite")) {
     const char *val;
     if (satf_cli_value(it, &val))
@@ -151,6 +156,8 @@ int main(int argc, char **argv) {
     satf_frontend_free(&fe);
     return 1;
   }
+  const char *base = strrchr(o.scene_path, '/');
+  o.view.name = base ? base + 1 : o.scene_path;
   o.view.width = (int)o.w;
   o.view.height = (int)o.h;
   satf_error err;

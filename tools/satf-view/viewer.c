@@ -342,10 +342,57 @@ static satf_status draw(viewer *v, satf_gl_window *win, const viewer_opts *o,
   return SATF_OK;
 }
 
+/* One benchmark frame on screen: what the interactive loop does after
+ * rendering (present, swap, events), so the row is the viewer's rate. */
+typedef struct bench_window {
+  viewer *v;
+  satf_gl_window *win;
+} bench_window;
+
+static satf_status bench_present(void *ctx, satf_error *err) {
+  (void)err;
+  bench_window *b = ctx;
+  int fw, fh;
+  satf_gl_window_framebuffer_size(b->win, &fw, &fh);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, fw, fh);
+  satf_renderer_present(b->v->r);
+  satf_gl_window_swap(b->win);
+  satf_gl_window_poll(b->win);
+  return SATF_OK;
+}
+
+/* --bench N: satf-render --bench's orbit and row, drawn in the window. */
+static satf_status bench(viewer *v, satf_gl_window *win,
+                         const satf_frontend *fe, const viewer_opts *o,
+                         satf_error *err) {
+  satf_render_stats stats;
+  satf_renderer_stats(v->r, &stats);
+  bench_window b = {v, win};
+  satf_frame_timing mean;
+  double fps;
+  satf_status st = satf_frontend_bench(v->r, fe->scene, o->bench, bench_present,
+                                       &b, &mean, &fps, err);
+  if (st != SATF_OK)
+    return st;
+  satf_frontend_table_header(stdout);
+  satf_frontend_table_row(stdout, o->name, &stats, &mean, fps);
+  int fw, fh;
+  satf_gl_window_framebuffer_size(win, &fw, &fh);
+  printf("in a %dx%d window (satf-view): each frame presented and swapped\n",
+         fw, fh);
+  return SATF_OK;
+}
+
 satf_status viewer_run(satf_gl_window *win, const satf_frontend *fe,
                        const viewer_opts *opts, satf_error *err) {
   viewer v;
   satf_status st = viewer_init(&v, win, fe, opts, err);
+  if (st == SATF_OK && opts->bench > 0) {
+    st = bench(&v, win, fe, opts, err);
+    satf_renderer_destroy(v.r);
+    return st;
+  }
   long frame = 0;
   int done = 0;
   while (st == SATF_OK && !done && !satf_gl_window_should_close(win)) {

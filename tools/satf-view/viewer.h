@@ -12,11 +12,14 @@ typedef struct viewer_opts {
   const char *prefix;     /* saved frames are PREFIX-NNNN.exr/.png */
   const char *shot;       /* --screenshot PATH, or NULL */
   long frames;            /* frames drawn before the screenshot */
+  long bench;             /* --bench N: N orbiting frames, a Table 1 row */
+  const char *name;       /* the scene's name in that row */
   int width, height;      /* the renderer's size if the window reports none */
 } viewer_opts;
 
 /* Renders fe's scene into win until the window closes (or, with a
- * screenshot, until it is written). Creates and destroys the renderer. */
+ * screenshot, until it is written; with --bench, after its frames and the
+ * row printed). Creates and destroys the renderer. */
 satf_status viewer_run(satf_gl_window *win, const satf_frontend *fe,
                        const viewer_opts *opts, satf_error *err);
 
