@@ -48,7 +48,11 @@ for mode in $modes; do
     else
       row=$("$render" "$scene" --db "$db" --composite "$mode" --bench "$frames" -q)
     fi
-    if [ $first = 1 ]; then echo "$row" | sed -n 1p | sed 's/^/composite  /'; first=0; fi
+    if [ $first = 1 ]; then # the machine, then the header
+      echo "$row" | grep '^GL ' || true
+      echo "$row" | sed -n 1p | sed 's/^/composite  /'
+      first=0
+    fi
     echo "$row" | sed -n 2p | sed "s/^/$(printf '%-10s' $mode) /"
     echo "$row" | sed -n 3p | sed 's/^/             /'
   done
