@@ -246,7 +246,7 @@ satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
     r->maps_changed++;
   }
   if (r->maps_changed) /* the deep opacity map reads their alpha */
-    r->dom_valid = 0;
+    r->dom_maps_stale = 1;
   glFinish();
   double t3 = satf_now_seconds();
   t->index_ms = 1e3 * (t1 - t0);

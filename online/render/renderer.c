@@ -4,6 +4,7 @@
  * (frame.c) and the GPU passes (passes.c) in order. */
 #include "renderer_internal.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,6 +75,7 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
   r->incremental = 1;
   r->sparse_max = SATF_SPARSE_STRANDS_DEFAULT;
   r->lod_opt = lod_defaults(); /* r->lod 0: full detail unless asked */
+  r->dom_eye_tol = INFINITY;   /* the shadows keep while the eye moves */
   st = satf_maps_create(db, &r->maps, err);
   if (st != SATF_OK) {
     free(r);

@@ -124,6 +124,13 @@ struct satf_renderer {
   int dom_valid;
   float dom_viewproj[16], dom_light_slab;
   long dom_reuses; /* frames that reused it */
+  /* the maps' alpha, which the map reads, follows the eye's azimuth: the
+   * eye when the map was drawn, whether maps were uploaded since, and how
+   * far (radians, seen from any cluster) the eye may turn before the map
+   * is drawn again for them (passes.c; INFINITY by default: never for the
+   * eye alone, 0: whenever a map changed) */
+  float dom_eye[3], dom_eye_tol;
+  int dom_maps_stale;
   GLuint empty_vao, counts_tex, frags_tex, list_fbo;
   GLuint keys_tex; /* per-pixel depth keys of the nearest `slots` fragments,
                       made when a pixel first overflows (0: none yet) */

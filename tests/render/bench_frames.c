@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_setup.h"
 #include "bench_turn.h"
 #include "renderer_internal.h"
 #include "satf/common.h"
@@ -112,18 +113,8 @@ int main(int argc, char **argv) {
   if (argc > 4 && sscanf(argv[4], "%dx%d", &w, &h) != 2)
     die(argv[4], NULL);
   satf_error err;
-  satf_db *db = NULL;
-  satf_scene *scene = NULL;
-  satf_gl_context *ctx = NULL;
-  satf_renderer *r = NULL;
-  if (satf_db_read(argv[1], &db, &err) != SATF_OK)
-    die(argv[1], &err);
-  if (satf_scene_load(argv[2], &scene, &err) != SATF_OK)
-    die(argv[2], &err);
-  if (satf_gl_context_create_headless(w, h, &ctx, &err) != SATF_OK)
-    die("GL", &err);
-  if (satf_renderer_create(scene, db, w, h, 0, &r, &err) != SATF_OK)
-    die("renderer", &err);
+  bench_setup b = bench_open("bench_frames", argv[1], argv[2], w, h);
+  satf_renderer *r = b.r;
   satf_scene_camera start = *satf_renderer_camera(r);
   satf_frame_timing sum[NSIT], t;
   memset(sum, 0, sizeof sum);
@@ -168,9 +159,6 @@ int main(int argc, char **argv) {
          frags ? 100.0 * (double)saturated / (double)frags : 0.0);
   printf("shading pass draw calls: %d instanced, %d one per instance\n",
          draw_calls(r, 1), draw_calls(r, 0));
-  satf_renderer_destroy(r);
-  satf_gl_context_destroy(ctx);
-  satf_scene_destroy(scene);
-  satf_db_destroy(db);
+  bench_close(&b);
   return 0;
 }

@@ -4,8 +4,9 @@
  * both compositing modes and with mirrored instances; incremental look-ups
  * (only HSVs whose azimuths changed) the same maps as looking every HSV up
  * again, none when nothing moved and only the moved instance's when one
- * moves; the deep opacity map reused only while its inputs stay, with the
- * image of a fresh one. */
+ * moves; the deep opacity map reused only while its inputs stay (the
+ * light, the hair; the eye within a tolerance), with the image of a fresh
+ * one or close to it. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -18,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_turn.h"
 #include "render_fixture.h"
 #include "renderer_internal.h"
 #include "satf/gl.h"
@@ -210,6 +212,25 @@ static void test_incremental_lookups(void **state) {
   satf_scene_destroy(scene);
 }
 
+/* Mean |difference| of channel R between two frames of W x H. */
+static double mean_diff(const satf_image *a, const satf_image *b) {
+  const float *pa = fixture_plane(a, "R"), *pb = fixture_plane(b, "R");
+  double sum = 0.0;
+  for (int i = 0; pa && pb && i < W * H; i++)
+    sum += fabs((double)pa[i] - (double)pb[i]);
+  return sum / (W * H);
+}
+
+/* What the cluster shadows change in r's next frame at its camera. */
+static double shadow_effect(satf_renderer *r, const satf_image *with) {
+  r->effects.cluster_shadows = 0;
+  satf_image *none = image(r);
+  r->effects.cluster_shadows = 1;
+  double d = mean_diff(with, none);
+  satf_image_destroy(none);
+  return d;
+}
+
 static void test_dom_reuse(void **state) {
   fixture_gl *f = *state;
   satf_scene *scene = fixture_scene(SCENE);
@@ -223,23 +244,55 @@ static void test_dom_reuse(void **state) {
   assert_int_equal(r->dom_reuses, 1);
   assert_true(fixture_same_bits(a, b, "R"));
   assert_true(fixture_same_bits(a, b, "A"));
-  /* the camera moves: the maps' alpha changes, so the map is drawn again,
-   * and the frame equals a fresh renderer's */
-  satf_renderer_camera(r)->position[0] += 1.0f;
+  /* the camera moves: the maps' alpha changes with the eye's azimuth,
+   * but the map stands for the light's view and is kept; the frame is
+   * close to that of a fresh renderer, whose map is made for this eye */
+  satf_renderer_camera(r)->position[0] += 3.0f;
   satf_image *c = image(r);
-  assert_int_equal(r->dom_reuses, 1);
+  assert_int_equal(r->dom_reuses, 2);
+  assert_true(r->maps_changed > 0);
   satf_renderer *fresh = make(f, scene);
   assert_non_null(fresh);
-  satf_renderer_camera(fresh)->position[0] += 1.0f;
+  satf_renderer_camera(fresh)->position[0] += 3.0f;
   satf_image *d = image(fresh);
   assert_non_null(c);
   assert_non_null(d);
-  assert_true(fixture_same_bits(c, d, "R"));
-  assert_true(fixture_same_bits(c, d, "A"));
+  double effect = shadow_effect(fresh, d), kept = mean_diff(c, d);
+  printf("kept map: mean |dR| %.6f, cluster shadows' %.6f\n", kept, effect);
+  assert_true(effect > 1e-3);
+  assert_true(kept < 0.1 * effect);
+  /* with no tolerance for the eye, the map is drawn again, and the frame
+   * equals the fresh renderer's bit for bit */
+  r->dom_eye_tol = 0.0f;
+  satf_image *e = image(r);
+  assert_int_equal(r->dom_reuses, 2);
+  assert_true(fixture_same_bits(e, d, "R"));
+  assert_true(fixture_same_bits(e, d, "A"));
+  /* a tolerance: kept while the eye has turned less, drawn beyond */
+  r->dom_eye_tol = 10.0f * SATF_PI_F / 180.0f;
+  bench_turn(satf_renderer_camera(r), 5.0f * SATF_PI_F / 180.0f);
+  satf_image_destroy(image(r));
+  assert_int_equal(r->dom_reuses, 3);
+  bench_turn(satf_renderer_camera(r), 10.0f * SATF_PI_F / 180.0f);
+  satf_image_destroy(image(r));
+  assert_int_equal(r->dom_reuses, 3);
+  /* the key light turns: drawn again, however far the eye may turn */
+  r->dom_eye_tol = INFINITY;
+  satf_renderer_light(r, 0)->direction[0] += 0.3f;
+  satf_image_destroy(image(r));
+  assert_int_equal(r->dom_reuses, 3);
+  satf_image_destroy(image(r));
+  assert_int_equal(r->dom_reuses, 4);
+  /* the hair moves (a new state of the scene): drawn again */
+  satf_error err;
+  assert_int_equal(satf_renderer_set_scene(r, scene, NULL, &err), SATF_OK);
+  satf_image_destroy(image(r));
+  assert_int_equal(r->dom_reuses, 4);
   satf_image_destroy(a);
   satf_image_destroy(b);
   satf_image_destroy(c);
   satf_image_destroy(d);
+  satf_image_destroy(e);
   satf_renderer_destroy(r);
   satf_renderer_destroy(fresh);
   satf_scene_destroy(scene);
