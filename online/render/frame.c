@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "half.h"
 #include "mat4.h"
 #include "satf/common.h"
 #include "satf/math.h"
@@ -118,17 +119,21 @@ void frame_forget_lookups(inst *in) {
   in->replaced = 1;
 }
 
-/* One job per (instance, layer) pair, so layers spread over threads. */
-typedef struct layer_jobs {
+/* One job per changed instance: its layers are built in floats in the
+ * thread's scratch (small enough to stay in cache), summed for the s-maps
+ * and packed to halfs once (half.h), so the maps kept and uploaded are
+ * half the bytes. */
+typedef struct inst_jobs {
   satf_renderer *r;
-  int *inst_of, *layer_of;
+  int *inst_of;
   long *lookups; /* per job */
-} layer_jobs;
+} inst_jobs;
 
 /* The physical mode's layer (maps_fiber.h): every light, in the
  * instance's frame, looked up every frame (the longitudinal angles and
  * every light change the maps, not only the key light's azimuths). */
-static int fiber_layer(const satf_renderer *r, const inst *in, int k) {
+static int fiber_layer(const satf_renderer *r, const inst *in, int k,
+                       float *texels) {
   satf_fiber_light lights[SATF_SCENE_MAX_LIGHTS];
   float col[3 * SATF_SCENE_MAX_LIGHTS];
   frame_light_colors(r, col);
@@ -138,28 +143,30 @@ static int fiber_layer(const satf_renderer *r, const inst *in, int k) {
   }
   return satf_maps_fiber_build_layer(
       r->maps, r->fiber, &in->geom, in->eye, lights, r->nlights,
-      r->effects.secondary_highlight, &r->map_opt, k, in->texels);
+      r->effects.secondary_highlight, &r->map_opt, k, texels);
 }
 
-/* Layer k of an instance: only its HSVs whose sectors' azimuths changed
- * since their last look-up are looked up again (with r->incremental; the
- * rest keep their texels, which a look-up at the same parameters would
- * give again), and the azimuths looked up are remembered. */
-static int layer_job(void *ctx, size_t i, int thread) {
-  (void)thread;
-  layer_jobs *j = ctx;
-  satf_renderer *r = j->r;
-  inst *in = &r->insts[j->inst_of[i]];
-  int k = j->layer_of[i];
+/* Whether some sector of `in` keeps the azimuths of its last look-up: then
+ * HSVs may keep their texels, which the float build must start from. */
+static int some_sector_kept(const inst *in) {
+  size_t n = satf_shell_sector_count(&in->geom.shell);
+  for (size_t q = 0; q < n; q++)
+    if (in->angles[2 * q] == in->looked_up[2 * q] &&
+        in->angles[2 * q + 1] == in->looked_up[2 * q + 1])
+      return 1;
+  return 0;
+}
+
+/* Layer k of an instance in the paper's mode: only its HSVs whose sectors'
+ * azimuths changed since their last look-up are looked up again (with
+ * r->incremental; the rest keep their texels, which a look-up at the same
+ * parameters would give again), and the azimuths looked up are
+ * remembered. */
+static int kk_layer(const satf_renderer *r, inst *in, int k, float *texels) {
   const satf_shell_params *sh = &in->geom.shell;
-  size_t n = satf_maps_layer_texels(&in->geom, r->w) * 4;
-  if (r->fiber) {
-    j->lookups[i] = fiber_layer(r, in, k);
-    return 0;
-  }
-  j->lookups[i] = satf_maps_update_layer(
-      r->maps, &in->geom, in->angles, r->incremental ? in->looked_up : NULL,
-      &r->map_opt, k, in->texels + (size_t)k * n);
+  int lookups = satf_maps_update_layer(r->maps, &in->geom, in->angles,
+                                       r->incremental ? in->looked_up : NULL,
+                                       &r->map_opt, k, texels);
   /* sector (i, k, j) sits at ((i * layers + k) * su + j) (maps.c) */
   for (int row = 0; row <= sh->st; row++) {
     size_t q =
@@ -167,57 +174,108 @@ static int layer_job(void *ctx, size_t i, int thread) {
     memcpy(in->looked_up + q, in->angles + q,
            2 * (size_t)sh->su * sizeof(float));
   }
+  return lookups;
+}
+
+/* Floats of an instance's maps (every texture layer). */
+static size_t inst_floats(const satf_renderer *r, const inst *in) {
+  return satf_maps_layer_texels(&in->geom, r->w) * 4 *
+         (size_t)in->geom.shell.layers * (size_t)r->slices;
+}
+
+static int inst_job(void *ctx, size_t i, int thread) {
+  inst_jobs *j = ctx;
+  satf_renderer *r = j->r;
+  inst *in = &r->insts[j->inst_of[i]];
+  float *f = r->scratch[thread];
+  size_t n = inst_floats(r, in);
+  size_t layer = satf_maps_layer_texels(&in->geom, r->w) * 4;
+  long lookups = 0;
+  if (r->fiber) { /* every layer whole, every time */
+    for (int k = 0; k < in->geom.shell.layers; k++)
+      lookups += fiber_layer(r, in, k, f);
+    satf_maps_fiber_shadow_sums(&in->geom, r->w, f);
+  } else {
+    /* half -> float -> half is exact: kept texels come back unchanged */
+    if (r->incremental && some_sector_kept(in))
+      half_unpack(in->texels, f, n);
+    for (int k = 0; k < in->geom.shell.layers; k++)
+      lookups += kk_layer(r, in, k, f + (size_t)k * layer);
+    if (lookups > 0)
+      satf_maps_shadow_sums(&in->geom, r->w, f);
+  }
+  if (lookups > 0) {
+    half_pack(f, in->texels, n);
+    in->stale_upload = 1;
+  }
+  j->lookups[i] = lookups;
   return 0;
 }
 
-static int shadow_job(void *ctx, size_t i, int thread) {
-  (void)thread;
-  satf_renderer *r = ctx;
-  if (r->insts[i].stale_upload && r->fiber)
-    satf_maps_fiber_shadow_sums(&r->insts[i].geom, r->w, r->insts[i].texels);
-  else if (r->insts[i].stale_upload)
-    satf_maps_shadow_sums(&r->insts[i].geom, r->w, r->insts[i].texels);
-  return 0;
+/* r->scratch: one buffer per map thread, each of the largest instance's
+ * floats; kept between frames (a fresh one would fault its pages in every
+ * frame). */
+static satf_status grow_scratch(satf_renderer *r, size_t floats,
+                                satf_error *err) {
+  if (r->scratch_n >= r->threads && r->scratch_floats >= floats)
+    return SATF_OK;
+  frame_release(r);
+  int n = r->threads > 0 ? r->threads : 1;
+  r->scratch = calloc((size_t)n, sizeof *r->scratch);
+  for (int t = 0; r->scratch && t < n; t++)
+    if (!(r->scratch[t] = malloc((floats > 0 ? floats : 1) * sizeof(float))))
+      break;
+  if (!r->scratch || !r->scratch[n - 1]) {
+    frame_release(r);
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "cannot allocate %zu map floats per thread", floats);
+  }
+  r->scratch_n = n;
+  r->scratch_floats = floats;
+  return SATF_OK;
 }
 
-static void free_layer_jobs(layer_jobs *lj) {
-  free(lj->inst_of);
-  free(lj->layer_of);
-  free(lj->lookups);
+void frame_release(satf_renderer *r) {
+  for (int t = 0; r->scratch && t < r->scratch_n; t++)
+    free(r->scratch[t]);
+  free(r->scratch);
+  r->scratch = NULL;
+  r->scratch_n = 0;
+  r->scratch_floats = 0;
 }
 
 /* Every layer map and s-map of every instance that changed; *lookups
  * counts the database look-ups. */
 static satf_status build_maps(satf_renderer *r, long *lookups,
                               satf_error *err) {
-  size_t jobs = 0;
+  size_t jobs = 0, most = 0;
   for (int i = 0; i < r->ninsts; i++)
-    if (!r->insts[i].still)
-      jobs += (size_t)r->protos[r->insts[i].proto].layers;
-  layer_jobs lj = {r, malloc((jobs > 0 ? jobs : 1) * sizeof(int)),
-                   malloc((jobs > 0 ? jobs : 1) * sizeof(int)),
-                   calloc(jobs > 0 ? jobs : 1, sizeof(long))};
-  if (!lj.inst_of || !lj.layer_of || !lj.lookups) {
-    free_layer_jobs(&lj);
+    if (!r->insts[i].still) {
+      jobs++;
+      size_t n = inst_floats(r, &r->insts[i]);
+      most = n > most ? n : most;
+    }
+  *lookups = 0;
+  if (jobs == 0)
+    return SATF_OK;
+  satf_status st = grow_scratch(r, most, err);
+  if (st != SATF_OK)
+    return st;
+  inst_jobs ij = {r, malloc(jobs * sizeof(int)), calloc(jobs, sizeof(long))};
+  if (!ij.inst_of || !ij.lookups) {
+    free(ij.inst_of);
+    free(ij.lookups);
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }
   size_t q = 0;
   for (int i = 0; i < r->ninsts; i++)
-    for (int k = 0;
-         !r->insts[i].still && k < r->protos[r->insts[i].proto].layers; k++) {
-      lj.inst_of[q] = i;
-      lj.layer_of[q++] = k;
-    }
-  satf_parallel_for(jobs, r->threads, layer_job, &lj, NULL, NULL);
-  *lookups = 0;
-  for (q = 0; q < jobs; q++) {
-    *lookups += lj.lookups[q];
-    if (lj.lookups[q] > 0)
-      r->insts[lj.inst_of[q]].stale_upload = 1;
-  }
-  if (*lookups > 0) /* a thread spawned for nothing costs a still frame */
-    satf_parallel_for((size_t)r->ninsts, r->threads, shadow_job, r, NULL, NULL);
-  free_layer_jobs(&lj);
+    if (!r->insts[i].still)
+      ij.inst_of[q++] = i;
+  satf_parallel_for(jobs, r->threads, inst_job, &ij, NULL, NULL);
+  for (q = 0; q < jobs; q++)
+    *lookups += ij.lookups[q];
+  free(ij.inst_of);
+  free(ij.lookups);
   return SATF_OK;
 }
 
@@ -240,7 +298,7 @@ satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
     const satf_shell_params *sh = &in->geom.shell;
     glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
     glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, in->layer0, sh->su * r->w,
-                    2 * sh->st, sh->layers * r->slices, GL_RGBA, GL_FLOAT,
+                    2 * sh->st, sh->layers * r->slices, GL_RGBA, GL_HALF_FLOAT,
                     in->texels);
     in->stale_upload = 0;
     r->maps_changed++;

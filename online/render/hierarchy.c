@@ -307,7 +307,7 @@ static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
 
 /* A prototype's map textures: each instance has one layer per shell, su * w
  * texels around and two rows per HSV (maps.h; r->slices texture layers
- * per shell), in texture arrays shared by
+ * per shell; half floats, half.h), in texture arrays shared by
  * up to chunk_insts instances, so one draw call shades them all (passes.c;
  * the layer count of an array is capped by GL_MAX_ARRAY_TEXTURE_LAYERS). */
 static satf_status create_map_textures(const satf_renderer *r, proto *p,
@@ -328,7 +328,7 @@ static satf_status create_map_textures(const satf_renderer *r, proto *p,
     int n = p->ninsts - c * p->chunk_insts;
     n = n < p->chunk_insts ? n : p->chunk_insts;
     glBindTexture(GL_TEXTURE_2D_ARRAY, p->map_tex[c]);
-    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32F, p->geom.shell.su * r->w,
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA16F, p->geom.shell.su * r->w,
                    2 * p->geom.shell.st, n * per_inst);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -362,7 +362,7 @@ static satf_status build_inst(satf_renderer *r, inst *in, int pi,
       satf_maps_layer_texels(&p->geom, r->w) * (size_t)(p->layers * r->slices);
   in->angles = malloc(sectors * 2 * sizeof(float));
   in->looked_up = malloc(sectors * 2 * sizeof(float));
-  in->texels = calloc(texels * 4, sizeof(float));
+  in->texels = calloc(texels * 4, sizeof *in->texels);
   if (!in->angles || !in->looked_up || !in->texels)
     return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate %zu map texels",
                           texels);

@@ -112,6 +112,7 @@ void satf_renderer_destroy(satf_renderer *r) {
   baseline_release(r);
   hierarchy_release(r);
   resources_release(r);
+  frame_release(r);
   satf_maps_destroy(r->maps);
   satf_maps_fiber_destroy(r->fiber);
   if (r->fgpu)

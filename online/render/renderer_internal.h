@@ -54,7 +54,10 @@ typedef struct inst {
   satf_shell_geom geom; /* shallow copy; own features only with a VDB */
   int own_features;
   satf_neighbor_cache *own_neighbors; /* with own (VDB) features */
-  float *angles, *texels;
+  float *angles;
+  /* its maps (maps.h layout, r->slices texture layers per shell) as half
+   * floats (half.h), what its GL_RGBA16F texture holds */
+  uint16_t *texels;
   float eye[3], light[4];
   GLuint tex; /* its prototype's texture array holding its maps */
   int layer0; /* its first layer there */
@@ -119,6 +122,12 @@ struct satf_renderer {
   int lod;         /* level of detail by size on screen (lod.c) */
   lod_params lod_opt;
   int maps_changed; /* instances whose maps the last frame changed */
+  /* per map thread, one instance's maps in floats (frame.c builds them
+   * there, then packs them to halfs): scratch_n buffers of
+   * scratch_floats */
+  float **scratch;
+  int scratch_n;
+  size_t scratch_floats;
   /* the deep opacity map's inputs when it was drawn (reused while the
    * light, the hair and its maps stay: passes.c) */
   int dom_valid;
@@ -223,6 +232,8 @@ satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
 /* Marks every HSV of `in` for a look-up at the next frame (its geometry,
  * features or transform changed). */
 void frame_forget_lookups(inst *in);
+/* Frees the map threads' scratch buffers. */
+void frame_release(satf_renderer *r);
 /* The per-instance data of the instanced draws (r->inst_models,
  * r->inst_shading: glsl/cluster_vs.glsl, glsl/shade_fs.glsl) for the
  * current camera, lights and transforms. */

@@ -34,6 +34,7 @@
 #include <time.h>
 
 #include "bench_turn.h"
+#include "half.h"
 #include "maps.h"
 #include "mat4.h"
 #include "renderer_internal.h"
@@ -331,7 +332,8 @@ static double cpu_ms(void) {
   return 1e3 * (double)t.tv_sec + 1e-6 * (double)t.tv_nsec;
 }
 
-/* Every instance's texels, raw floats, to `path`. */
+/* Every instance's texels, raw floats (unpacked from the renderer's
+ * halfs), to `path`. */
 static void dump_texels(const satf_renderer *r, const char *path) {
   FILE *f = fopen(path, "wb");
   if (!f)
@@ -340,8 +342,13 @@ static void dump_texels(const satf_renderer *r, const char *path) {
     const satf_shell_geom *g = &r->insts[i].geom;
     size_t n = satf_maps_layer_texels(g, r->w) * 4 * (size_t)g->shell.layers *
                (size_t)r->slices;
-    if (fwrite(r->insts[i].texels, sizeof(float), n, f) != n)
+    float *v = malloc(n * sizeof *v);
+    if (!v)
+      die("out of memory", NULL);
+    half_unpack(r->insts[i].texels, v, n);
+    if (fwrite(v, sizeof(float), n, f) != n)
       die(path, NULL);
+    free(v);
   }
   if (fclose(f) != 0)
     die(path, NULL);

@@ -125,20 +125,20 @@ static void test_instanced_same_image(void **state) {
   satf_scene_destroy(scene);
 }
 
-/* Every instance's texels, copied. */
-static float *all_texels(const satf_renderer *r, size_t *count) {
+/* Every instance's texels (half floats), copied. */
+static uint16_t *all_texels(const satf_renderer *r, size_t *count) {
   size_t n = 0;
   for (int i = 0; i < r->ninsts; i++) {
     const inst *in = &r->insts[i];
     n += satf_maps_layer_texels(&in->geom, r->w) * 4 *
          (size_t)(in->geom.shell.layers * r->slices);
   }
-  float *out = malloc(n * sizeof(float)), *p = out;
+  uint16_t *out = malloc(n * sizeof *out), *p = out;
   for (int i = 0; out && i < r->ninsts; i++) {
     const inst *in = &r->insts[i];
     size_t k = satf_maps_layer_texels(&in->geom, r->w) * 4 *
                (size_t)(in->geom.shell.layers * r->slices);
-    memcpy(p, in->texels, k * sizeof(float));
+    memcpy(p, in->texels, k * sizeof *p);
     p += k;
   }
   *count = n;
@@ -149,11 +149,11 @@ static float *all_texels(const satf_renderer *r, size_t *count) {
 static void assert_same_maps(const satf_renderer *r,
                              const satf_renderer *full) {
   size_t na, nb;
-  float *a = all_texels(r, &na), *b = all_texels(full, &nb);
+  uint16_t *a = all_texels(r, &na), *b = all_texels(full, &nb);
   assert_non_null(a);
   assert_non_null(b);
   assert_int_equal(na, nb);
-  assert_memory_equal(a, b, na * sizeof(float));
+  assert_memory_equal(a, b, na * sizeof *a);
   free(a);
   free(b);
 }

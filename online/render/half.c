@@ -1,0 +1,64 @@
+/* half.c - see half.h. */
+#include "half.h"
+
+#include <Imath/half.h>
+
+/* The F16C path: GCC or clang on x86-64, the instructions enabled for
+ * these functions alone and chosen when the processor reports them. */
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
+#include <immintrin.h>
+#define HALF_F16C 1
+
+__attribute__((target("avx,f16c"))) static void
+pack_f16c(const float *src, uint16_t *dst, size_t n) {
+  size_t i = 0;
+  for (; i + 8 <= n; i += 8)
+    _mm_storeu_si128(
+        (__m128i *)(dst + i),
+        _mm256_cvtps_ph(_mm256_loadu_ps(src + i), _MM_FROUND_TO_NEAREST_INT));
+  half_pack_portable(src + i, dst + i, n - i);
+}
+
+__attribute__((target("avx,f16c"))) static void
+unpack_f16c(const uint16_t *src, float *dst, size_t n) {
+  size_t i = 0;
+  for (; i + 8 <= n; i += 8)
+    _mm256_storeu_ps(
+        dst + i, _mm256_cvtph_ps(_mm_loadu_si128((const __m128i *)(src + i))));
+  half_unpack_portable(src + i, dst + i, n - i);
+}
+
+static int have_f16c(void) {
+  return __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
+}
+#endif
+
+void half_pack_portable(const float *src, uint16_t *dst, size_t n) {
+  for (size_t i = 0; i < n; i++)
+    dst[i] = imath_float_to_half(src[i]);
+}
+
+void half_unpack_portable(const uint16_t *src, float *dst, size_t n) {
+  for (size_t i = 0; i < n; i++)
+    dst[i] = imath_half_to_float(src[i]);
+}
+
+void half_pack(const float *src, uint16_t *dst, size_t n) {
+#ifdef HALF_F16C
+  if (have_f16c()) {
+    pack_f16c(src, dst, n);
+    return;
+  }
+#endif
+  half_pack_portable(src, dst, n);
+}
+
+void half_unpack(const uint16_t *src, float *dst, size_t n) {
+#ifdef HALF_F16C
+  if (have_f16c()) {
+    unpack_f16c(src, dst, n);
+    return;
+  }
+#endif
+  half_unpack_portable(src, dst, n);
+}

@@ -1,0 +1,23 @@
+/* half.h - IEEE 754 binary16 ("half float") conversion for the map
+ * textures: the renderer keeps every cluster's maps as GL_RGBA16F (half
+ * the bytes of RGBA32F to write, keep and upload: issue 12 item 3), built
+ * in floats and packed here. Rounding is to nearest, ties to even, as
+ * Imath's half and the F16C instructions do; values beyond the largest
+ * half (65504) become infinity, NaN stays NaN. */
+#ifndef SATF_ONLINE_HALF_H
+#define SATF_ONLINE_HALF_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* dst[i] = half(src[i]) for i < n: F16C where the processor has it (x86-64,
+ * chosen at run time), else half_pack_portable. */
+void half_pack(const float *src, uint16_t *dst, size_t n);
+/* dst[i] = float(src[i]) (exact: every half is a float). */
+void half_unpack(const uint16_t *src, float *dst, size_t n);
+
+/* The same without F16C (what other processors run; tests compare). */
+void half_pack_portable(const float *src, uint16_t *dst, size_t n);
+void half_unpack_portable(const uint16_t *src, float *dst, size_t n);
+
+#endif
