@@ -106,6 +106,7 @@ satf_status satf_db_adopt(const satf_build_params *p, float *rec,
 void satf_db_destroy(satf_db *db) {
   if (db) {
     free(db->rec);
+    free(db->rec16);
     free(db->features);
     free(db->norm);
     satf_kdtree_destroy(db->tree);
@@ -143,6 +144,7 @@ void satf_db_record_mut(satf_db *db, int sample, int iv, int il, float **re,
 }
 
 float *satf_db_record_channels_mut(satf_db *db, int sample, int iv, int il) {
+  satf_db_halfs_drop(db);
   return db->rec + satf_db_record_offset(db, sample, iv, il);
 }
 
@@ -154,6 +156,8 @@ const float *satf_db_record_channels(const satf_db *db, int sample, int iv,
 static float round_to_half(float x) {
   return imath_half_to_float(imath_float_to_half(x));
 }
+
+static void halfs_build(satf_db *db);
 
 satf_status satf_db_index(satf_db *db, satf_error *err) {
   int n = db->p.samples;
@@ -188,6 +192,7 @@ satf_status satf_db_index(satf_db *db, satf_error *err) {
   db->tree = satf_kdtree_build(db->norm, n);
   if (!db->tree)
     return satf_error_set(err, SATF_ERR_NOMEM, "cannot build the k-d tree");
+  halfs_build(db);
   return SATF_OK;
 }
 
@@ -287,6 +292,67 @@ AVX2_CLONE static void blend4(float *restrict out, const float *const src[4],
   }
 }
 
+/* The half-float records (satf_db.rec16): x86-64 processors with AVX2 and
+ * F16C, GCC or clang; blend4_half is blend4 reading halfs, each converted
+ * to the float it equals, then the same operations in the same order (no
+ * fused multiply-adds), so the same values. */
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
+#include <immintrin.h>
+#define DB_HALFS 1
+
+__attribute__((target("avx2,f16c"))) static void
+blend4_half(float *restrict out, const uint16_t *const src[4], const float c[4],
+            int w, int accumulate) {
+  __m256 c0 = _mm256_set1_ps(c[0]), c1 = _mm256_set1_ps(c[1]);
+  __m256 c2 = _mm256_set1_ps(c[2]), c3 = _mm256_set1_ps(c[3]);
+  int j = 0;
+  for (; j + 8 <= w; j += 8) {
+    __m256 s[4];
+    for (int k = 0; k < 4; k++)
+      s[k] = _mm256_cvtph_ps(_mm_loadu_si128((const __m128i *)(src[k] + j)));
+    __m256 v =
+        _mm256_add_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(c0, s[0]),
+                                                  _mm256_mul_ps(c1, s[1])),
+                                    _mm256_mul_ps(c2, s[2])),
+                      _mm256_mul_ps(c3, s[3]));
+    if (accumulate)
+      v = _mm256_add_ps(_mm256_loadu_ps(out + j), v);
+    _mm256_storeu_ps(out + j, v);
+  }
+  for (; j < w; j++) {
+    float v = c[0] * _cvtsh_ss(src[0][j]) + c[1] * _cvtsh_ss(src[1][j]) +
+              c[2] * _cvtsh_ss(src[2][j]) + c[3] * _cvtsh_ss(src[3][j]);
+    out[j] = accumulate ? out[j] + v : v;
+  }
+}
+#endif
+
+void satf_db_halfs_drop(satf_db *db) {
+  free(db->rec16);
+  db->rec16 = NULL;
+}
+
+/* db->rec16 where the processor reads halfs fast and every value is a half
+ * exactly (what the file keeps and satf_db_finalize rounds to); without
+ * it (or its memory) look-ups read rec. */
+static void halfs_build(satf_db *db) {
+  satf_db_halfs_drop(db);
+#ifdef DB_HALFS
+  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("f16c"))
+    return;
+  size_t n = values_per_sample(&db->p) * (size_t)db->p.samples;
+  uint16_t *h = malloc(n * sizeof *h);
+  for (size_t i = 0; h && i < n; i++) {
+    h[i] = imath_float_to_half(db->rec[i]);
+    if (imath_half_to_float(h[i]) != db->rec[i]) {
+      free(h);
+      return;
+    }
+  }
+  db->rec16 = h;
+#endif
+}
+
 void satf_db_neighbors_find(const satf_db *db,
                             const float feature[SATF_FEATURES], int k,
                             satf_db_neighbors *out) {
@@ -336,6 +402,23 @@ static void blend_range(const satf_db *db, const satf_db_neighbors *nb,
                         const corners *cs, int ch0, int nch, float *out) {
   int run = nch * db->p.trace.width;
   size_t skip = (size_t)ch0 * (size_t)db->p.trace.width;
+#ifdef DB_HALFS
+  if (db->rec16) {
+    for (int n = 0; n < nb->count; n++) {
+      const uint16_t *r[4];
+      float c[4];
+      for (int k = 0; k < 4; k++) {
+        r[k] = db->rec16 +
+               satf_db_record_offset(db, nb->index[n], cs->v[k & 1],
+                                     cs->l[k >> 1]) +
+               skip;
+        c[k] = nb->weight[n] * cs->bw[k];
+      }
+      blend4_half(out, r, c, run, n > 0);
+    }
+    return;
+  }
+#endif
   for (int n = 0; n < nb->count; n++) {
     const float *r[4];
     float c[4];
@@ -364,13 +447,17 @@ void satf_db_prefetch(const satf_db *db, const satf_db_neighbors *nb,
   corners cs;
   corners_of(db, theta_v, theta_l, &cs);
   size_t w = (size_t)db->p.trace.width;
-  size_t bytes = (size_t)nch * w * sizeof(float);
+  /* the records the look-up reads: halfs when there are */
+  size_t size = db->rec16 ? sizeof *db->rec16 : sizeof *db->rec;
+  const char *base =
+      db->rec16 ? (const char *)db->rec16 : (const char *)db->rec;
+  size_t bytes = (size_t)nch * w * size;
   for (int n = 0; n < nb->count; n++)
     for (int k = 0; k < 4; k++) {
-      const char *r =
-          (const char *)(satf_db_record_channels(db, nb->index[n], cs.v[k & 1],
-                                                 cs.l[k >> 1]) +
-                         (size_t)ch0 * w);
+      const char *r = base + (satf_db_record_offset(db, nb->index[n],
+                                                    cs.v[k & 1], cs.l[k >> 1]) +
+                              (size_t)ch0 * w) *
+                                 size;
       for (size_t b = 0; b < bytes; b += 64)
         __builtin_prefetch(r + b);
       __builtin_prefetch(r + bytes - 1); /* a run need not start a line */

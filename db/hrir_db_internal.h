@@ -14,7 +14,15 @@ struct satf_db {
   float lo[SATF_FEATURES], hi[SATF_FEATURES], scale[SATF_FEATURES];
   float *norm; /* features scaled to [0, 1], for the tree */
   satf_kdtree *tree;
+  /* rec as half floats, what look-ups read where the processor converts
+   * them (F16C): half the bytes from memory, the same values (made by
+   * satf_db_index only when every value is a half exactly; NULL
+   * otherwise, and dropped by any writable access to rec) */
+  uint16_t *rec16;
 };
+
+/* Frees rec16 (rec is about to change). */
+void satf_db_halfs_drop(satf_db *db);
 
 /* Wraps arrays read from a file (ownership passes, even on failure). */
 satf_status satf_db_adopt(const satf_build_params *p, float *rec,

@@ -27,6 +27,7 @@ void satf_db_round_half(float *values, size_t n) {
 }
 
 float *satf_db_samples_mut(satf_db *db, int first) {
+  satf_db_halfs_drop(db);
   return db->rec + (size_t)first * satf_db_sample_floats(&db->p);
 }
 

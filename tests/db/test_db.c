@@ -11,6 +11,7 @@
 #include <cmocka.h>
 
 #include "db_compare.h"
+#include "hrir_db_internal.h"
 #include "satf/math.h"
 #include "satf/offline.h"
 
@@ -153,6 +154,45 @@ static void held_out_error_shrinks_with_samples(void **state) {
   assert_true(e1024 < 0.2);
 }
 
+/* Look-ups read the records as halfs where the processor converts them
+ * (satf_db.rec16): the same values, bit for bit, as from the floats
+ * (which any writable access makes them read again). Width 13: runs of
+ * 26 and 13 values, so the 8-wide loop and its tail both run. */
+static void half_records_give_the_float_lookups(void **state) {
+  (void)state;
+  satf_build_params p = small(48);
+  p.trace.width = 13;
+  satf_db *db = build(&p, 0);
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("f16c"))
+    assert_non_null(db->rec16);
+#endif
+  enum { N = 40 };
+  float halfs[N][2 * 13], floats[N][2 * 13];
+  memset(halfs, 0, sizeof halfs);
+  memset(floats, 0, sizeof floats);
+  for (int pass = 0; pass < 2; pass++) {
+    if (pass == 1) { /* drops the halfs; the values stay */
+      satf_db_record_channels_mut(db, 0, 0, 0);
+      assert_null(db->rec16);
+    }
+    for (int q = 0; q < N; q++) {
+      float f[3] = {0.05f * (float)q, 0.3f + 0.01f * (float)q,
+                    0.7f - 0.01f * (float)q};
+      satf_db_neighbors nb;
+      satf_db_neighbors_find(db, f, 1 + q % 4, &nb);
+      float tv = 0.37f * (float)q, tl = 1.0f + 0.23f * (float)q;
+      float *out = pass ? floats[q] : halfs[q];
+      if (q % 2)
+        satf_db_lookup_neighbors_range(db, &nb, tv, tl, 0, 2, out);
+      else
+        satf_db_lookup_neighbors_range(db, &nb, tv, tl, 1, 1, out);
+    }
+  }
+  assert_memory_equal(halfs, floats, sizeof halfs);
+  satf_db_destroy(db);
+}
+
 static void bad_build_params_rejected(void **state) {
   (void)state;
   satf_build_params p = small(0);
@@ -173,6 +213,7 @@ int main(void) {
       cmocka_unit_test(stored_key_returns_the_record),
       cmocka_unit_test(angles_interpolate_bilinearly_and_periodically),
       cmocka_unit_test(held_out_error_shrinks_with_samples),
+      cmocka_unit_test(half_records_give_the_float_lookups),
       cmocka_unit_test(bad_build_params_rejected),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
