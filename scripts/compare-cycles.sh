@@ -8,17 +8,25 @@
 # ../shared/tools/fidelity.py) and writes reference | satf | difference
 # PNGs into OUT_DIR (the README's gallery). Also the strand reference
 # (`satf-render --strands`, the same fibre shading on the source strands)
-# and a lighter brown (melanin 0.2) front-lit. Cycles takes minutes a
+# and a lighter brown (melanin 0.2) front-lit. The strand reference is
+# drawn at Cycles' one strand width (twice its radius): the strands file
+# holds per-strand widths from the cluster fits (0.14 to 1.95 on the
+# ponytail), and against hair of another width SSIM measures the widths,
+# not the shading (front-lit 0.73 at the file's widths, 0.83 at Cycles').
+# SAMPLES is satf's anti-aliasing (--samples; Cycles filters every pixel
+# over its SPP samples): 8 adds 0.02 to the strand reference's SSIM and
+# 0.01 to the clusters'. Cycles takes minutes a
 # frame: with REF_DIR its frames are kept there and reused by later runs
 # of the same strand radius and SPP (delete them when the camera, lights or
 # material change). A measuring tool, not a test: it needs `apt-get install
 # blender` and the data in ../shared/data/hair.
-# usage: compare-cycles.sh [BUILD_DIR] [OUT_DIR] [SPP] [REF_DIR]
+# usage: compare-cycles.sh [BUILD_DIR] [OUT_DIR] [SPP] [REF_DIR] [SAMPLES]
 set -euo pipefail
 build=${1:-build}
 out=${2:-docs/gallery}
 spp=${3:-32}
 refs=${4:-}
+samples=${5:-1}
 cd "$(dirname "$0")/.."
 data=../shared/data/hair
 peer=../shared/tools/peer_cycles.py
@@ -79,18 +87,19 @@ for light in front back front_blond; do
     echo "$key" >"$refs/cycles_$light.txt"
   fi
   "$bin/satf-render" "$work/$light.json" --db out/satf-fiber.hrirdb.exr -q \
-    -o "$work/physical_$light.exr"
+    --samples "$samples" -o "$work/physical_$light.exr"
   "$bin/satf-render" "$work/$light.json" --strands --shading physical -q \
-    -o "$work/strands_$light.exr"
+    --strand-width "$(python3 -c "print(2 * $radius)")" \
+    --samples "$samples" -o "$work/strands_$light.exr"
   modes=(physical strands)
   if [ "$light" != front_blond ]; then
     "$bin/satf-render" "$work/$light.json" --db out/satf-default.hrirdb.exr -q \
-      --shading kk -o "$work/kk_$light.exr"
+      --shading kk --samples "$samples" -o "$work/kk_$light.exr"
     modes+=(kk)
   fi
   for mode in "${modes[@]}"; do
     echo "== $mode, ${light%_blond}-lit, melanin $melanin, against Cycles ($spp spp," \
-      "strand radius $radius)"
+      "strand radius $radius), satf $samples samples"
     "$bin/satf-compare" "$refs/cycles_$light.exr" "$work/${mode}_$light.exr" \
       --png "$out/cycles_${mode}_$light.png"
   done
