@@ -7,6 +7,10 @@
 #include <stdlib.h>
 #include <time.h>
 #include <unistd.h>
+#if (defined(__GNUC__) || defined(__clang__)) &&                               \
+    (defined(__x86_64__) || defined(__i386__))
+#include <cpuid.h>
+#endif
 
 typedef struct pool {
   satf_parallel_fn fn;
@@ -40,6 +44,21 @@ static void *worker_main(void *arg) {
     atomic_fetch_add(&p->done, 1);
   }
   return NULL;
+}
+
+int satf_cpu_has_f16c(int avx2) {
+#if (defined(__GNUC__) || defined(__clang__)) &&                               \
+    (defined(__x86_64__) || defined(__i386__))
+  /* clang 14's __builtin_cpu_supports knows no "f16c": CPUID leaf 1 has it
+   * (ECX bit 29); the builtin checks AVX and AVX2 with the system's support */
+  unsigned a, b, c, d;
+  if (!__get_cpuid(1, &a, &b, &c, &d) || !(c & bit_F16C))
+    return 0;
+  return avx2 ? __builtin_cpu_supports("avx2") : __builtin_cpu_supports("avx");
+#else
+  (void)avx2;
+  return 0;
+#endif
 }
 
 int satf_cpu_count(void) {

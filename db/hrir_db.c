@@ -338,7 +338,7 @@ void satf_db_halfs_drop(satf_db *db) {
 static void halfs_build(satf_db *db) {
   satf_db_halfs_drop(db);
 #ifdef DB_HALFS
-  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("f16c"))
+  if (!satf_cpu_has_f16c(1))
     return;
   size_t n = values_per_sample(&db->p) * (size_t)db->p.samples;
   uint16_t *h = malloc(n * sizeof *h);

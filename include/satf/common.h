@@ -183,6 +183,10 @@ int satf_parallel_for(size_t count, int threads, satf_parallel_fn fn, void *ctx,
 /* Number of online processors (at least 1). */
 int satf_cpu_count(void);
 
+/* Whether the processor converts halfs in hardware: AVX (with the system's
+ * support for its registers) and F16C; with avx2 also AVX2. 0 off x86. */
+int satf_cpu_has_f16c(int avx2);
+
 /* ---- Progress ----
  * progress reporting on stderr: a redrawn bar (percent, rate,
  * ETA) when stderr is a terminal, a plain line every few seconds otherwise,

@@ -1,5 +1,6 @@
 /* half.c - see half.h. */
 #include "half.h"
+#include "satf/common.h"
 
 #include <Imath/half.h>
 
@@ -28,9 +29,7 @@ unpack_f16c(const uint16_t *src, float *dst, size_t n) {
   half_unpack_portable(src + i, dst + i, n - i);
 }
 
-static int have_f16c(void) {
-  return __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
-}
+static int have_f16c(void) { return satf_cpu_has_f16c(0); }
 #endif
 
 void half_pack_portable(const float *src, uint16_t *dst, size_t n) {
