@@ -456,6 +456,15 @@ void satf_import_estimate_density(const satf_import_projection *proj,
 void satf_import_fit_tracks(const satf_import_projection *proj,
                             satf_import_fit *fit);
 
+/* Strands without a thickness in their file: a lone strand's cluster (one
+ * member) has no neighbours to measure its width by, and took half its
+ * own thin radius; it gets the hairstyle's width instead, the median of
+ * strand_width x radius over the clusters of two or more strands. Its A
+ * and B grow to half that width and its tracks shrink by as much (the
+ * strand stays where it is); strand_width becomes 2. No change where
+ * has_thickness, or where no cluster has two strands. */
+void satf_import_share_width(satf_import_fit *fits, int n, int has_thickness);
+
 /* When the strands carry a thickness: fit->strand_width becomes the
  * members' mean diameter over the cluster radius (0.005..2), so the
  * density is that of the file's strands as they are drawn, not of strands

@@ -589,6 +589,10 @@ static satf_status steps(run *u, satf_error *err) {
   r->t_cluster = satf_now_seconds() - u->t0;
   if ((st = fit(u, err)) != SATF_OK)
     return st;
+  /* a sequence's keyframes are fitted again, with their own radii */
+  if (!u->o->sequence)
+    satf_import_share_width(u->fits, r->n_clusters,
+                            satf_strand_set_thickness(u->all, 0) != NULL);
   r->t_fit = satf_now_seconds() - u->t0;
   if (u->o->fit_report &&
       (st = satf_import_write_fit_report(u->o->fit_report, u->fits,

@@ -652,6 +652,55 @@ static void import_within_budget(void **state) {
   assert_null(f); /* nothing written */
 }
 
+/* A lone strand without a thickness takes the hairstyle's width: the
+ * median strand_width x radius of the clusters of two or more strands;
+ * its strand stays where it was (track x A and B unchanged). */
+static void lone_strand_shares_width(void **state) {
+  (void)state;
+  enum { N = 4 };
+  float a[N][2] = {{1, 1}, {2, 2}, {4, 4}, {0.1f, 0.05f}};
+  float b[N][2] = {{1, 1}, {2, 2}, {4, 4}, {0.05f, 0.1f}};
+  float xy[4] = {0.5f, -0.25f, 0.2f, 0.4f}; /* 2 slices of one track */
+  int first = 0, count = 2;
+  satf_import_fit f[N];
+  memset(f, 0, sizeof f);
+  const float widths[3] = {0.4f, 0.3f, 0.1f}; /* x radius: 0.4, 0.6, 0.4 */
+  for (int c = 0; c < N; c++) {
+    f[c].n_radius = 2;
+    f[c].a = a[c];
+    f[c].b = b[c];
+    f[c].radius =
+        sqrtf(0.5f * (a[c][0] + a[c][1]) * 0.5f * (b[c][0] + b[c][1]));
+    f[c].strands = c < 3 ? 5 : 1;
+    f[c].strand_width = c < 3 ? widths[c] : 0.5f;
+  }
+  f[3].n_tracks = 1;
+  f[3].track_slices = 2;
+  f[3].track_first = &first;
+  f[3].track_count = &count;
+  f[3].track_xy = xy;
+  /* with a thickness in the file nothing changes */
+  satf_import_share_width(f, N, 1);
+  assert_float_equal(f[3].strand_width, 0.5f, 0.0f);
+  assert_float_equal(a[3][0], 0.1f, 0.0f);
+  float before[4] = {xy[0] * a[3][0], xy[1] * b[3][0], xy[2] * a[3][1],
+                     xy[3] * b[3][1]};
+  float r0 = f[3].radius;
+  satf_import_share_width(f, N, 0);
+  /* the median of 0.4, 0.6, 0.4 is 0.4: the lone strand's radius 0.2 */
+  assert_float_equal(f[3].strand_width * f[3].radius, 0.4f, 1e-5f);
+  assert_float_equal(f[3].strand_width, 2.0f, 0.0f);
+  assert_float_equal(f[3].radius, 0.2f, 1e-5f);
+  assert_float_equal(a[3][0] / 0.1f, 0.2f / r0, 1e-4f);
+  float after[4] = {xy[0] * a[3][0], xy[1] * b[3][0], xy[2] * a[3][1],
+                    xy[3] * b[3][1]};
+  for (int i = 0; i < 4; i++)
+    assert_float_equal(after[i], before[i], 1e-6f);
+  /* the clusters of several strands keep theirs */
+  assert_float_equal(f[1].strand_width, 0.3f, 0.0f);
+  assert_float_equal(a[1][0], 2.0f, 0.0f);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(follow_strands_within_budget),
@@ -663,6 +712,7 @@ int main(void) {
       cmocka_unit_test(macro_clusters_from_copies),
       cmocka_unit_test(kmeans_chooses_count),
       cmocka_unit_test(scene_file_with_vdb),
+      cmocka_unit_test(lone_strand_shares_width),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
