@@ -72,6 +72,29 @@ static inline void fixture_gl_free(fixture_gl *f) {
   free(f);
 }
 
+/* Defines a test's cmocka group setup and teardown, `setup` making a
+ * w x h fixture_gl in *state and `teardown` freeing it. */
+#define FIXTURE_GL_GROUP(w, h)                                                 \
+  static int setup(void **state) {                                             \
+    *state = fixture_gl_create(w, h);                                          \
+    return *state ? 0 : -1;                                                    \
+  }                                                                            \
+  static int teardown(void **state) {                                          \
+    fixture_gl_free(*state);                                                   \
+    return 0;                                                                  \
+  }
+
+/* Renders a beauty frame; returns its look-ups, -1 on failure. */
+static inline long fixture_render_lookups(satf_renderer *r) {
+  satf_frame_timing t;
+  satf_error err;
+  if (satf_renderer_render(r, SATF_AOV_BEAUTY, &t, &err) != SATF_OK) {
+    fprintf(stderr, "%s\n", err.message);
+    return -1;
+  }
+  return t.lookups;
+}
+
 static inline satf_scene *fixture_scene(const char *json) {
   satf_scene *s = NULL;
   satf_error err;

@@ -122,15 +122,7 @@ static void test_paths_agree(void **state) {
 #define W 96
 #define H 72
 
-static int setup(void **state) {
-  *state = fixture_gl_create(W, H);
-  return *state ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  fixture_gl_free(*state);
-  return 0;
-}
+FIXTURE_GL_GROUP(W, H)
 
 /* Two prototypes, three instances, several layers. */
 static const char *const SCENE =
@@ -197,16 +189,6 @@ static double assert_maps_are_rounded(const satf_renderer *r, int kept) {
   return worst;
 }
 
-static long render(satf_renderer *r) {
-  satf_frame_timing t;
-  satf_error err;
-  if (satf_renderer_render(r, SATF_AOV_BEAUTY, &t, &err) != SATF_OK) {
-    fprintf(stderr, "%s\n", err.message);
-    return -1;
-  }
-  return t.lookups;
-}
-
 static void test_renderer_maps_are_rounded_floats(void **state) {
   fixture_gl *f = *state;
   satf_scene *scene = fixture_scene(SCENE);
@@ -216,14 +198,14 @@ static void test_renderer_maps_are_rounded_floats(void **state) {
   assert_int_equal(satf_renderer_create(scene, f->db, W, H, 2, &r, &err),
                    SATF_OK);
   assert_true(r->incremental);
-  long all = render(r);
+  long all = fixture_render_lookups(r);
   assert_true(all > 0);
   double worst = assert_maps_are_rounded(r, 0);
   /* rounding to nearest: at most half a unit in the last of 11 bits */
   assert_true(worst > 0.0 && worst <= ldexp(1.0, -11));
   /* the camera turns: every HSV again */
   satf_renderer_camera(r)->position[0] += 0.7f;
-  assert_true(render(r) > 0);
+  assert_true(fixture_render_lookups(r) > 0);
   assert_maps_are_rounded(r, 0);
   /* one instance moves: the others keep their halfs */
   satf_scene *next = fixture_scene(SCENE);
@@ -231,7 +213,7 @@ static void test_renderer_maps_are_rounded_floats(void **state) {
   next->macro_clusters[0].instances[1].m[3] += 0.25f;
   assert_int_equal(satf_renderer_set_scene(r, next, NULL, &err), SATF_OK);
   satf_renderer_camera(r)->position[0] += 0.7f;
-  long some = render(r);
+  long some = fixture_render_lookups(r);
   assert_true(some > 0 && some < all);
   assert_maps_are_rounded(r, 0);
   /* part of an instance looked up again (its first rows of sectors
@@ -241,7 +223,7 @@ static void test_renderer_maps_are_rounded_floats(void **state) {
   for (size_t q = 0; q < ns; q++)
     in->looked_up[q] = NAN; /* the first ns / 2 sectors' two azimuths */
   in->replaced = 1;
-  long part = render(r);
+  long part = fixture_render_lookups(r);
   assert_true(part > 0 && part < all / 3);
   assert_maps_are_rounded(r, 1);
   satf_renderer_destroy(r);

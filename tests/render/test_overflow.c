@@ -26,15 +26,7 @@
 
 typedef fixture_gl fixture;
 
-static int setup(void **state) {
-  *state = fixture_gl_create(W, H);
-  return *state ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  fixture_gl_free(*state);
-  return 0;
-}
+FIXTURE_GL_GROUP(W, H)
 
 /* One straight cluster copied `near` times along the view axis (0.05
  * apart, vertical) and, with far > 0, `far` times further back turned

@@ -29,15 +29,7 @@
 #define W 96
 #define H 72
 
-static int setup(void **state) {
-  *state = fixture_gl_create(W, H);
-  return *state ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  fixture_gl_free(*state);
-  return 0;
-}
+FIXTURE_GL_GROUP(W, H)
 
 /* One macro-cluster of six instances around the origin (one mirrored,
  * rotated ones) and a second prototype of two, with cluster shadows on. */
@@ -158,16 +150,6 @@ static void assert_same_maps(const satf_renderer *r,
   free(b);
 }
 
-static long render_lookups(satf_renderer *r) {
-  satf_frame_timing t;
-  satf_error err;
-  if (satf_renderer_render(r, SATF_AOV_BEAUTY, &t, &err) != SATF_OK) {
-    fprintf(stderr, "%s\n", err.message);
-    return -1;
-  }
-  return t.lookups;
-}
-
 static void test_incremental_lookups(void **state) {
   fixture_gl *f = *state;
   satf_scene *scene = fixture_scene(SCENE);
@@ -176,11 +158,11 @@ static void test_incremental_lookups(void **state) {
   assert_non_null(r);
   assert_non_null(full);
   full->incremental = 0;
-  long first = render_lookups(r);
+  long first = fixture_render_lookups(r);
   assert_true(first > 0);
-  assert_int_equal(render_lookups(full), first);
+  assert_int_equal(fixture_render_lookups(full), first);
   /* nothing moved: nothing looked up, nothing uploaded */
-  assert_int_equal(render_lookups(r), 0);
+  assert_int_equal(fixture_render_lookups(r), 0);
   assert_int_equal(r->maps_changed, 0);
   /* the camera turns a little: every view azimuth changes, and the maps
    * equal a full look-up's */
@@ -188,8 +170,8 @@ static void test_incremental_lookups(void **state) {
                                 satf_renderer_camera(full)};
   for (int c = 0; c < 2; c++)
     cams[c]->position[0] += 0.7f;
-  long moved = render_lookups(r);
-  assert_int_equal(moved, render_lookups(full));
+  long moved = fixture_render_lookups(r);
+  assert_int_equal(moved, fixture_render_lookups(full));
   assert_same_maps(r, full);
   /* one instance moves: only its HSVs are looked up again */
   satf_scene *next = fixture_scene(SCENE);
@@ -200,8 +182,8 @@ static void test_incremental_lookups(void **state) {
   assert_int_equal(satf_renderer_set_scene(full, next, NULL, &err), SATF_OK);
   for (int c = 0; c < 2; c++) /* set_scene takes the scene's camera */
     cams[c]->position[0] += 0.7f;
-  long one = render_lookups(r);
-  long all = render_lookups(full);
+  long one = fixture_render_lookups(r);
+  long all = fixture_render_lookups(full);
   assert_true(one > 0);
   assert_true(one < all / 4);
   assert_int_equal(r->maps_changed, 1);

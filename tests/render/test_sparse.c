@@ -45,15 +45,7 @@ static const char *scene_format =
 
 typedef fixture_gl fixture;
 
-static int setup(void **state) {
-  *state = fixture_gl_create(W, H);
-  return *state ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  fixture_gl_free(*state);
-  return 0;
-}
+FIXTURE_GL_GROUP(W, H)
 
 /* What a frame shows of the cluster: the pixels it covers noticeably, their
  * mean alpha, and the mean colour of the hair there, sum(rgb) / sum(alpha)

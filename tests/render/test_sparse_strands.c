@@ -57,15 +57,7 @@ static char *scene_text(float x, float z, int dense, float dz) {
   return buf;
 }
 
-static int setup(void **state) {
-  *state = fixture_gl_create(W, H);
-  return *state ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  fixture_gl_free(*state);
-  return 0;
-}
+FIXTURE_GL_GROUP(W, H)
 
 static double px_per_unit(void) {
   return 0.5 * H / (DIST * tan(0.5 * FOV_Y * 3.14159265358979 / 180.0));

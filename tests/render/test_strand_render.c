@@ -45,15 +45,7 @@ static const char *scene_json =
 
 typedef fixture_gl fixture;
 
-static int setup(void **state) {
-  *state = fixture_gl_create(W, H);
-  return *state ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  fixture_gl_free(*state);
-  return 0;
-}
+FIXTURE_GL_GROUP(W, H)
 
 /* Pixels per scene unit in the plane z = 0. */
 static double px_per_unit(void) {
