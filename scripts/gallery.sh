@@ -42,7 +42,7 @@ compare() {
   "$bin/satf-render" "$work/$name.json" --size $size --samples 4 -q \
     --strands -o "$work/$name-strands.exr"
   "$bin/satf-compare" "$work/$name-strands.exr" "$work/$name.exr" \
-    --png "$out/$name-vs-strands.png" | sed "s|$work/||g" |
+    --png "$out/$name-vs-strands.png" --smooth-bound 1 | sed "s|$work/||g" |
     tee "$out/$name-vs-strands.txt"
 }
 

@@ -262,6 +262,37 @@ static void writes_cli_inputs(void **state) {
   free(a), free(b), free(full), free(half);
 }
 
+/* One-pixel stripes (columns of alpha 1 and 0, white where covered)
+ * against themselves blurred by a 3x3 box: per row, the blurred columns
+ * are 2/3 at x = 0, then 1/3 under the covered columns and 2/3 under the
+ * empty ones, and 1/3 at x = 47 (edges clamped), so sum min = 2/3 + 23/3
+ * and sum max = 1 + 23 + 23 (2/3) + 1/3: IoU 25 / 119. A flat frame is
+ * its own blur: the bound is 1. */
+static void smooth_bound_of_stripes_and_flat(void **state) {
+  (void)state;
+  img *stripes = make("stripes"), *flat = make("flat");
+  for (int i = 0; i < W * H; i++) {
+    float v = (i % W) % 2 == 0 ? 1.0f : 0.0f;
+    stripes->r[i] = stripes->g[i] = stripes->b[i] = stripes->a[i] = v;
+    flat->a[i] = 1.0f;
+    flat->r[i] = flat->g[i] = flat->b[i] = 0.5f;
+  }
+  compare_result r;
+  satf_error err;
+  assert_int_equal(compare_smooth_bound(&stripes->view, 1, &r, &err), SATF_OK);
+  assert_true(fabs(r.iou - 25.0 / 119.0) < 1e-6);
+  assert_true(r.ssim < 0.5);
+  assert_int_equal(compare_smooth_bound(&flat->view, 4, &r, &err), SATF_OK);
+  assert_true(fabs(r.iou - 1.0) < 1e-9);
+  assert_true(fabs(r.ssim - 1.0) < 1e-9);
+  assert_int_equal(compare_smooth_bound(&flat->view, 0, &r, &err),
+                   SATF_ERR_ARGUMENT);
+  assert_non_null(strstr(err.message, "radius 0 is out of range"));
+  assert_int_equal(compare_smooth_bound(&flat->view, 17, &r, &err),
+                   SATF_ERR_ARGUMENT);
+  free(stripes), free(flat);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(identical_images_agree_fully),
@@ -272,6 +303,7 @@ int main(void) {
       cmocka_unit_test(mismatched_sizes_are_refused),
       cmocka_unit_test(empty_frames_and_nan_are_reported),
       cmocka_unit_test(white_point_is_numpy_percentile),
+      cmocka_unit_test(smooth_bound_of_stripes_and_flat),
       cmocka_unit_test(writes_cli_inputs),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

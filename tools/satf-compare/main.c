@@ -69,6 +69,17 @@ static void usage(FILE *out) {
       "  --json                  print the figures as one JSON object "
       "(keys iou,\n"
       "                          alpha, ssim, lum, chroma as fidelity.py)\n"
+      "  --smooth-bound R        also print REFERENCE against itself "
+      "blurred by a\n"
+      "                          (2R+1)x(2R+1) box (R 1-16): the IoU and "
+      "SSIM a\n"
+      "                          preview that gets everything right down "
+      "to that\n"
+      "                          scale but no finer would score (hair a "
+      "pixel\n"
+      "                          wide scores far below 1 at R = 1); JSON "
+      "keys\n"
+      "                          bound_iou, bound_ssim\n"
       "  --min-iou X             fail (exit 1) when coverage IoU < X\n"
       "  --min-ssim X            fail when luminance SSIM < X\n"
       "  --max-alpha-error X     fail when alpha error > X\n"
@@ -97,6 +108,7 @@ enum { T_IOU, T_SSIM, T_ALPHA, T_LUM, T_CHROMA, T_COUNT };
 typedef struct options {
   const char *ref, *test, *png;
   int json;
+  long bound; /* --smooth-bound's radius, 0: not asked */
   threshold t[T_COUNT];
 } options;
 
@@ -130,6 +142,9 @@ static int parse(int argc, char **argv, options *o) {
       return 0;
     } else if (satf_cli_is(&it, NULL, "--png")) {
       if (satf_cli_value(&it, &o->png))
+        return 2;
+    } else if (satf_cli_is(&it, NULL, "--smooth-bound")) {
+      if (satf_cli_value_int(&it, 1, COMPARE_BOUND_RADIUS_MAX, &o->bound))
         return 2;
     } else if (satf_cli_is(&it, NULL, "--json")) {
       o->json = 1;
@@ -230,7 +245,7 @@ static void json_number(const char *key, double v) {
 }
 
 static void print_json(const options *o, const compare_image *img,
-                       const compare_result *r) {
+                       const compare_result *r, const compare_result *bound) {
   printf("{\"reference\": ");
   json_string(o->ref);
   printf(", \"test\": ");
@@ -244,6 +259,11 @@ static void print_json(const options *o, const compare_image *img,
   printf(", \"union_pixels\": %lld, \"both_pixels\": %lld", r->union_px,
          r->both_px);
   json_number("exposure", r->exposure);
+  if (o->bound) {
+    printf(", \"bound_radius\": %ld", o->bound);
+    json_number("bound_iou", bound->iou);
+    json_number("bound_ssim", bound->ssim);
+  }
   printf(", \"failed\": [");
   int n = 0;
   for (int k = 0; k < T_COUNT; k++)
@@ -253,7 +273,7 @@ static void print_json(const options *o, const compare_image *img,
 }
 
 static void print_table(const options *o, const compare_image *img,
-                        const compare_result *r) {
+                        const compare_result *r, const compare_result *bound) {
   printf("reference        %s (%dx%d)\n", o->ref, img->width, img->height);
   printf("test             %s\n", o->test);
   printf("covered pixels   %lld by either (alpha > %.2g), %lld by both\n",
@@ -274,6 +294,10 @@ static void print_table(const options *o, const compare_image *img,
   printf("chroma angle     %.4f   degrees between the summed colours where "
          "both cover\n",
          r->chroma_deg);
+  if (o->bound)
+    printf("smooth bound     IoU %.4f, SSIM %.4f: REFERENCE against itself "
+           "blurred by a %ldx%ld box\n",
+           bound->iou, bound->ssim, 2 * o->bound + 1, 2 * o->bound + 1);
   for (int k = 0; k < T_COUNT; k++)
     if (o->t[k].given)
       printf("check %-18s %s %.4g: %s\n", o->t[k].flag,
@@ -299,8 +323,11 @@ int main(int argc, char **argv) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
     return 2;
   }
-  compare_result res;
+  compare_result res, bound;
+  memset(&bound, 0, sizeof bound);
   st = compare_measure(&ref.img, &test.img, &res, &err);
+  if (st == SATF_OK && o.bound)
+    st = compare_smooth_bound(&ref.img, (int)o.bound, &bound, &err);
   if (st == SATF_OK && o.png)
     st = compare_write_side(&ref.img, &test.img, &res, o.png, &err);
   if (st == SATF_OK) {
@@ -310,9 +337,9 @@ int main(int argc, char **argv) {
               "(alpha > 0.05 nowhere)\n",
               PROG);
     if (o.json)
-      print_json(&o, &ref.img, &res);
+      print_json(&o, &ref.img, &res, &bound);
     else
-      print_table(&o, &ref.img, &res);
+      print_table(&o, &ref.img, &res, &bound);
     rc = 0;
     for (int k = 0; k < T_COUNT; k++)
       if (fails(&o.t[k], &res, k))

@@ -237,3 +237,43 @@ satf_status compare_measure(const compare_image *ref, const compare_image *test,
   free(lum_ref), free(lum_test);
   return st;
 }
+
+satf_status compare_smooth_bound(const compare_image *ref, int radius,
+                                 compare_result *res, satf_error *err) {
+  memset(res, 0, sizeof *res);
+  if (radius < 1 || radius > COMPARE_BOUND_RADIUS_MAX)
+    return satf_error_set(err, SATF_ERR_ARGUMENT,
+                          "smooth bound: radius %d is out of range [1, %d]",
+                          radius, COMPARE_BOUND_RADIUS_MAX);
+  int w = ref->width, h = ref->height;
+  size_t n = (size_t)w * (size_t)h;
+  double *in = malloc(n * sizeof *in), *out = malloc(n * sizeof *out),
+         *tmp = malloc(n * sizeof *tmp);
+  float *blur = malloc(4 * n * sizeof *blur);
+  satf_status st = SATF_OK;
+  if (!in || !out || !tmp || !blur) {
+    st = satf_error_set(err, SATF_ERR_NOMEM,
+                        "smooth bound: cannot allocate %dx%d pixels", w, h);
+  } else {
+    /* the same clamped box as SSIM's windows, on every channel of the
+     * premultiplied colour, so the blurred frame is itself a frame */
+    const float *src[4] = {ref->r, ref->g, ref->b, ref->a};
+    for (int c = 0; c < 4; c++) {
+      for (size_t i = 0; i < n; i++)
+        in[i] = src[c][i];
+      box_mean(in, out, tmp, w, h, radius);
+      for (size_t i = 0; i < n; i++)
+        blur[(size_t)c * n + i] = (float)out[i];
+    }
+    compare_image smooth = {"the smoothed reference",
+                            w,
+                            h,
+                            blur,
+                            blur + n,
+                            blur + 2 * n,
+                            blur + 3 * n};
+    st = compare_measure(ref, &smooth, res, err);
+  }
+  free(in), free(out), free(tmp), free(blur);
+  return st;
+}

@@ -57,4 +57,14 @@ satf_status compare_check_finite(const compare_image *img, satf_error *err);
 satf_status compare_measure(const compare_image *ref, const compare_image *test,
                             compare_result *out, satf_error *err);
 
+/* The figures of ref against itself blurred by a (2 radius + 1)^2 box
+ * (edges clamped, every channel): what a test frame that reproduces the
+ * reference exactly down to that scale, but no finer, would score. A
+ * bound, not a target: a preview that does not place each strand where
+ * the reference has it cannot be expected to beat it (strands a pixel
+ * wide score far below 1 at radius 1). */
+#define COMPARE_BOUND_RADIUS_MAX 16
+satf_status compare_smooth_bound(const compare_image *ref, int radius,
+                                 compare_result *out, satf_error *err);
+
 #endif
