@@ -98,8 +98,9 @@ static void usage(FILE *out) {
       "  --roughness B          longitudinal roughness, 0 to 1 (default 0.3)\n"
       "  --radial-roughness N   azimuthal roughness, 0 to 1 (default 0.3)\n"
       "  --shading S            kk (the paper's model) or physical (the fibre\n"
-      "                         model with a fibre database; default: the\n"
-      "                         scene's, samples/README.md)\n"
+      "                         model with a fibre database; default:\n"
+      "                         physical when a material option above is\n"
+      "                         given, else the scene's, samples/README.md)\n"
       "  --seed N               clustering and placement seed (default "
       "1)\n"
       "  --threads N            threads (0 = all cores)\n"
@@ -406,6 +407,26 @@ static int parse_args(int argc, char **argv, satf_import_options *o) {
     fprintf(stderr, "%s: need INPUT files and -o SCENE.json (see --help)\n",
             PROG);
     return 2;
+  }
+  /* The material options are the fibre model's: a user who gives the
+   * hair's melanin expects to see it, and the paper's kk model has no
+   * melanin (its colours are f_dif and f_spe), so they choose the physical
+   * shading unless --shading says otherwise. */
+  int material = o->melanin >= 0.0 || o->redness >= 0.0 ||
+                 o->roughness >= 0.0 || o->radial_roughness >= 0.0;
+  if (material && o->shading < 0) {
+    o->shading = SATF_MATERIAL_PHYSICAL;
+    if (!o->quiet)
+      fprintf(stderr,
+              "%s: the material options are the physical shading's: the "
+              "scene shades physical (--shading kk keeps the paper's "
+              "model, which does not use them)\n",
+              PROG);
+  } else if (material && o->shading == SATF_MATERIAL_KK) {
+    fprintf(stderr,
+            "%s: warning: --shading kk does not use the material options "
+            "(they are written to the scene for --shading physical)\n",
+            PROG);
   }
   if (!o->database)
     o->database = default_database(o->shading == SATF_MATERIAL_PHYSICAL);
