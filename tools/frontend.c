@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "satf/common.h"
@@ -104,6 +105,7 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
     else
       st = satf_db_read(db, &fe->db, &err);
     fe->db_path = db;
+    fe->db_from_scene = !db_path;
   }
   if (st != SATF_OK) {
     fprintf(stderr, "%s: %s\n", prog, err.message);
@@ -131,6 +133,7 @@ void satf_frontend_free(satf_frontend *fe) {
   satf_strand_set_destroy(fe->strands);
   satf_db_destroy(fe->db);
   satf_scene_destroy(fe->scene);
+  free(fe->db_path_owned);
   memset(fe, 0, sizeof *fe);
 }
 
@@ -308,7 +311,31 @@ const char *const satf_frontend_shading_help =
     "  --shading MODEL      kk: the paper's Kajiya-Kay lighting of the maps;\n"
     "                       physical: the fibre model (Cycles' Principled\n"
     "                       Hair) with a fibre database (satf-build --kind\n"
-    "                       fiber); default: the scene's material \"model\"\n";
+    "                       fiber; satf-fiber.hrirdb.exr beside the scene's\n"
+    "                       Phong database is taken when there is no --db);\n"
+    "                       default: the scene's material \"model\"\n";
+
+/* The fibre database satf-build makes beside a Phong one (scripts/main.sh
+ * writes out/satf-default.hrirdb.exr and out/satf-fiber.hrirdb.exr), for a
+ * scene whose own "database" is the Phong one: NULL when there is none. */
+static char *fiber_beside(const char *phong) {
+  static const char name[] = "satf-fiber.hrirdb.exr";
+  const char *slash = strrchr(phong, '/');
+  size_t dir = slash ? (size_t)(slash - phong) + 1 : 0;
+  char *path = malloc(dir + sizeof name);
+  if (!path)
+    return NULL;
+  memcpy(path, phong, dir);
+  memcpy(path + dir, name, sizeof name);
+  struct stat sb, pb;
+  if (stat(path, &sb) != 0 || !S_ISREG(sb.st_mode) ||
+      (stat(phong, &pb) == 0 && pb.st_dev == sb.st_dev &&
+       pb.st_ino == sb.st_ino)) {
+    free(path);
+    return NULL;
+  }
+  return path;
+}
 
 satf_status satf_frontend_set_shading(const char *prog, satf_frontend *fe,
                                       int model) {
@@ -317,6 +344,23 @@ satf_status satf_frontend_set_shading(const char *prog, satf_frontend *fe,
   if (fe->scene->material.model != SATF_MATERIAL_PHYSICAL ||
       !fe->scene->effects.satf || satf_db_kind(fe->db) == SATF_RECORD_FIBER)
     return SATF_OK;
+  /* the scene names the Phong database and the fibre one lies beside it:
+   * physical shading takes that one (a --db given is used as given) */
+  char *fiber = fe->db_from_scene ? fiber_beside(fe->db_path) : NULL;
+  satf_db *db = NULL;
+  satf_error err;
+  if (fiber && satf_db_read(fiber, &db, &err) == SATF_OK &&
+      satf_db_kind(db) == SATF_RECORD_FIBER) {
+    fprintf(stderr, "%s: the physical shading takes the fibre database %s\n",
+            prog, fiber);
+    satf_db_destroy(fe->db);
+    fe->db = db;
+    free(fe->db_path_owned);
+    fe->db_path = fe->db_path_owned = fiber;
+    return SATF_OK;
+  }
+  satf_db_destroy(db);
+  free(fiber);
   fprintf(stderr,
           "%s: %s: the physical shading needs a fibre database (satf-build "
           "--kind fiber, e.g. out/satf-fiber.hrirdb.exr); %s holds Phong "

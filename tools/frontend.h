@@ -23,6 +23,8 @@ typedef struct satf_frontend {
    * (satf_renderer_set_sparse_strands); -1: the renderer's default */
   int sparse_strands;
   const char *db_path; /* where the database came from, for messages */
+  int db_from_scene;   /* db_path is the scene's "database", not --db */
+  char *db_path_owned; /* db_path when the frontend chose it (freed) */
 } satf_frontend;
 
 /* Loads SCENE (printing its warnings to stderr) and the database (db_path,
