@@ -215,6 +215,13 @@ int satf_renderer_sparse_strands(const satf_renderer *r);
  * (no popping), and draws a coarser proxy. */
 void satf_renderer_set_lod(satf_renderer *r, int on);
 int satf_renderer_lod(const satf_renderer *r);
+/* The cluster shadows' deep opacity map is kept across scene changes
+ * (satf_renderer_set_scene: animated hair) while no cluster's control
+ * point has moved more than `texels` of its texels across the light or
+ * of its slabs along it (1 at creation); negative: drawn again after
+ * every scene change (the rule before issue 12 item 4). */
+void satf_renderer_set_shadow_move(satf_renderer *r, float texels);
+float satf_renderer_shadow_move(const satf_renderer *r);
 
 /* Renders one frame of `aov` into the renderer's RGBA16F target. */
 satf_status satf_renderer_render(satf_renderer *r, satf_aov aov,

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mat4.h"
 #include "satf/math.h"
 
 static void set_mat4(GLuint prog, const char *name, const float m[16]) {
@@ -222,35 +223,139 @@ static float dom_eye_turn(const satf_renderer *r) {
   return most;
 }
 
+/* Each cluster's control points in world space and its radius there (the
+ * larger of A and B at the point, times the transform's longest axis), 4
+ * floats a point into out (NULL: only counted); the count, -1 without
+ * memory. The twist is left out: it turns a cross-section about its
+ * centre, which moves the cluster's outline by less than A - B. */
+static int dom_hair_points(const satf_renderer *r, float *out) {
+  int n = 0;
+  for (int i = 0; i < r->ninsts; i++) {
+    const inst *in = &r->insts[i];
+    const satf_scene_cluster *c =
+        &r->scene->macro_clusters[in->proto].prototype;
+    int np = c->n_points;
+    if (!out) {
+      n += np;
+      continue;
+    }
+    float *ab = malloc(2 * (size_t)np * sizeof(float)), scale = 0.0f;
+    if (!ab)
+      return -1;
+    hierarchy_resample_curve(&c->a, np, ab);
+    hierarchy_resample_curve(&c->b, np, ab + np);
+    for (int k = 0; k < 3; k++) {
+      float axis[3] = {in->m[k], in->m[4 + k], in->m[8 + k]};
+      float len = sqrtf(satf_dot3f(axis, axis));
+      scale = len > scale ? len : scale;
+    }
+    for (int j = 0; j < np; j++, n++) {
+      float *o = out + 4 * (size_t)n;
+      satf_mat4_point(in->m, c->trajectory + 3 * j, o);
+      o[3] = scale * (ab[j] > ab[np + j] ? ab[j] : ab[np + j]);
+    }
+    free(ab);
+  }
+  return n;
+}
+
+float passes_dom_hair_move(const satf_renderer *r) {
+  int n = dom_hair_points(r, NULL);
+  if (!r->dom_valid || n != r->dom_npoints)
+    return INFINITY;
+  float *now = malloc(4 * (size_t)(n > 0 ? n : 1) * sizeof(float));
+  if (!now || dom_hair_points(r, now) != n) {
+    free(now);
+    return INFINITY;
+  }
+  /* in the map's own light view (orthographic: x, y in [-1, 1] across
+   * DOM_SIZE texels, window depth z / 2 + 1 / 2 in slabs of
+   * dom_light_slab) */
+  const float *m = r->dom_viewproj;
+  float row[3] = {m[0], m[1], m[2]};
+  float texels = 0.5f * (float)DOM_SIZE;
+  float radius_texels = sqrtf(satf_dot3f(row, row)) * texels;
+  float most = 0.0f;
+  for (int i = 0; i < n; i++) {
+    const float *a = r->dom_points + 4 * (size_t)i, *b = now + 4 * (size_t)i;
+    float pa[3], pb[3];
+    satf_mat4_point(m, a, pa);
+    satf_mat4_point(m, b, pb);
+    float dx = fabsf(pb[0] - pa[0]), dy = fabsf(pb[1] - pa[1]);
+    float across =
+        (dx > dy ? dx : dy) * texels + fabsf(b[3] - a[3]) * radius_texels;
+    float along = 0.5f * fabsf(pb[2] - pa[2]) / r->dom_light_slab;
+    float move = across > along ? across : along;
+    most = move > most ? move : most;
+  }
+  free(now);
+  return most;
+}
+
+/* Whether the map drawn last still stands for this frame: the eye rule
+ * below, and the light and the hair. The exact rule (r->dom_move_tol < 0):
+ * the light's view and slabs are those it was drawn with and the hair has
+ * not moved (satf_renderer_set_scene clears dom_valid). Else the key light
+ * is the same and no cluster moved more than r->dom_move_tol texels or
+ * slabs since; the map keeps the view it was drawn with (the scene bounds
+ * follow the hair, and with them the exact rule's view). */
+static int dom_keep(satf_renderer *r) {
+  if (!r->dom_valid ||
+      (r->dom_maps_stale && !(dom_eye_turn(r) < r->dom_eye_tol)))
+    return 0;
+  if (r->dom_move_tol < 0.0f)
+    return !memcmp(r->dom_viewproj, r->light_viewproj,
+                   sizeof r->dom_viewproj) &&
+           r->dom_light_slab == r->dom_slab;
+  float lv[4];
+  frame_light_vector(&r->lights[0], lv);
+  if (memcmp(lv, r->dom_light, sizeof lv) ||
+      !(passes_dom_hair_move(r) <= r->dom_move_tol))
+    return 0;
+  memcpy(r->light_viewproj, r->dom_viewproj, sizeof r->dom_viewproj);
+  r->dom_slab = r->dom_light_slab;
+  return 1;
+}
+
 /* Deep opacity map (Yuksel & Keyser 2008) from the key light (frame.c
  * places it): the first hair's depth, then optical depth summed into four
  * slabs behind it. */
 void passes_dom(satf_renderer *r) {
   /* the map reads the light's view, the hair's transforms and shells and
    * the maps' alpha (and the meshes): while none has changed since it was
-   * drawn (satf_renderer_set_scene clears dom_valid) it is what drawing it
-   * again would give. The alpha follows the eye's azimuth (the records
-   * are looked up for the eye), but the map wants the opacity the light
-   * sees, for which the alpha seen from one eye stands in no better than
-   * from another: the map is kept while the eye turns by less than
-   * r->dom_eye_tol from where it was drawn (measured with bench_dom, a
-   * map kept from an eye turned 5 to 180 degrees: SSIM >= 0.994 and mean
-   * |luminance change| <= 0.0025 on every sample, the imported ponytail
-   * and 40K-strand fur; the most, fur at 90 degrees, is 11% of what the
-   * cluster shadows change there; issue 12) */
+   * drawn it is what drawing it again would give. The alpha follows the
+   * eye's azimuth (the records are looked up for the eye), but the map
+   * wants the opacity the light sees, for which the alpha seen from one
+   * eye stands in no better than from another: the map is kept while the
+   * eye turns by less than r->dom_eye_tol from where it was drawn
+   * (measured with bench_dom, a map kept from an eye turned 5 to 180
+   * degrees: SSIM >= 0.994 and mean |luminance change| <= 0.0025 on every
+   * sample, the imported ponytail and 40K-strand fur; the most, fur at 90
+   * degrees, is 11% of what the cluster shadows change there; issue 12).
+   * Moving hair: the map is kept while no control point moved more than
+   * r->dom_move_tol (DOM_MOVE_TOL: a texel, the percentage-closer filter's
+   * own reach, glsl/dom_lookup.glsl) from where it was drawn (bench_dom
+   * --anim: README) */
   frame_light_view(r);
-  if (r->dom_valid &&
-      !memcmp(r->dom_viewproj, r->light_viewproj, sizeof r->dom_viewproj) &&
-      r->dom_light_slab == r->dom_slab &&
-      (!r->dom_maps_stale || dom_eye_turn(r) < r->dom_eye_tol)) {
+  if (dom_keep(r)) {
     r->dom_reuses++;
     return;
   }
   passes_dom_with(r, dom_clusters, NULL);
   memcpy(r->dom_viewproj, r->light_viewproj, sizeof r->dom_viewproj);
   memcpy(r->dom_eye, r->camera.position, sizeof r->dom_eye);
+  frame_light_vector(&r->lights[0], r->dom_light);
   r->dom_light_slab = r->dom_slab;
   r->dom_maps_stale = 0;
+  int n = dom_hair_points(r, NULL);
+  float *pts =
+      realloc(r->dom_points, 4 * (size_t)(n > 0 ? n : 1) * sizeof(float));
+  if (pts) {
+    r->dom_points = pts;
+    r->dom_npoints = dom_hair_points(r, pts);
+  } else {
+    r->dom_npoints = -1; /* not measured: drawn again next frame */
+  }
   r->dom_valid = 1;
 }
 

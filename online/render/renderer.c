@@ -74,8 +74,9 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
   r->instanced = 1;
   r->incremental = 1;
   r->sparse_max = SATF_SPARSE_STRANDS_DEFAULT;
-  r->lod_opt = lod_defaults(); /* r->lod 0: full detail unless asked */
-  r->dom_eye_tol = INFINITY;   /* the shadows keep while the eye moves */
+  r->lod_opt = lod_defaults();    /* r->lod 0: full detail unless asked */
+  r->dom_eye_tol = INFINITY;      /* the shadows keep while the eye moves */
+  r->dom_move_tol = DOM_MOVE_TOL; /* and while the hair moves little */
   st = satf_maps_create(db, &r->maps, err);
   if (st != SATF_OK) {
     free(r);
@@ -118,6 +119,7 @@ void satf_renderer_destroy(satf_renderer *r) {
   if (r->fgpu)
     fiber_gpu_release(r->fgpu);
   free(r->fgpu);
+  free(r->dom_points);
   free(r);
 }
 
@@ -156,6 +158,12 @@ satf_composite satf_renderer_composite(const satf_renderer *r) {
 }
 void satf_renderer_set_lod(satf_renderer *r, int on) { r->lod = on != 0; }
 int satf_renderer_lod(const satf_renderer *r) { return r->lod; }
+void satf_renderer_set_shadow_move(satf_renderer *r, float texels) {
+  r->dom_move_tol = texels >= 0.0f ? texels : -1.0f;
+}
+float satf_renderer_shadow_move(const satf_renderer *r) {
+  return r->dom_move_tol;
+}
 unsigned satf_renderer_texture(const satf_renderer *r) {
   return satf_gl_target_color_texture(r->out, 0);
 }
@@ -389,7 +397,8 @@ satf_status satf_renderer_set_scene(satf_renderer *r, const satf_scene *scene,
   if (st != SATF_OK)
     return st;
   int moved = 0;
-  r->dom_valid = 0; /* hair or meshes may have moved */
+  if (r->dom_move_tol < 0.0f) /* the hair may have moved (else passes_dom */
+    r->dom_valid = 0;         /* measures how far) */
   st = hierarchy_update(r, scene, &moved, err);
   if (st == SATF_OK) /* the sparse clusters' strands move with them */
     st = sparse_build(r, err);

@@ -20,6 +20,10 @@
 
 /* Side of the deep opacity map, in texels. */
 #define DOM_SIZE 512
+/* The most a cluster's control point may move, in texels across the light
+ * or slabs along it, before the deep opacity map is drawn again (passes.c;
+ * satf_renderer_set_shadow_move). */
+#define DOM_MOVE_TOL 1.0f
 /* Fragments each pixel can keep at first; the arrays grow (up to
  * SATF_MAX_FRAGMENTS) when a frame needs more. */
 #define START_SLOTS 16
@@ -140,6 +144,15 @@ struct satf_renderer {
    * eye alone, 0: whenever a map changed) */
   float dom_eye[3], dom_eye_tol;
   int dom_maps_stale;
+  /* the map kept across scene changes (issue 12 item 4; passes.c) while
+   * no cluster's control point has moved more than dom_move_tol texels
+   * across the light or slabs along it (dom_points: each one's world xyz
+   * and radius when the map was drawn, dom_npoints of them); dom_move_tol
+   * < 0: the exact rule (drawn again after every satf_renderer_set_scene) */
+  float dom_move_tol;
+  float *dom_points;
+  int dom_npoints;
+  float dom_light[4]; /* the key light's vector when the map was drawn */
   GLuint empty_vao, counts_tex, frags_tex, list_fbo;
   GLuint keys_tex; /* per-pixel depth keys of the nearest `slots` fragments,
                       made when a pixel first overflows (0: none yet) */
@@ -274,6 +287,10 @@ typedef void (*passes_dom_hair_fn)(satf_renderer *r, void *ctx, int opacity);
 void passes_dom_with(satf_renderer *r, passes_dom_hair_fn hair, void *ctx);
 void passes_dom_uniforms(const satf_renderer *r, GLuint prog);
 void passes_dom(satf_renderer *r);
+/* The largest move, in texels across the light or slabs along it, of any
+ * cluster control point (or radius) since the map was drawn; INFINITY when
+ * it cannot be measured (no map, or other clusters). */
+float passes_dom_hair_move(const satf_renderer *r);
 /* Per-pixel fragment arrays, then their sorted composite; returns the
  * largest number of fragments a pixel received and sets *overflow to the
  * pixels that received more than r->slots. With `nearest` (r->keys_tex

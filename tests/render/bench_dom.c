@@ -13,7 +13,19 @@
  *    the process's): FRAMES calls of passes_dom drawing the map, in turn
  *    with calls that keep it.
  * --cost: only 2. With OUTDIR the frames are written there as EXRs
- * (fresh.exr, noshadow.exr, keep_DEG.exr). */
+ * (fresh.exr, noshadow.exr, keep_DEG.exr).
+ *
+ *   bench_dom DB SCENE [OUTDIR|-] [FRAMES] --anim TOL
+ *
+ * 3. Moving hair: every frame of the scene's animation, FRAMES times over,
+ *    with the map kept while no cluster moved more than TOL texels or
+ *    slabs (r->dom_move_tol), against a renderer drawing it every frame
+ *    (the exact rule): S of each (wall ms, and the whole frame), whether
+ *    the map was kept, how far the hair had moved, and the frame's error
+ *    against the exact one (SSIM, mean |luminance change| as a share of
+ *    what the cluster shadows change in that frame). With OUTDIR the
+ *    first round's frames are written (anim_exact_NN.exr,
+ *    anim_kept_NN.exr). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -102,19 +114,113 @@ static void save(const satf_image *img, const char *dir, const char *name) {
     die(path, &err);
 }
 
+/* 3.: the scene's animation, the map kept within tol, against the exact
+ * rule. */
+static void animation(const bench_setup *b, const char *dir, int rounds,
+                      float tol) {
+  int first = 0, last = 0;
+  if (!satf_scene_frame_range(b->scene, &first, &last))
+    die("--anim: the scene has no animation", NULL);
+  satf_renderer *exact = b->r, *cheap = NULL;
+  satf_error err;
+  satf_scene *now = NULL, *before = NULL;
+  int w = 0, h = 0;
+  satf_renderer_size(exact, &w, &h);
+  if (satf_scene_at_frame(b->scene, first, &now, &err) != SATF_OK ||
+      satf_renderer_create(now, b->db, w, h, 0, &cheap, &err) != SATF_OK)
+    die("--anim", &err);
+  exact->dom_move_tol = -1.0f;
+  cheap->dom_move_tol = tol;
+  double s_sum[2] = {0}, total[2] = {0}, worst_ssim = 1.0, worst_share = 0.0,
+         share_sum = 0.0;
+  long kept = 0, n = 0;
+  for (int round = 0; round < rounds; round++)
+    for (int f = first; f <= last; f++) {
+      satf_scene_destroy(before);
+      before = now;
+      now = NULL;
+      if (satf_scene_at_frame(b->scene, f, &now, &err) != SATF_OK ||
+          satf_renderer_set_scene(exact, now, NULL, &err) != SATF_OK ||
+          satf_renderer_set_scene(cheap, now, NULL, &err) != SATF_OK)
+        die("--anim frame", &err);
+      satf_frame_timing t[2];
+      satf_image *img[2] = {NULL, NULL};
+      satf_renderer *rs[2] = {exact, cheap};
+      long reuses = cheap->dom_reuses;
+      float move = passes_dom_hair_move(cheap);
+      for (int k = 0; k < 2; k++)
+        if (satf_renderer_render_image(rs[k], 0, &img[k], &t[k], &err) !=
+            SATF_OK)
+          die("--anim render", &err);
+      int keep = cheap->dom_reuses > reuses;
+      exact->effects.cluster_shadows = 0;
+      satf_image *none = frame(exact);
+      exact->effects.cluster_shadows = 1;
+      double scale = lum_diff(img[0], none), d = lum_diff(img[0], img[1]);
+      compare_image x = view(img[0], "exact"), y = view(img[1], "cheap");
+      compare_result res;
+      if (compare_measure(&x, &y, &res, &err) != SATF_OK)
+        die("compare", &err);
+      double share = scale > 0 ? 100.0 * d / scale : 0.0;
+      printf("frame %2d  S exact %6.2f kept %6.2f ms, frame %6.1f %6.1f ms"
+             "  move %5.2f %s  SSIM %.5f  |dlum| %.5f (%.2f%% of the "
+             "shadows')\n",
+             f, t[0].shadow_ms, t[1].shadow_ms, t[0].total_ms, t[1].total_ms,
+             move, keep ? "kept " : "drawn", res.ssim, d, share);
+      if (round == 0) {
+        char name[64];
+        snprintf(name, sizeof name, "anim_exact_%02d.exr", f);
+        save(img[0], dir, name);
+        snprintf(name, sizeof name, "anim_kept_%02d.exr", f);
+        save(img[1], dir, name);
+      }
+      s_sum[0] += t[0].shadow_ms;
+      s_sum[1] += t[1].shadow_ms;
+      total[0] += t[0].total_ms;
+      total[1] += t[1].total_ms;
+      kept += keep;
+      n++;
+      worst_ssim = res.ssim < worst_ssim ? res.ssim : worst_ssim;
+      worst_share = share > worst_share ? share : worst_share;
+      share_sum += share;
+      for (int k = 0; k < 2; k++)
+        satf_image_destroy(img[k]);
+      satf_image_destroy(none);
+    }
+  printf("anim: %ld frames, tolerance %.2f: S exact %.2f ms, kept "
+         "%.2f ms (%.3f of it), frame %.1f, %.1f ms (%.3f), kept %ld; SSIM >= "
+         "%.5f, |dlum| %.2f%% of the shadows' on average, %.2f%% at most\n",
+         n, tol, s_sum[0] / n, s_sum[1] / n, s_sum[1] / s_sum[0], total[0] / n,
+         total[1] / n, total[1] / total[0], kept, worst_ssim, share_sum / n,
+         worst_share);
+  satf_renderer_destroy(cheap);
+  satf_renderer_set_scene(exact, b->scene, NULL, &err);
+  satf_scene_destroy(before);
+  satf_scene_destroy(now);
+}
+
 int main(int argc, char **argv) {
   if (argc < 3 || !strcmp(argv[1], "-h") || !strcmp(argv[1], "--help")) {
-    fprintf(stderr, "usage: bench_dom DB SCENE [OUTDIR|-] [FRAMES] [--cost]\n");
+    fprintf(stderr,
+            "usage: bench_dom DB SCENE [OUTDIR|-] [FRAMES] [--cost]\n"
+            "       bench_dom DB SCENE [OUTDIR|-] [FRAMES] --anim TOL\n");
     return argc < 3 ? 2 : 0;
   }
   const char *dir = argc > 3 && strcmp(argv[3], "-") ? argv[3] : NULL;
   int frames = argc > 4 ? atoi(argv[4]) : 10;
   int cost_only = argc > 5 && !strcmp(argv[5], "--cost");
+  int anim = argc > 6 && !strcmp(argv[5], "--anim");
   if (frames < 1)
     frames = 1;
   bench_setup b = bench_open("bench_dom", argv[1], argv[2], 0, 0);
   satf_renderer *r = b.r;
+  if (anim) {
+    animation(&b, dir, frames, (float)atof(argv[6]));
+    bench_close(&b);
+    return 0;
+  }
   satf_scene_camera start = *satf_renderer_camera(r);
+  r->dom_move_tol = -1.0f; /* the reference: the exact rule */
   r->effects.cluster_shadows = 1;
   satf_image *fresh = frame(r);
   save(fresh, dir, "fresh.exr");
@@ -146,7 +252,7 @@ int main(int argc, char **argv) {
     satf_image_destroy(kept);
   }
 timing:
-  /* the map's cost, drawn and kept, frame by frame in turn */
+  /* 2. the map's cost, drawn and kept, frame by frame in turn */
   r->dom_eye_tol = 0.0f;
   double wall[2] = {0}, cpu[2] = {0};
   for (int f = 0; f <= frames; f++)

@@ -95,6 +95,15 @@ static inline long fixture_render_lookups(satf_renderer *r) {
   return t.lookups;
 }
 
+/* A beauty image of the next frame (NULL, and a message, on failure). */
+static inline satf_image *fixture_render_image(satf_renderer *r) {
+  satf_image *img = NULL;
+  satf_error err;
+  if (satf_renderer_render_image(r, 0, &img, NULL, &err) != SATF_OK)
+    fprintf(stderr, "%s\n", err.message);
+  return img;
+}
+
 static inline satf_scene *fixture_scene(const char *json) {
   satf_scene *s = NULL;
   satf_error err;

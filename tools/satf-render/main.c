@@ -1,4 +1,5 @@
 /* satf-render - headless SATF rendering to OpenEXR (and PNG) through EGL. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -57,6 +58,11 @@ static void usage(FILE *out) {
       "                       (default off: within soft IoU 0.97, SSIM 0.95\n"
       "                       of full detail on every sample, but no faster\n"
       "                       on llvmpipe yet; zoomed-out fur drifts)\n"
+      "  --shadow-move T|off  keep the cluster shadows' deep opacity map\n"
+      "                       while no cluster moved more than T of its\n"
+      "                       texels or slabs since it was drawn (default\n"
+      "                       1, the shadow filter's reach; off: drawn\n"
+      "                       again every animation frame)\n"
       "%s%s%s%s%s"
       "  -q, --quiet          no summary\n"
       "  -h, --help           this help\n",
@@ -69,6 +75,7 @@ typedef struct options {
   const char *scene_path, *db_path, *exr, *png, *mesh_path, *frames, *sheet;
   long w, h, bench, threads, samples;
   int resume, aov, quiet, composite, bg_in_exr, strands, lod;
+  float shadow_move; /* --shadow-move, -1: off, NAN: not given */
   float strand_width;
   double budget;      /* --memory-budget, bytes (0: the default) */
   int shading;        /* --shading: SATF_MATERIAL_*, -1: the scene's */
@@ -117,6 +124,23 @@ static int parse_one(satf_cli_args *it, options *o) {
     if (o->lod < 0)
       fprintf(stderr, "%s: --lod: expected on or off, got '%s'\n", PROG, val);
     return o->lod < 0 ? -1 : 0;
+  }
+  if (satf_cli_is(it, NULL, "--shadow-move")) {
+    if (satf_cli_value(it, &val))
+      return -1;
+    char *end = NULL;
+    double t = strtod(val, &end);
+    if (!strcmp(val, "off"))
+      t = -1.0;
+    else if (end == val || *end || !(t >= 0.0 && t <= 1e6)) {
+      fprintf(stderr,
+              "%s: --shadow-move: expected texels >= 0 or off, got "
+              "'%s'\n",
+              PROG, val);
+      return -1;
+    }
+    o->shadow_move = (float)t;
+    return 0;
   }
   if (satf_cli_is(it, NULL, "--composite")) {
     if (satf_cli_value(it, &val))
@@ -204,6 +228,7 @@ static int parse_args(int argc, char **argv, options *o) {
   o->sparse_strands = -1;
   o->composite = SATF_COMPOSITE_EXACT;
   o->lod = 0;
+  o->shadow_move = NAN;
   satf_cli_args it;
   satf_cli_begin(&it, PROG, argc, argv);
   while (satf_cli_next(&it)) {
@@ -359,6 +384,8 @@ static satf_status run(options *o, const satf_frontend *fe, satf_error *err) {
   if (st == SATF_OK) {
     satf_frontend_apply(r, &o->off, o->composite);
     satf_renderer_set_lod(r, o->lod);
+    if (!isnan(o->shadow_move))
+      satf_renderer_set_shadow_move(r, o->shadow_move);
     satf_renderer_stats(r, &stats);
     st = satf_frontend_apply_strands(r, fe, err);
   }
