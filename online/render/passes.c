@@ -334,8 +334,11 @@ void passes_dom(satf_renderer *r) {
    * degrees, is 11% of what the cluster shadows change there; issue 12).
    * Moving hair: the map is kept while no control point moved more than
    * r->dom_move_tol (DOM_MOVE_TOL: a texel, the percentage-closer filter's
-   * own reach, glsl/dom_lookup.glsl) from where it was drawn (bench_dom
-   * --anim: README) */
+   * own reach, glsl/dom_lookup.glsl) from where it was drawn. anim_8's
+   * hair moves 1.7-2.9 texels a frame: kept every other frame with 3, S
+   * halves, but the shadow edges lag by a frame (SSIM >= 0.966, mean
+   * |luminance change| <= 7.9% of the cluster shadows'; bench_dom --anim,
+   * README), so the default keeps only hair that (nearly) stands still */
   frame_light_view(r);
   if (dom_keep(r)) {
     r->dom_reuses++;
