@@ -24,6 +24,7 @@ static void usage(FILE *out) {
       "         space pause/play the animation, left/right step a frame\n"
       "         4 cluster shadows  O exact/ordered compositing\n"
       "         S save frame (EXR + PNG)  R reset view\n"
+      "         T the source strands (the reference) / the clusters\n"
       "         Q / Esc quit\n"
       "\n"
       "options:\n"

@@ -33,6 +33,10 @@ typedef struct viewer {
   double fps_t0;
   int fps_frames;
   satf_frame_timing t; /* of the last frame */
+  /* T: the strand reference (the scene's source strands) in turn with the
+   * clusters, to judge the preview against what it approximates */
+  satf_frontend *fe;
+  int toggle_strands;
 } viewer;
 
 static void place_camera(viewer *v) {
@@ -85,6 +89,7 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods) {
   case GLFW_KEY_3: e->self_shadow = !e->self_shadow; break;
   case GLFW_KEY_4: e->cluster_shadows = !e->cluster_shadows; break;
   case GLFW_KEY_S: v->save_requested = 1; break;
+  case GLFW_KEY_T: v->toggle_strands = 1; break;
   case GLFW_KEY_O:
     satf_renderer_set_composite(v->r, satf_renderer_composite(v->r) ==
                                               SATF_COMPOSITE_EXACT
@@ -215,9 +220,10 @@ static void aim_light_angles(viewer *v) {
 /* Creates the renderer at the window's framebuffer size and hooks the
  * window's input to v. */
 static satf_status viewer_init(viewer *v, satf_gl_window *win,
-                               const satf_frontend *fe, const viewer_opts *o,
+                               satf_frontend *fe, const viewer_opts *o,
                                satf_error *err) {
   memset(v, 0, sizeof *v);
+  v->fe = fe;
   v->prefix = o->prefix;
   v->scene = fe->scene;
   v->shown = -1;
@@ -297,14 +303,27 @@ static void update_title(viewer *v, GLFWwindow *gw) {
   snprintf(title, sizeof title,
            "satf-view  %.1f FPS%s | I %.1f C %.1f M %.1f L %.1f S %.1f ms | "
            "[1]satf %s [2]specII %s [3]self-shadow %s [4]cluster shadows %s "
-           "[O]%s",
+           "[O]%s [T]%s",
            fps, anim, t->index_ms, t->maps_ms, t->upload_ms, t->lighting_ms,
            t->shadow_ms, e->satf ? "on" : "off",
            e->secondary_highlight ? "on" : "off", e->self_shadow ? "on" : "off",
            e->cluster_shadows ? "on" : "off",
            satf_renderer_composite(v->r) == SATF_COMPOSITE_EXACT ? "exact"
-                                                                 : "ordered");
+                                                                 : "ordered",
+           satf_renderer_strand_count(v->r) > 0 ? "strands" : "clusters");
   glfwSetWindowTitle(gw, title);
+}
+
+/* T: the clusters give way to the scene's source strands, or back. The
+ * strands are read the first time; a scene without them (not made by
+ * satf-import) says so and keeps the clusters. */
+static satf_status toggle_strands(viewer *v, satf_error *err) {
+  v->toggle_strands = 0;
+  if (satf_renderer_strand_count(v->r) > 0)
+    return satf_renderer_set_strands(v->r, 0, NULL, NULL, NULL, 0.0f, err);
+  if (!v->fe->strands && satf_frontend_load_strands(PROG, v->fe) != SATF_OK)
+    return SATF_OK; /* printed; the clusters stay */
+  return satf_frontend_apply_strands(v->r, v->fe, err);
 }
 
 /* Draws frame number `frame` at fw x fh; sets *done once the screenshot is
@@ -313,6 +332,8 @@ static satf_status draw(viewer *v, satf_gl_window *win, const viewer_opts *o,
                         long frame, int fw, int fh, int *done,
                         satf_error *err) {
   satf_status st = v->animated ? advance_animation(v, err) : SATF_OK;
+  if (st == SATF_OK && v->toggle_strands)
+    st = toggle_strands(v, err);
   if (st == SATF_OK)
     st = satf_renderer_resize(v->r, fw, fh, err);
   if (st == SATF_OK)
@@ -384,7 +405,7 @@ static satf_status bench(viewer *v, satf_gl_window *win,
   return SATF_OK;
 }
 
-satf_status viewer_run(satf_gl_window *win, const satf_frontend *fe,
+satf_status viewer_run(satf_gl_window *win, satf_frontend *fe,
                        const viewer_opts *opts, satf_error *err) {
   viewer v;
   satf_status st = viewer_init(&v, win, fe, opts, err);

@@ -19,8 +19,9 @@ typedef struct viewer_opts {
 
 /* Renders fe's scene into win until the window closes (or, with a
  * screenshot, until it is written; with --bench, after its frames and the
- * row printed). Creates and destroys the renderer. */
-satf_status viewer_run(satf_gl_window *win, const satf_frontend *fe,
+ * row printed). Creates and destroys the renderer. The T key loads fe's
+ * source strands the first time it is pressed (fe->strands). */
+satf_status viewer_run(satf_gl_window *win, satf_frontend *fe,
                        const viewer_opts *opts, satf_error *err);
 
 #endif
