@@ -22,6 +22,7 @@ static void usage(FILE *out) {
       out,
       "usage: %s REFERENCE.exr TEST.exr [--png SIDE.png] [--json] "
       "[thresholds]\n"
+      "       %s REFERENCE.exr --smooth-bound R\n"
       "\n"
       "Compares two linear RGBA OpenEXR frames of the same camera (colour\n"
       "premultiplied by alpha, over black: satf-render -o writes them so)\n"
@@ -91,7 +92,7 @@ static void usage(FILE *out) {
       "threshold\n"
       "not met, 2 bad input (sizes differ, a file missing or damaged, a bad\n"
       "option) or the PNG could not be written.\n",
-      PROG);
+      PROG, PROG);
 }
 
 /* A threshold given on the command line: which figure, which side. */
@@ -162,8 +163,15 @@ static int parse(int argc, char **argv, options *o) {
       return satf_cli_unknown(&it);
     }
   }
-  if (!o->test) {
+  if (!o->ref || (!o->test && !o->bound)) {
     fprintf(stderr, "%s: give a reference and a test frame (see --help)\n",
+            PROG);
+    return 2;
+  }
+  if (!o->test && (o->png || o->json)) {
+    fprintf(stderr,
+            "%s: a reference alone (its --smooth-bound) takes no --png or "
+            "--json\n",
             PROG);
     return 2;
   }
@@ -305,6 +313,23 @@ static void print_table(const options *o, const compare_image *img,
              fails(&o->t[k], r, k) ? "FAILED" : "ok");
 }
 
+/* REFERENCE --smooth-bound R without a test frame: the bound alone. */
+static int bound_only(const options *o, frame *ref) {
+  compare_result bound;
+  satf_error err;
+  satf_status st = compare_smooth_bound(&ref->img, (int)o->bound, &bound, &err);
+  if (st == SATF_OK)
+    printf("reference        %s (%dx%d)\n"
+           "smooth bound     IoU %.4f, SSIM %.4f: REFERENCE against itself "
+           "blurred by a %ldx%ld box\n",
+           o->ref, ref->img.width, ref->img.height, bound.iou, bound.ssim,
+           2 * o->bound + 1, 2 * o->bound + 1);
+  else
+    fprintf(stderr, "%s: %s\n", PROG, err.message);
+  unload(ref);
+  return st == SATF_OK ? 0 : 2;
+}
+
 int main(int argc, char **argv) {
   options o;
   int rc = parse(argc, argv, &o);
@@ -313,6 +338,8 @@ int main(int argc, char **argv) {
   satf_error err;
   frame ref, test;
   satf_status st = load(o.ref, &ref, &err);
+  if (st == SATF_OK && !o.test)
+    return bound_only(&o, &ref);
   if (st == SATF_OK) {
     st = load(o.test, &test, &err);
     if (st != SATF_OK)
