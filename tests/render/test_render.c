@@ -268,10 +268,8 @@ static void test_highlight_across_flat_cluster(void **state) {
       "\"height\": 120}}";
   satf_scene *scene = fixture_scene(json);
   assert_non_null(scene);
-  satf_renderer *r = NULL;
-  satf_error err;
-  if (satf_renderer_create(scene, f->db, W, H, 0, &r, &err) != SATF_OK)
-    fail_msg("%s", err.message);
+  satf_renderer *r = fixture_renderer(scene, f->db, W, H);
+  assert_non_null(r);
   satf_image *img = render(r, 1);
   assert_non_null(img);
   const float *A = fixture_plane(img, "A");
