@@ -90,7 +90,7 @@ void satf_shell_geom_destroy(satf_shell_geom *g) {
 struct satf_maps {
   const satf_db *db;
   int width;
-  float *re_scale; /* per database sample: 1 / its mean reflectance */
+  float re_scale; /* 1 / unshadowed hair's reflectance (reflectance_scale) */
   float lo[SATF_FEATURES], scale[SATF_FEATURES];
   uint16_t *index; /* AZIMUTH_BINS x width: record sample left of column x */
   float *frac;     /* AZIMUTH_BINS x width: weight of the sample after it */
@@ -138,26 +138,66 @@ satf_map_options satf_map_options_default(void) {
   return o;
 }
 
-/* The scale of reflectance, per database sample: 1 / its mean reflectance
- * per unit coverage, sum(re) / sum(alpha) over all its records (every view
- * and light azimuth, every record sample). SATF eq. 13 multiplies the
- * lighting (eq. 8-11, whose k_dif, k_speI, k_speII and colours are the
- * hair's material) by re and says nothing of re's scale. Our reading: re
- * carries how a sector's structure modulates that lighting (which parts of
- * the record are lit, highlights, light from behind), relative to the same
- * hair's mean, so a strand has the material's colour on average whatever
- * the density around it. One scale for the whole database (the mean over
- * opaque records, as before) does not give that: the tracer shadows strands
- * by the density between them and the light (trace.c), so re / alpha falls
- * with density (default database: 0.28 for rho_st < 0.05, 0.18 above 1.6,
- * flat at 0.285 with --no-shadow), and a sparse cluster came out ~1.4x
- * brighter per strand than the dense hair that set the scale. Shadowing by
- * the hair around a layer is eq. 12's job online (and the deep opacity
- * map's between clusters), which darken a dense cluster's inner layers as
- * the paper intends. Samples without coverage get the database's mean. */
-static void reflectance_scales(const satf_db *db, float *scale) {
+/* The scale of reflectance: 1 / the reflectance per unit coverage of hair
+ * that nothing shadows. SATF eq. 13 multiplies the lighting (eq. 8-11, whose
+ * k_dif, k_speI, k_speII and colours are the hair's material) by re and
+ * says nothing of re's scale. Our reading: re says what the sector's
+ * structure does to that lighting (which parts of the record are lit,
+ * highlights, the strands shadowed by the strands of the same sector
+ * between them and the light) relative to a strand that nothing shadows,
+ * which eq. 9-11 light in full. So one scale for the whole database, that
+ * of unshadowed hair, and a record keeps its own shadowing (shade_fs.glsl:
+ * the records own the attenuation inside an HSV, eq. 12 the cluster's
+ * outer layers, the deep opacity map the other clusters).
+ *
+ * The tracer shadows strands by the density between them and the light
+ * (trace.c), so re / alpha falls with density (default database: 0.274
+ * for rho_st < 0.05, 0.181 above 1.6, flat at 0.285 with --no-shadow),
+ * and unshadowed hair is what the sparsest samples tend to: the intercept
+ * at rho_st = 0 of a coverage-weighted straight line through re / alpha
+ * against rho_st over the sparser half of the samples with coverage
+ * (default database: 0.279; the sparsest quarter gives 0.279 too), at least
+ * their mean (shadowing only lowers re, a rising fit is noise). Before,
+ * each sample was scaled to a mean of 1 over all its view and light
+ * azimuths, which lifted dense hair by its own shadowing averaged over the
+ * light's directions: lit from the viewer's side (where its front strands
+ * are unshadowed, 1.48x the sample's mean above rho_st 1.6), dense
+ * clusters came out up to 1.5x too bright, the imported ponytail 1.36x
+ * its strands (satf-render --strands), now 1.05x. */
+typedef struct sample_reflectance {
+  float rho;     /* rho_st */
+  double re, al; /* sums over all records */
+} sample_reflectance;
+
+static int by_density(const void *a, const void *b) {
+  float x = ((const sample_reflectance *)a)->rho;
+  float y = ((const sample_reflectance *)b)->rho;
+  return (x > y) - (x < y);
+}
+
+/* The weighted straight line's intercept at rho 0 over s[0..n), at least
+ * the weighted mean. */
+static double unshadowed_reflectance(const sample_reflectance *s, int n) {
+  double sw = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  for (int i = 0; i < n; i++) {
+    double w = s[i].al, x = s[i].rho, y = s[i].re / s[i].al;
+    sw += w, sx += w * x, sy += w * y, sxx += w * x * x, sxy += w * x * y;
+  }
+  double mx = sx / sw, my = sy / sw, var = sxx / sw - mx * mx;
+  if (!(var > 1e-12 * (1.0 + mx * mx)))
+    return my;
+  double slope = (sxy / sw - mx * my) / var, at0 = my - slope * mx;
+  return at0 > my ? at0 : my;
+}
+
+static satf_status reflectance_scale(const satf_db *db, float *scale,
+                                     satf_error *err) {
   const satf_build_params *p = satf_db_params(db);
-  double all_re = 0.0, all_al = 0.0;
+  sample_reflectance *s = malloc((size_t)p->samples * sizeof *s);
+  if (!s)
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "cannot allocate %d samples' sums", p->samples);
+  int n = 0;
   for (int i = 0; i < p->samples; i++) {
     double sum_re = 0.0, sum_al = 0.0;
     for (int iv = 0; iv < p->n_view; iv++)
@@ -169,15 +209,18 @@ static void reflectance_scales(const satf_db *db, float *scale) {
           sum_al += al[j];
         }
       }
-    scale[i] = sum_re > 0.0 && sum_al > 1e-3 ? (float)(sum_al / sum_re) : 0.0f;
-    all_re += sum_re;
-    all_al += sum_al;
+    if (sum_re > 0.0 && sum_al > 1e-3) /* samples without coverage: none */
+      s[n++] = (sample_reflectance){satf_db_features(db, i)[0], sum_re, sum_al};
   }
-  float fallback = all_re > 0.0 ? (float)(all_al / all_re) : 1.0f;
-  for (int i = 0; i < p->samples; i++)
-    if (scale[i] == 0.0f)
-      scale[i] = fallback;
+  qsort(s, (size_t)n, sizeof *s, by_density);
+  /* the sparser half, at least two samples (all where fewer) */
+  double re = n > 0 ? unshadowed_reflectance(s, n < 4 ? n : (n + 1) / 2) : 0.0;
+  *scale = re > 0.0 ? (float)(1.0 / re) : 1.0f;
+  free(s);
+  return SATF_OK;
 }
+
+float maps_reflectance_scale(const satf_maps *m) { return m->re_scale; }
 
 satf_status satf_maps_create(const satf_db *db, satf_maps **out,
                              satf_error *err) {
@@ -201,12 +244,15 @@ satf_status satf_maps_create(const satf_db *db, satf_maps **out,
     m->scale[a] = hi[a] > m->lo[a] ? 1.0f / (hi[a] - m->lo[a]) : 1.0f;
   m->index = malloc((size_t)AZIMUTH_BINS * w * sizeof *m->index);
   m->frac = malloc((size_t)AZIMUTH_BINS * w * sizeof *m->frac);
-  m->re_scale = malloc((size_t)satf_db_samples(db) * sizeof *m->re_scale);
-  if (!m->index || !m->frac || !m->re_scale) {
+  if (!m->index || !m->frac) {
     satf_maps_destroy(m);
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }
-  reflectance_scales(db, m->re_scale);
+  satf_status st = reflectance_scale(db, &m->re_scale, err);
+  if (st != SATF_OK) {
+    satf_maps_destroy(m);
+    return st;
+  }
   const satf_sector_shape *shape = &satf_db_params(db)->shape;
   for (int b = 0; b < AZIMUTH_BINS; b++) {
     float theta = SATF_TWO_PI_F * (float)b / AZIMUTH_BINS;
@@ -238,7 +284,6 @@ void satf_maps_destroy(satf_maps *m) {
   if (m) {
     free(m->index);
     free(m->frac);
-    free(m->re_scale);
     free(m);
   }
 }
@@ -331,9 +376,9 @@ const satf_db_neighbors *maps_sector_neighbors(const satf_shell_geom *g,
  * divided by alpha: eq. 5 accumulates reflectance weighted by opacity, and
  * eq. 14 multiplies by alpha again, so keeping it would count coverage
  * twice (our reading; the paper multiplies re and alpha without comment),
- * and times re_scale, the record's normalisation (reflectance_scales). */
+ * and times the database's scale (reflectance_scale). */
 static void lay_row(const satf_maps *m, const float *re, const float *al,
-                    float re_scale, float view, float density, float *row) {
+                    float view, float density, float *row) {
   int w = m->width;
   const uint16_t *idx;
   const float *fr;
@@ -343,7 +388,7 @@ static void lay_row(const satf_maps *m, const float *re, const float *al,
     float a = maps_sample(al, idx[x], fr[x]);
     /* the s-map sum (2) is filled by satf_maps_shadow_sums; one store of
      * the whole texel, which misses the cache (the maps are tens of MB) */
-    float t[4] = {a > 1e-4f ? re_scale * r / a : 0.0f, a, 0.0f, density};
+    float t[4] = {a > 1e-4f ? m->re_scale * r / a : 0.0f, a, 0.0f, density};
     memcpy(row + 4 * x, t, sizeof t);
   }
 }
@@ -360,12 +405,9 @@ static params sector_params(const satf_shell_geom *g, const float *angles,
 
 /* A record at p (SATF eq. 4): from the cached neighbours nb when there
  * are some, else from the k nearest samples; rec gets reflectance, then
- * alpha at rec + width. Returns its reflectance scale: the neighbours'
- * scales blended with the weights that blend their records (exact for
- * k = 1; for k > 1 the blend of ratios, not the ratio of the blended
- * record's sums). */
-static float lookup(const satf_maps *m, const satf_db_neighbors *nb,
-                    const params *p, int k, float *rec) {
+ * alpha at rec + width. */
+static void lookup(const satf_maps *m, const satf_db_neighbors *nb,
+                   const params *p, int k, float *rec) {
   satf_db_neighbors found;
   if (!nb) {
     satf_db_neighbors_find(m->db, p->f, k, &found);
@@ -373,10 +415,6 @@ static float lookup(const satf_maps *m, const satf_db_neighbors *nb,
   }
   satf_db_lookup_neighbors_range(m->db, nb, p->view, p->light,
                                  SATF_DB_CH_REFLECTANCE, 2, rec);
-  float scale = 0.0f;
-  for (int c = 0; c < nb->count; c++)
-    scale += nb->weight[c] * m->re_scale[nb->index[c]];
-  return scale;
 }
 
 /* Whether sector q's azimuths differ from those of its last look-up
@@ -453,7 +491,6 @@ int satf_maps_update_layer(const satf_maps *m, const satf_shell_geom *g,
       g->neighbors && g->neighbors->k == kn ? g->neighbors : NULL;
   for (int j = 0; j < sh->su; j++) {
     int have_top = 0; /* the previous HSV's bottom record is this top's */
-    float sc_top = 1.0f;
     hsv_plan cur, next;
     plan_hsv(m, g, angles, prev, opt, nc, 0, k, j, &next);
     for (int i = 0; i < sh->st; i++) {
@@ -472,24 +509,23 @@ int satf_maps_update_layer(const satf_maps *m, const satf_shell_geom *g,
       if (cur.kind == HSV_UNIFORM) {
         /* uniform HSV: one look-up at the averaged parameters, swept along
          * the HSV (SATF sec. 6.2.2); the HSV's index is its top sector's */
-        float sc = lookup(m, cur.nb_ave, &cur.ave, kn, top_rec);
+        lookup(m, cur.nb_ave, &cur.ave, kn, top_rec);
         lookups++;
-        lay_row(m, top_rec, top_rec + w, sc, cur.ave.view, dens, row0);
+        lay_row(m, top_rec, top_rec + w, cur.ave.view, dens, row0);
         memcpy(row1, row0, (size_t)w * 4 * sizeof(float));
         have_top = 0;
       } else {
         /* two look-ups, interpolated along the HSV by the texture fetch
          * (SATF eq. 7) */
         if (!have_top) {
-          sc_top = lookup(m, cur.nb_top, &cur.top, kn, top_rec);
+          lookup(m, cur.nb_top, &cur.top, kn, top_rec);
           lookups++;
         }
-        float sc_bot = lookup(m, cur.nb_bot, &cur.bot, kn, bot_rec);
+        lookup(m, cur.nb_bot, &cur.bot, kn, bot_rec);
         lookups++;
-        lay_row(m, top_rec, top_rec + w, sc_top, cur.top.view, dens, row0);
-        lay_row(m, bot_rec, bot_rec + w, sc_bot, cur.bot.view, dens, row1);
+        lay_row(m, top_rec, top_rec + w, cur.top.view, dens, row0);
+        lay_row(m, bot_rec, bot_rec + w, cur.bot.view, dens, row1);
         memcpy(top_rec, bot_rec, 2 * (size_t)w * sizeof(float));
-        sc_top = sc_bot;
         have_top = 1;
       }
     }

@@ -117,6 +117,10 @@ void satf_maps_seams_add(const satf_shell_geom *g, int width,
  * reflectance and alpha (0 where nothing was summed). */
 void satf_maps_seams_ratio(const satf_maps_seams *acc, double *re,
                            double *alpha);
+/* What a record's re / alpha is multiplied by in the maps: 1 / the
+ * reflectance per unit coverage of hair that nothing shadows, one for the
+ * whole database (maps.c: reflectance_scale). */
+float maps_reflectance_scale(const satf_maps *maps);
 
 /* For the physical mode's maps (maps_fiber.c), which lay records the same
  * way: the index of sector (i, k, j); the database; the cached neighbours

@@ -115,6 +115,18 @@ static inline satf_scene *fixture_scene(const char *json) {
   return s;
 }
 
+/* A w x h renderer of `scene` with database db, or NULL (and a message). */
+static inline satf_renderer *fixture_renderer(const satf_scene *scene,
+                                              const satf_db *db, int w, int h) {
+  satf_renderer *r = NULL;
+  satf_error err;
+  if (satf_renderer_create(scene, db, w, h, 0, &r, &err) != SATF_OK) {
+    fprintf(stderr, "fixture renderer: %s\n", err.message);
+    return NULL;
+  }
+  return r;
+}
+
 /* The plane of `name`, or NULL (and a message) when the image lacks it. */
 static inline const float *fixture_plane(const satf_image *img,
                                          const char *name) {

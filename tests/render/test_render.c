@@ -242,6 +242,60 @@ static void test_aovs_decompose_beauty(void **state) {
   satf_image_destroy(img);
 }
 
+/* SATF eq. 10-11 shift the highlights along the normal of a strand facing
+ * the viewer (shade_fs.glsl, as the strand reference path), not along the
+ * cluster's ellipse normal: the strands of a straight flat cluster, all
+ * parallel, seen and lit from far away, have one highlight across the
+ * whole cluster, so primary highlight over diffuse is the same in every
+ * covered pixel (both AOVs are the same layers' reflectance and alphas
+ * times one lighting). Along the ellipse normal it ran from 0.84 to 1.01 of
+ * its mean across the cluster (the normal turns sideways at its
+ * silhouette, and the back shells took the inward one): the imported
+ * ponytail's crown showed a highlight arc per cluster. */
+static void test_highlight_across_flat_cluster(void **state) {
+  fixture *f = *state;
+  static const char *json =
+      "{\"macro_clusters\": [{\"prototype\": {"
+      "  \"trajectory\": [[0, -3, 0], [0, 3, 0]], \"a\": 1.5, \"b\": 0.4,"
+      "  \"shell\": {\"layers\": 4, \"st\": 8, \"su\": 12, \"core\": 0.3},"
+      "  \"density\": {\"strands\": 900, \"seed\": 9, "
+      "               \"strand_width\": 0.05}}}],"
+      " \"camera\": {\"position\": [0, 0, 300], \"target\": [0, 0, 0],"
+      "              \"fov_y\": 1.6},"
+      " \"lights\": [{\"direction\": [-0.4, 0.19, -0.9]}],"
+      " \"effects\": {\"cluster_shadows\": false},"
+      " \"background\": [0, 0, 0], \"image\": {\"width\": 160, "
+      "\"height\": 120}}";
+  satf_scene *scene = fixture_scene(json);
+  assert_non_null(scene);
+  satf_renderer *r = fixture_renderer(scene, f->db, W, H);
+  assert_non_null(r);
+  satf_image *img = render(r, 1);
+  assert_non_null(img);
+  const float *A = fixture_plane(img, "A");
+  const float *dif = fixture_plane(img, "diffuse.G");
+  const float *spec = fixture_plane(img, "specI.G");
+  double lo = 1e30, hi = 0.0, sum = 0.0;
+  int n = 0;
+  for (int y = H / 4; y < 3 * H / 4; y++)
+    for (int x = 0; x < W; x++) {
+      size_t i = (size_t)y * W + (size_t)x;
+      if (!(A[i] > 0.3f && dif[i] > 1e-3f))
+        continue;
+      double q = spec[i] / dif[i];
+      lo = fmin(lo, q), hi = fmax(hi, q), sum += q, n++;
+    }
+  printf("primary highlight / diffuse over %d pixels: %.4f to %.4f, mean "
+         "%.4f\n",
+         n, lo, hi, sum / n);
+  assert_true(n > 500);
+  assert_true(lo > 0.01 * (sum / n)); /* the highlight is there */
+  assert_true(hi - lo < 0.02 * (sum / n));
+  satf_image_destroy(img);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(scene);
+}
+
 /* satf-render --aov: the frame and every AOV in one EXR, read back through
  * OpenEXR with the documented channel names, values rounded to half. */
 static void test_exr_with_aovs(void **state) {
@@ -643,6 +697,7 @@ int main(void) {
       cmocka_unit_test(test_deterministic),
       cmocka_unit_test(test_background_and_coverage),
       cmocka_unit_test(test_aovs_decompose_beauty),
+      cmocka_unit_test(test_highlight_across_flat_cluster),
       cmocka_unit_test(test_exr_with_aovs),
       cmocka_unit_test(test_exr_premultiplied_and_named),
       cmocka_unit_test(test_secondary_highlight_off),

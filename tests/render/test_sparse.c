@@ -1,7 +1,8 @@
 /* test_sparse.c - a cluster of few strands looks like few strands of the
  * same hair (issue 15): rendered with 3000, 300 and 30 strands, same
  * material and light, its coverage drops while the colour of the hair it
- * covers, sum(premultiplied rgb) / sum(alpha), stays. Whole frames on Mesa's
+ * covers, sum(premultiplied rgb) / sum(alpha), stays but for the strands'
+ * shadows on each other, which only darken dense hair. Whole frames on Mesa's
  * llvmpipe through a headless EGL context, with a small database built in
  * the test. */
 #define _POSIX_C_SOURCE 200809L
@@ -105,8 +106,9 @@ static cluster_look render_cluster(const fixture *f, int strands,
 }
 
 /* Renders the cluster with 3000, 300 and 30 strands: coverage must drop,
- * the luminance of the colour per strand stay within `tolerance` of the
- * densest's, and its hue (each channel over the luminance) within 5%. */
+ * the luminance of the colour per strand be at least 0.95 times the
+ * densest's (fewer strands shadow less) and at most 1 + `tolerance` times,
+ * and its hue (each channel over the luminance) within 5%. */
 static void check_counts(const fixture *f, int self_shadow, double tolerance) {
   cluster_look lk[COUNTS];
   for (int n = 0; n < COUNTS; n++) {
@@ -123,11 +125,11 @@ static void check_counts(const fixture *f, int self_shadow, double tolerance) {
     /* more transparent as a whole */
     assert_true(lk[n].coverage < 0.9 * lk[n - 1].coverage);
     assert_true(lk[n].alpha < lk[n - 1].alpha - 0.05);
-    /* the same colour per strand */
+    /* the same colour per strand, but for shadows */
     double ratio = lk[n].luma / lk[0].luma;
     printf("%d / %d strands: luminance ratio %.3f\n", strand_counts[n],
            strand_counts[0], ratio);
-    assert_near(ratio, 1.0, tolerance);
+    assert_true(ratio > 0.95 && ratio < 1.0 + tolerance);
     for (int c = 0; c < 3; c++)
       assert_near(lk[n].rgb[c] / lk[n].luma, lk[0].rgb[c] / lk[0].luma,
                   0.05 * lk[0].rgb[c] / lk[0].luma);
@@ -137,24 +139,28 @@ static void check_counts(const fixture *f, int self_shadow, double tolerance) {
               0.8 * lk[0].luma * lk[0].alpha);
 }
 
-/* Tolerances from measurements (this fixture database; the default one of
- * satf-build gives closer figures). With eq. 12 off, the colour per strand
- * of 300 and 30 strands is 0.93 and 1.06 times that of 3000: what is left
- * is which strands happen to be in front and how the records of sparse and
- * dense samples vary with the angles; 10% allows that. Before reflectance
- * was normalised per database sample it was 1.11 and 1.30. */
+/* Tolerances from measurements (this fixture database). With eq. 12 off,
+ * the colour per strand of 300 and 30 strands is 1.05 and 1.12 times that
+ * of 3000: the records keep the shadows the strands of a sector cast on
+ * each other, which dense hair has more of, and reflectance is scaled as
+ * hair nothing shadows (maps.c, reflectance_scale), as the strand
+ * reference path lights a strand. With reflectance normalised by each
+ * database sample's own mean (which took those shadows out on average and
+ * brightened dense hair lit from the eye's side) it was 0.93 and 1.06; with
+ * one scale from the opaque records, 1.11 and 1.30, which 15% fails. */
 static void test_colour_per_strand(void **state) {
-  check_counts(*state, 0, 0.10);
+  check_counts(*state, 0, 0.15);
 }
 
 /* With eq. 12 on, a dense cluster's deeper strands are also shadowed by the
  * layers above them (mean s-map transmittance of the visible hair 0.82 at
- * 3000 strands, 0.90 at 30), which the paper intends: measured 0.92 and
- * 1.13, so 15%. Before the fix: 1.10 and 1.38, and 30 strands paler (the
+ * 3000 strands, 0.90 at 30), which the paper intends: measured 1.04 and
+ * 1.22 (0.92 and 1.13 with each sample's own scale), so 25%. Before the
+ * fix: 1.10 and 1.38, and 30 strands paler (the
  * strands at the cluster's back showed a white primary highlight: their
  * tangent was shifted along the outward normal, away from the viewer). */
 static void test_colour_per_strand_self_shadowed(void **state) {
-  check_counts(*state, 1, 0.15);
+  check_counts(*state, 1, 0.25);
 }
 
 int main(void) {

@@ -144,13 +144,8 @@ void main() {
   vec3 t = v_tangent / max(length(v_tangent), 1e-30);
   vec3 v = normalize(u_eye - v_world);
   /* the highlight shift's normal (SATF eq. 10-11): the ribbon's, facing
-   * the eye. The cluster path shifts along the cluster normal facing the
-   * viewer (outward at the front, inward at the back, shade_fs.glsl);
-   * a strand's own facing normal is that direction without needing a
-   * cluster, and it is defined for every strand. */
-  vec3 n = v - dot(v, t) * t;
-  float nl = length(n);
-  n = nl > 1e-6 ? n / nl : vec3(0.0);
+   * the eye, as in the cluster path (lighting.glsl) */
+  vec3 n = facing_normal(t, v);
   vec3 t1 = shifted(t, n, u_shift1), t2 = shifted(t, n, -u_shift2);
   /* the physical mode looks the map up one slab nearer the light: the
    * point's own strand sits in the slab the look-up interpolates into, so
