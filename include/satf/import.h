@@ -300,9 +300,12 @@ typedef struct satf_import_fit {
 
 /* Fits the cluster of the strands `members`: the trajectory is the
  * least-squares cubic B-spline through the members' mean strand (for fur,
- * short straight strands whose points reach 1.25x further along their
- * direction than a strand is long, through their points binned along that
- * direction: a tuft from the first roots to the last tips; with fewer
+ * short straight parallel strands whose roots cover a patch wider than a
+ * strand is long and whose points reach 1.25x further along their
+ * direction: through the least-squares parabola through all their points
+ * at their places along that direction, a tuft from the first roots to the
+ * last tips; such a fur sheet also keeps one twist and an envelope that
+ * tapers slowly, so its hair runs along it; with fewer
  * control points, down to 4, where they would swing more than half the
  * data's diagonal outside it, so out->n_ctrl may be below p->n_ctrl). The twist
  * theta turns the geometry's ellipse away from the rotation-minimising

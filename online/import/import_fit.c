@@ -283,42 +283,50 @@ static double greville(int j, int n) {
   return s / p;
 }
 
-/* The least-squares B-spline with n control points through m points
- * parameterised by their chord length. */
-static int fit_trajectory_u(const double *pts, int m, int n, int uniform,
-                            float *ctrl) {
-  double *u = malloc((size_t)m * sizeof(double));
+/* The least-squares B-spline with n control points through m points at
+ * the parameters u (in [0, 1]). */
+static int fit_bspline_at(const double *pts, const double *u, int m, int n,
+                          float *ctrl) {
   double *ata = calloc((size_t)n * n, sizeof(double));
   double *atb = calloc((size_t)n * 3, sizeof(double));
   double w[64];
-  int bad = !u || !ata || !atb;
-  if (!bad) {
-    u[0] = 0.0;
-    for (int k = 1; k < m; k++) {
-      double dx = pts[3 * k] - pts[3 * k - 3],
-             dy = pts[3 * k + 1] - pts[3 * k - 2],
-             dz = pts[3 * k + 2] - pts[3 * k - 1];
-      u[k] = u[k - 1] + sqrt(dx * dx + dy * dy + dz * dz);
+  int bad = !ata || !atb;
+  for (int k = 0; !bad && k < m; k++) {
+    basis(n, u[k], w);
+    for (int i = 0; i < n; i++) {
+      for (int j = 0; j < n; j++)
+        ata[i * n + j] += w[i] * w[j];
+      for (int c = 0; c < 3; c++)
+        atb[i * 3 + c] += w[i] * pts[3 * k + c];
     }
-    for (int k = 0; k < m; k++)
-      u[k] = u[m - 1] > 0.0 && !uniform ? u[k] / u[m - 1] : (double)k / (m - 1);
-    for (int k = 0; k < m; k++) {
-      basis(n, u[k], w);
-      for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++)
-          ata[i * n + j] += w[i] * w[j];
-        for (int c = 0; c < 3; c++)
-          atb[i * 3 + c] += w[i] * pts[3 * k + c];
-      }
-    }
-    bad = solve(ata, atb, n, 3) != 0;
-    for (int i = 0; !bad && i < 3 * n; i++)
-      ctrl[i] = (float)atb[i];
   }
-  free(u);
+  bad = bad || solve(ata, atb, n, 3) != 0;
+  for (int i = 0; !bad && i < 3 * n; i++)
+    ctrl[i] = (float)atb[i];
   free(ata);
   free(atb);
   return bad ? -1 : 0;
+}
+
+/* The least-squares B-spline with n control points through m points
+ * parameterised by their chord length (or evenly). */
+static int fit_trajectory_u(const double *pts, int m, int n, int uniform,
+                            float *ctrl) {
+  double *u = malloc((size_t)m * sizeof(double));
+  if (!u)
+    return -1;
+  u[0] = 0.0;
+  for (int k = 1; k < m; k++) {
+    double dx = pts[3 * k] - pts[3 * k - 3],
+           dy = pts[3 * k + 1] - pts[3 * k - 2],
+           dz = pts[3 * k + 2] - pts[3 * k - 1];
+    u[k] = u[k - 1] + sqrt(dx * dx + dy * dy + dz * dz);
+  }
+  for (int k = 0; k < m; k++)
+    u[k] = u[m - 1] > 0.0 && !uniform ? u[k] / u[m - 1] : (double)k / (m - 1);
+  int bad = fit_bspline_at(pts, u, m, n, ctrl);
+  free(u);
+  return bad;
 }
 
 static int fit_trajectory(const double *pts, int m, int n, float *ctrl) {
@@ -711,12 +719,55 @@ static satf_status fit_measures(const float *rot, const float *dist, size_t np,
   return SATF_OK;
 }
 
+/* A fur sheet's strands lie side by side, flat on the surface, and do not
+ * wind about its axis: one theta for the whole sheet, the principal axis
+ * of all its points' offsets. Per bin (fit_twist) a tuft of 50 strands has
+ * 6 points, too few to trust an axis, and the winding of strands that
+ * cross the axis sideways turned the sheet by 98 degrees on average over
+ * its length (generated fur), a twisted ribbon whose hair directions
+ * (dP/dt, SATF eq. 1) curve into arcs. */
+static void sheet_twist(const float *txy, size_t np, int n, float *twist) {
+  double xx = 0.0, xy = 0.0, yy = 0.0;
+  for (size_t k = 0; k < np; k++) {
+    double x = txy[3 * k + 1], y = txy[3 * k + 2];
+    xx += x * x;
+    xy += x * y;
+    yy += y * y;
+  }
+  float theta = (float)(0.5 * atan2(2.0 * xy, xx - yy));
+  for (int j = 0; j < n; j++)
+    twist[j] = theta;
+}
+
+/* How fast a fur sheet's A and B may change along it, per unit length:
+ * the renderer draws the hair along dP/dt (SATF eq. 1), which tilts by
+ * atan(dA/ds) at the envelope's edge, so a sheet tapering as its strands
+ * thin out (up to 42 degrees on generated fur, 57 at a tuft's tip) was
+ * drawn with strands converging into arcs where its real strands lie side
+ * by side. The envelope stays as wide as its strands' density needs (the
+ * tracks leave it empty where they end). */
+#define SHEET_SLOPE 0.15
+
+/* v[j] raised to max over i of v[i] - step |g_j - g_i| (g the Greville
+ * abscissae): the least raise that keeps every value and changes by at
+ * most step per unit t between control values. */
+static void limit_slope(float *v, int n, double step) {
+  float tmp[64];
+  for (int j = 0; j < n; j++) {
+    double best = v[j];
+    for (int i = 0; i < n; i++)
+      best = fmax(best, v[i] - step * fabs(greville(j, n) - greville(i, n)));
+    tmp[j] = (float)best;
+  }
+  memcpy(v, tmp, (size_t)n * sizeof(float));
+}
+
 /* The cross-section of a fit whose trajectory is known: theta(t) from the
  * raw offsets, then A(t), B(t) in the ellipse's axes, scaled for
  * coverage. The spread stays in the untwisted frame (satf/import.h). */
 static satf_status fit_section(const satf_import_projection *raw,
                                const float *dist,
-                               const satf_import_fit_params *p,
+                               const satf_import_fit_params *p, int sheet,
                                satf_import_fit *out, satf_error *err) {
   size_t np = raw->offset[raw->n_strands];
   float *rot = calloc((np ? np : 1) * 3, sizeof(float));
@@ -728,7 +779,9 @@ static satf_status fit_section(const satf_import_projection *raw,
   }
   moments_gather(raw->txy, np, p->n_radius, m);
   moments_spread(m, p->n_radius, out->spread);
-  if (fit_twist(raw, p->n_radius, out->twist) != 0) {
+  if (sheet)
+    sheet_twist(raw->txy, np, p->n_radius, out->twist);
+  else if (fit_twist(raw, p->n_radius, out->twist) != 0) {
     free(rot);
     free(m);
     return satf_error_set(err, SATF_ERR_NOMEM, "fit: out of memory");
@@ -737,6 +790,10 @@ static satf_status fit_section(const satf_import_projection *raw,
   moments_gather(rot, np, p->n_radius, m);
   fit_axes(m, p->n_radius, 1e-3f * out->length, out->a, out->b);
   free(m);
+  if (sheet) {
+    limit_slope(out->a, p->n_radius, SHEET_SLOPE * out->length);
+    limit_slope(out->b, p->n_radius, SHEET_SLOPE * out->length);
+  }
   satf_status st = scale_envelope(rot, np, p, out, err);
   if (st == SATF_OK)
     st = fit_measures(rot, dist, np, raw->n_strands, out, err);
@@ -770,27 +827,79 @@ static double root_width(const satf_strand_set *s, const int *members, int n,
   return 2.0 * sqrt(far2);
 }
 
-/* Fur: short, nearly straight strands whose roots spread along the way
- * they lie (a patch of a pelt). The mean strand is one strand long while
- * the patch is wider than that, so the cluster would be a disc shorter
- * than its diameter: a ring. Instead the axis runs the length of the
- * patch along the strands' direction, from the first roots to the last
- * tips: the m points of `mean` are replaced by the means of every member
- * point binned by its position along that direction (a tuft lying along
- * the surface, tapering where few strands remain). Only when the points
- * reach at least 1.25 times as far along the direction as the mean strand
- * is long, the mean strand is straight (chord over length > 0.8) and the
- * roots cover a patch wider across the direction than the mean strand is
- * long (the ring case this is for). Without that last test the long
- * strands of a ponytail's crown, whose roots spread along their flow
+/* How well the members run along dir (unit): the mean over them of the
+ * cosine between their chord (root to tip) and dir. */
+static double alignment(const satf_strand_set *s, const int *members, int n,
+                        const double *dir) {
+  double sum = 0.0;
+  for (int i = 0; i < n; i++) {
+    int np;
+    const float *q = satf_strand_set_strand(s, members[i], &np);
+    double d[3], l2 = 0.0, dot = 0.0;
+    for (int c = 0; c < 3; c++) {
+      d[c] = q[3 * (np - 1) + c] - q[c];
+      l2 += d[c] * d[c];
+      dot += d[c] * dir[c];
+    }
+    sum += l2 > 0.0 ? dot / sqrt(l2) : 0.0;
+  }
+  return n > 0 ? sum / n : 0.0;
+}
+
+/* A tuft's axis: the least-squares parabola (3 control points) through
+ * all its member points at their places along the flow, or the line when
+ * the parabola turns by more than TUFT_TURN degrees from end to end. A
+ * cubic hooked at the ends, where few points pin it down; a generalized
+ * cylinder bent tighter than its half-width folds over itself there
+ * (dP/dt reversed at the envelope's inner side), and the tracks rebuilt
+ * about such an axis turned by more than 30 degrees between slices: 1.7%
+ * of generated fur's (cubic) against 0.2% (parabola). A fur patch's
+ * strands turn by about 20 degrees across it (gen-strands.py's swirls). */
+#define TUFT_CTRL 3
+#define TUFT_TURN 30.0
+
+/* The angle, in degrees, between the first and last legs of a control
+ * polygon of n points (the end tangents of its B-spline). */
+static double end_turn(const float *ctrl, int n) {
+  double d0[3], d1[3], dot = 0.0, l0 = 0.0, l1 = 0.0;
+  for (int c = 0; c < 3; c++) {
+    d0[c] = ctrl[3 + c] - ctrl[c];
+    d1[c] = ctrl[3 * (n - 1) + c] - ctrl[3 * (n - 2) + c];
+    dot += d0[c] * d1[c];
+    l0 += d0[c] * d0[c];
+    l1 += d1[c] * d1[c];
+  }
+  double cs = l0 > 0.0 && l1 > 0.0 ? dot / sqrt(l0 * l1) : 1.0;
+  return acos(cs > 1.0 ? 1.0 : cs < -1.0 ? -1.0 : cs) * 180.0 / SATF_PI;
+}
+
+/* Fur: short, nearly straight strands lying side by side (a patch of a
+ * pelt), a sheet. Returns 1 when the members are one: their mean strand is
+ * straight (chord over length > 0.8), their roots cover a patch wider
+ * across its direction than it is long, and they run along it (the mean
+ * cosine of their chords to it > SHEET_ALIGN). Without the width test the
+ * long strands of a ponytail's crown, whose roots spread along their flow
  * towards the tie (across it 0.06 to 3.5 times a strand's length, median
- * 0.5), became tufts: the means of bins that hold different strands side
- * by side jump sideways, and 86 of the crown's clusters had axes turning
- * back on themselves (> 60 degrees between samples), drawn as chips with
- * highlights in every direction. Generated fur's 4-point strands have
- * roots across 1.7 to 14 times their length (median 3.5). */
-static void tuft_axis(const satf_strand_set *s, const int *members, int n,
-                      int m, double *mean) {
+ * 0.5), became tufts (86 of its clusters had axes turning back on
+ * themselves); without the alignment, early clusters of Bangs_100's
+ * strands, swept different ways over the scalp, became sheets, which
+ * changed how they were split and left its single strands with fewer
+ * control points (trajectory p90 0.10 -> 0.13). Generated fur's 4-point
+ * strands have roots across 1.7 to 14 times their length (median 3.5).
+ *
+ * The mean strand of a sheet is one strand long while the patch may be
+ * longer than that along the flow: when the points reach at least 1.25
+ * times as far along the direction as the mean strand is long, the m
+ * points of `mean` are replaced by samples of the axis through all the
+ * points from the first roots to the last tips (a tuft lying along the
+ * surface). It was the means of the points binned along the direction,
+ * but bins hold different strands side by side: the 16 means zigzagged
+ * sideways by a third of the tuft's width, and the tracks about that axis
+ * turned by 145 degrees between slices (median, generated fur). */
+#define SHEET_ALIGN 0.95
+
+static int tuft_axis(const satf_strand_set *s, const int *members, int n, int m,
+                     double *mean) {
   double dir[3], len = 0.0, chord = 0.0;
   for (int c = 0; c < 3; c++)
     dir[c] = mean[3 * (m - 1) + c] - mean[c];
@@ -803,9 +912,12 @@ static void tuft_axis(const satf_strand_set *s, const int *members, int n,
   }
   chord = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
   if (n < 2 || !(chord > 0.8 * len) || !(chord > 0.0))
-    return;
+    return 0;
   for (int c = 0; c < 3; c++)
     dir[c] /= chord;
+  if (!(root_width(s, members, n, dir) > len) ||
+      !(alignment(s, members, n, dir) > SHEET_ALIGN))
+    return 0;
   double lo = INFINITY, hi = -INFINITY;
   for (int i = 0; i < n; i++) {
     int np;
@@ -817,50 +929,45 @@ static void tuft_axis(const satf_strand_set *s, const int *members, int n,
       hi = u > hi ? u : hi;
     }
   }
-  if (!(hi - lo >= 1.25 * len) || !(root_width(s, members, n, dir) > len))
-    return;
-  double *sum = calloc(4 * (size_t)m, sizeof(double));
-  if (!sum)
-    return;
+  if (!(hi - lo >= 1.25 * len))
+    return 1;
+  /* every member point at its place along the direction, in [0, 1] */
+  size_t np_all = 0;
   for (int i = 0; i < n; i++) {
     int np;
-    const float *q = satf_strand_set_strand(s, members[i], &np);
-    for (int k = 0; k < np; k++) {
-      double u =
-          q[3 * k] * dir[0] + q[3 * k + 1] * dir[1] + q[3 * k + 2] * dir[2];
-      int b = (int)((u - lo) / (hi - lo) * m);
-      b = b < 0 ? 0 : b >= m ? m - 1 : b;
-      for (int c = 0; c < 3; c++)
-        sum[4 * b + c] += q[3 * k + c];
-      sum[4 * b + 3] += 1.0;
-    }
+    satf_strand_set_strand(s, members[i], &np);
+    np_all += (size_t)np;
   }
-  int used = 0;
-  for (int b = 0; b < m; b++)
-    if (sum[4 * b + 3] > 0.0) {
-      for (int c = 0; c < 3; c++)
-        mean[3 * used + c] = sum[4 * b + c] / sum[4 * b + 3];
-      used++;
-    }
-  /* fewer points than bins: the used ones spread evenly over m again
-   * (repeated points would leave the end's control points unconstrained) */
-  if (used >= 2 && used < m) {
-    double *tmp = malloc(3 * (size_t)used * sizeof(double));
-    if (tmp) {
-      memcpy(tmp, mean, 3 * (size_t)used * sizeof(double));
-      for (int k = 0; k < m; k++) {
-        double x = (double)k * (used - 1) / (m - 1);
-        int a = (int)x;
-        a = a >= used - 1 ? used - 2 : a;
-        double f = x - a;
+  double *pts = malloc(3 * np_all * sizeof(double));
+  double *u = malloc(np_all * sizeof(double));
+  float ctrl[3 * TUFT_CTRL];
+  if (pts && u) {
+    size_t k = 0;
+    for (int i = 0; i < n; i++) {
+      int np;
+      const float *q = satf_strand_set_strand(s, members[i], &np);
+      for (int j = 0; j < np; j++, k++) {
         for (int c = 0; c < 3; c++)
-          mean[3 * k + c] =
-              tmp[3 * a + c] + f * (tmp[3 * a + 3 + c] - tmp[3 * a + c]);
+          pts[3 * k + c] = q[3 * j + c];
+        u[k] = (q[3 * j] * dir[0] + q[3 * j + 1] * dir[1] +
+                q[3 * j + 2] * dir[2] - lo) /
+               (hi - lo);
       }
-      free(tmp);
     }
+    int nc = TUFT_CTRL, bad = fit_bspline_at(pts, u, (int)np_all, nc, ctrl);
+    if (!bad && end_turn(ctrl, nc) > TUFT_TURN)
+      bad = fit_bspline_at(pts, u, (int)np_all, nc = 2, ctrl);
+    if (!bad)
+      for (int k2 = 0; k2 < m; k2++) {
+        double v[3];
+        satf_bspline_eval(ctrl, nc, 3, (double)k2 / (m - 1), v, NULL, NULL);
+        for (int c = 0; c < 3; c++)
+          mean[3 * k2 + c] = v[c];
+      }
   }
-  free(sum);
+  free(pts);
+  free(u);
+  return 1;
 }
 
 /* The least-squares cubic B-spline through the members' mean strand, each
@@ -868,7 +975,8 @@ static void tuft_axis(const satf_strand_set *s, const int *members, int n,
 static satf_status fit_mean_trajectory(const satf_strand_set *s,
                                        const int *members, int n_members,
                                        const satf_import_fit_params *p,
-                                       float *traj, satf_error *err) {
+                                       float *traj, int *sheet,
+                                       satf_error *err) {
   int m = p->samples;
   double *mean = calloc(3 * (size_t)m, sizeof(double));
   float *buf = malloc(3 * (size_t)m * sizeof(float));
@@ -885,7 +993,7 @@ static satf_status fit_mean_trajectory(const satf_strand_set *s,
   for (int k = 0; k < 3 * m; k++)
     mean[k] /= n_members;
   free(buf);
-  tuft_axis(s, members, n_members, m, mean);
+  *sheet = tuft_axis(s, members, n_members, m, mean);
   /* the control points stay near the points they fit: a B-spline with
    * more control points than the data pins down swings far out (and the
    * scene's camera frames it); then half as many, down to 4 */
@@ -959,8 +1067,9 @@ satf_status satf_import_fit_cluster(const satf_strand_set *s,
   }
   out->n_ctrl = p->n_ctrl;
   out->n_radius = p->n_radius;
+  int sheet = 0;
   satf_status st =
-      fit_mean_trajectory(s, members, n_members, p, out->traj, err);
+      fit_mean_trajectory(s, members, n_members, p, out->traj, &sheet, err);
   /* A provisional cylinder of unit radius and no twist gives the untwisted
    * rotation-minimising frames the raw offsets are measured in. */
   float one = 1.0f, zero = 0.0f;
@@ -977,7 +1086,7 @@ satf_status satf_import_fit_cluster(const satf_strand_set *s,
   }
   satf_cluster_destroy(cl);
   if (st == SATF_OK)
-    st = fit_section(&raw, dist, p, out, err);
+    st = fit_section(&raw, dist, p, sheet, out, err);
   if (st == SATF_OK) {
     size_t np = raw.offset[n_members];
     double dsum = 0.0, ma = 0.0, mb = 0.0;
