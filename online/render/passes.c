@@ -437,7 +437,8 @@ void hair_depth_test(int on) {
 static void fill_lists(const satf_renderer *r, satf_aov aov,
                        const float viewproj[16], int mode) {
   GLuint zero = 0, empty = 0xFFFFFFFFu;
-  glClearTexImage(r->counts_tex, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  if (mode == 0) /* the nearest passes redo only pixels it overflowed */
+    glClearTexImage(r->counts_tex, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   glBindImageTexture(0, r->counts_tex, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
   glBindImageTexture(1, r->frags_tex, 0, GL_TRUE, 0, GL_READ_WRITE,
                      GL_RGBA32UI);

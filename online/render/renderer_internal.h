@@ -293,9 +293,12 @@ void passes_dom(satf_renderer *r);
 float passes_dom_hair_move(const satf_renderer *r);
 /* Per-pixel fragment arrays, then their sorted composite; returns the
  * largest number of fragments a pixel received and sets *overflow to the
- * pixels that received more than r->slots. With `nearest` (r->keys_tex
- * allocated) each pixel keeps its r->slots nearest fragments, whatever
- * their arrival order; otherwise the first r->slots to arrive. */
+ * pixels that received more than r->slots. Without `nearest` each pixel
+ * keeps the first r->slots fragments to arrive. `nearest` (r->keys_tex
+ * allocated) follows a call without it for the same frame: the pixels that
+ * received more than r->slots there are filled again with their r->slots
+ * nearest fragments, whatever their arrival order; the others keep
+ * theirs (and the counts, so the figures are that call's). */
 GLuint passes_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
                     int nearest, long *fragments, long *overflow);
 /* Clusters drawn far to near with "over" blending. */

@@ -105,13 +105,15 @@ satf_status resources_alloc_lists(satf_renderer *r, int slots,
   return satf_gl_check("fragment arrays", err);
 }
 
+/* `slots` layers of depth keys and one more, the counter of the second
+ * nearest pass's stores (glsl/list_write.glsl). */
 satf_status resources_alloc_keys(satf_renderer *r, satf_error *err) {
   if (r->keys_tex)
     return SATF_OK;
   glGenTextures(1, &r->keys_tex);
   glBindTexture(GL_TEXTURE_2D_ARRAY, r->keys_tex);
   glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_R32UI, r->width, r->height,
-                 r->slots);
+                 r->slots + 1);
   return satf_gl_check("fragment depth keys", err);
 }
 

@@ -34,7 +34,8 @@ FIXTURE_GL_GROUP(W, H)
  * far_first the far copies are listed (so drawn, so arrive) first, and
  * each group far to near. Cluster shadows are off: the deep opacity map's
  * slabs follow the scene bounds, which the reference scene changes. */
-static satf_scene *stack_scene(int near, int far, int far_first) {
+static satf_scene *stack_scene_of(int near, int far, int far_first,
+                                  int sparse) {
   size_t cap = 64 * 1024, len = 0;
   char *inst = malloc(cap), *json = malloc(cap + 1024);
   if (!inst || !json)
@@ -52,22 +53,36 @@ static satf_scene *stack_scene(int near, int far, int far_first) {
                      : "");
     }
   }
+  /* sparse: each copy one strand along its axis (drawn as a strand:
+   * sparse.c), 0.004 units wide, about 3% of a pixel: 64 of them still let
+   * a fifth of what lies behind through, so keeping the wrong 64 shows */
+  const char *density =
+      sparse ? "{\"type\": \"tracks\", \"slices\": 5, \"strand_width\": 0.005,"
+               " \"tracks\": [[0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]]}"
+             : "{\"strands\": 150, \"seed\": 7}";
   snprintf(json, cap + 1024,
            "{\"macro_clusters\": [{\"prototype\": {"
            "  \"trajectory\": [[0, -3, 0], [0, 3, 0]], \"a\": 0.8,"
            "  \"shell\": {\"layers\": 2, \"st\": 8, \"su\": 8},"
-           "  \"density\": {\"strands\": 150, \"seed\": 7}},"
+           "  \"density\": %s},"
            " \"instances\": [%s]}],"
            " \"camera\": {\"position\": [0, 0, 60], \"target\": [0, 0, 0],"
            "              \"fov_y\": 10},"
            " \"lights\": [{\"direction\": [-0.7, -0.1, -0.7]}],"
            " \"effects\": {\"cluster_shadows\": false},"
-           " \"background\": [0, 0, 0]}",
-           inst);
+           " \"background\": [0, 0, 0]%s}",
+           density, inst,
+           /* a strand's highlight noise follows its index, which the
+            * listing order changes */
+           sparse ? ", \"material\": {\"noise\": 0}" : "");
   satf_scene *s = fixture_scene(json);
   free(inst);
   free(json);
   return s;
+}
+
+static satf_scene *stack_scene(int near, int far, int far_first) {
+  return stack_scene_of(near, far, far_first, 0);
 }
 
 /* The beauty pass of `scene` (exact compositing); *overflow from the
@@ -151,9 +166,36 @@ static void test_nearest_fragments_kept(void **state) {
   satf_scene_destroy(nearest);
 }
 
+/* The same for sparse clusters drawn as their strands (sparse.c), whose
+ * first nearest pass writes only depth keys (glsl/strand_fs.glsl): the
+ * frame does not depend on the order the strands arrive in. */
+static void test_nearest_strands_kept(void **state) {
+  fixture *f = *state;
+  satf_scene *far_first = stack_scene_of(NEAR, FAR, 1, 1);
+  satf_scene *near_first = stack_scene_of(NEAR, FAR, 0, 1);
+  assert_non_null(far_first);
+  assert_non_null(near_first);
+  long over_a = 0, over_c = 0;
+  satf_image *a = render_stack(f, far_first, &over_a);
+  satf_image *c = render_stack(f, near_first, &over_c);
+  assert_non_null(a);
+  assert_non_null(c);
+  printf("strands: pixels over 64 fragments: %ld (%ld)\n", over_a, over_c);
+  assert_true(over_a > 0);
+  assert_int_equal(over_a, over_c);
+  for (int k = 0; k < 4; k++)
+    if (!fixture_same_bits(a, c, rgba[k]))
+      fail_msg("%s differs between the strands' drawing orders", rgba[k]);
+  satf_image_destroy(a);
+  satf_image_destroy(c);
+  satf_scene_destroy(far_first);
+  satf_scene_destroy(near_first);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_nearest_fragments_kept),
+      cmocka_unit_test(test_nearest_strands_kept),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

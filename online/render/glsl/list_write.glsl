@@ -10,16 +10,30 @@ layout(early_fragment_tests) in;
 uniform int u_slots;
 /* 0: every fragment takes the next slot; 1: only the depth keys of the
  * u_slots nearest are kept (u_keys); 2: fragments no farther than the
- * u_slots-th nearest take slots (passes.c, passes_lists) */
+ * u_slots-th nearest take slots (passes.c, passes_lists). Modes 1 and 2
+ * follow mode 0 of the same frame and redo only the pixels it overflowed
+ * (its count, which they leave, over u_slots): the others keep what it
+ * stored, which was every fragment they received. */
 uniform int u_list_mode;
 layout(binding = 0, r32ui) uniform coherent uimage2D u_counts;
 layout(binding = 1, rgba32ui) uniform writeonly uimage2DArray u_frags;
+/* u_slots layers of keys, then mode 2's count of stores (cleared with the
+ * keys to 0xFFFFFFFF, so its first add returns slot 0 - 1) */
 layout(binding = 2, r32ui) uniform coherent uimage2DArray u_keys;
+/* whether this fragment's pixel needs nothing in this mode (the nearest
+ * passes, a pixel mode 0 did not overflow): the shaders ask first, before
+ * any shading, which on the imported ponytail made the two nearest passes
+ * cost what three plain passes had (issue 12) */
+bool list_skip() {
+  return u_list_mode != 0 &&
+         imageLoad(u_counts, ivec2(gl_FragCoord.xy)).r <= uint(u_slots);
+}
 /* col premultiplied by alpha */
 void list_write(vec3 col, float alpha) {
   ivec2 px = ivec2(gl_FragCoord.xy);
   /* depth >= 0, so its bits order as the depths do */
   uint key = floatBitsToUint(gl_FragCoord.z);
+  if (list_skip()) return;
   if (u_list_mode == 1) {
     /* lock-free sorted insertion: each atomicMin keeps the smaller key in
      * slot i and carries the larger on, so slot i ends as the (i+1)-th
@@ -28,11 +42,15 @@ void list_write(vec3 col, float alpha) {
       key = max(key, imageAtomicMin(u_keys, ivec3(px, i), key));
     return;
   }
-  if (u_list_mode == 2 &&
-      key > imageLoad(u_keys, ivec3(px, u_slots - 1)).r) return;
-  int slot = int(imageAtomicAdd(u_counts, px, 1u));
-  if (slot >= u_slots) return;
-  imageStore(u_frags, ivec3(px, slot),
+  uint slot;
+  if (u_list_mode == 2) {
+    if (key > imageLoad(u_keys, ivec3(px, u_slots - 1)).r) return;
+    slot = imageAtomicAdd(u_keys, ivec3(px, u_slots), 1u) + 1u;
+  } else {
+    slot = imageAtomicAdd(u_counts, px, 1u);
+  }
+  if (slot >= uint(u_slots)) return;
+  imageStore(u_frags, ivec3(px, int(slot)),
              uvec4(packHalf2x16(col.rg), packHalf2x16(vec2(col.b, alpha)),
                    floatBitsToUint(gl_FragCoord.z), 0u));
 }

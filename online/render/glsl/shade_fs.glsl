@@ -81,8 +81,13 @@ uniform float u_kcluster;
 uniform int u_aov;  /* 0 beauty, 1 diffuse, 2 specI, 3 specII, 4 shadow, 5 alpha */
 #if EXACT
 #include "list_write.glsl"
+/* the nearest-kept passes' first (passes_lists) wants only the depth key
+ * of each fragment that would be stored: its alpha, which the maps' alpha
+ * alone decides, not its colour (no lighting, no shadows) */
+#define KEYS_ONLY (u_list_mode == 1)
 #else
 out vec4 o_color;
+#define KEYS_ONLY false
 #endif
 /* paper 002's noise texture, as an integer hash: one value per
  * strand-wide column, varying slowly along t */
@@ -176,6 +181,9 @@ vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   return dif + s1 + s2;
 }
 void main() {
+#if EXACT
+  if (list_skip()) discard;
+#endif
   load_instance();
   /* n1, n2 are the ellipse's axes, already turned by the twist (SATF
    * eq. 1, satf/geometry.h): the phase u is the angle from n1 */
@@ -189,7 +197,9 @@ void main() {
   float dt_ds = dot(d, axis) / max(v_shape.w, 1e-6);
   float a = max(dot(D, D), 1e-12), b = dot(P, D), c0 = dot(P, P);
   vec3 hair = normalize(v_hair), v = -d;
-  float dom = u_cluster_shadow != 0 ? key_light_dom(P, n1, n2, A, B) : 1.0;
+  float dom = 1.0;
+  if (u_cluster_shadow != 0 && !KEYS_ONLY)
+    dom = key_light_dom(P, n1, n2, A, B);
   vec3 df, s1f, s2f;
 #if !PHYSICAL
   /* SATF eq. 10-11 shift the primary highlight towards the tip and the
@@ -203,7 +213,7 @@ void main() {
    * cluster (test_render: 0.84-1.01 of its mean, now within 0.3%); at the
    * back the outward normal swapped the two highlights and lit the strands
    * seen through a sparse cluster white, hence the inward one there. */
-  lighting(hair, facing_normal(hair, v), v, dom, df, s1f, s2f);
+  if (!KEYS_ONLY) lighting(hair, facing_normal(hair, v), v, dom, df, s1f, s2f);
 #else
   /* the key light's irradiance, direction, and the hairs of other clusters
    * in front of the point (the deep opacity map's transmittance as a
@@ -263,7 +273,8 @@ void main() {
       float tau = u_self_shadow != 0 ? exp(-u_kshadow * m.b) : 1.0;
 #endif
       vec3 y;
-      if (u_aov == 4) y = vec3(tau * dom);
+      if (KEYS_ONLY) y = vec3(0.0);
+      else if (u_aov == 4) y = vec3(tau * dom);
       else if (u_aov == 5) y = vec3(1.0);
       else {
 #if PHYSICAL

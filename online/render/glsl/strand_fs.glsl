@@ -133,12 +133,23 @@ vec3 shade_physical(vec3 t, vec3 v, float dom, out vec3 r_lobe,
 }
 
 void main() {
+#if LIST
+  if (list_skip()) discard;
+#endif
   float cover = strand_coverage(v_across, v_width);
   if (cover < 1.0 / 1024.0) discard;
   /* whole: the same test in both passes, so each fragment is drawn once */
   bool whole = cover >= 1.0 - 1.0 / 1024.0;
   if (u_whole >= 0 && whole != (u_whole != 0)) discard;
   if (whole) cover = 1.0;
+#if LIST
+  /* the nearest-kept passes' first (passes_lists): only the depth key of a
+   * fragment that would be stored, which its coverage alone decides */
+  if (u_list_mode == 1) {
+    list_write(vec3(0.0), cover);
+    return;
+  }
+#endif
   /* a hairpin's tip has no direction: a zero tangent lights as one
    * across every light (sin 1), never as NaN */
   vec3 t = v_tangent / max(length(v_tangent), 1e-30);
