@@ -484,25 +484,47 @@ GLuint passes_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
   begin_frame(r, aov, viewproj);
   /* nearest: a first pass finds each pixel's r->slots nearest depths (an
    * arrival-order-free k-buffer), the second stores only fragments no
-   * farther than the last of them */
-  if (nearest)
+   * farther than the last of them; both only inside the box of the pixels
+   * the plain pass overflowed (the ponytail's ribbons cost their
+   * rasterising there, not their shading: issue 12) */
+  if (nearest) {
+    const int *b = r->overflow_box;
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(b[0], b[1], b[2], b[3]);
     fill_lists(r, aov, viewproj, 1);
-  fill_lists(r, aov, viewproj, nearest ? 2 : 0);
+    fill_lists(r, aov, viewproj, 2);
+    glDisable(GL_SCISSOR_TEST);
+  } else {
+    fill_lists(r, aov, viewproj, 0);
+  }
   resolve_lists(r, viewproj);
   /* the deepest pixel decides whether the arrays were large enough */
   size_t n = (size_t)r->width * (size_t)r->height;
   GLuint *counts = malloc(n * sizeof(GLuint)), most = 0;
   *fragments = 0;
   *overflow = 0;
+  int box[4] = {0, 0, r->width, r->height}; /* x0, y0, x1, y1 */
   if (counts) {
     glBindTexture(GL_TEXTURE_2D, r->counts_tex);
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, counts);
+    box[0] = r->width, box[1] = r->height, box[2] = box[3] = 0;
     for (size_t i = 0; i < n; i++) {
       most = counts[i] > most ? counts[i] : most;
       *fragments += counts[i] < (GLuint)r->slots ? counts[i] : (GLuint)r->slots;
-      *overflow += counts[i] > (GLuint)r->slots;
+      if (counts[i] <= (GLuint)r->slots)
+        continue;
+      ++*overflow;
+      int x = (int)(i % (size_t)r->width), y = (int)(i / (size_t)r->width);
+      box[0] = x < box[0] ? x : box[0], box[1] = y < box[1] ? y : box[1];
+      box[2] = x + 1 > box[2] ? x + 1 : box[2];
+      box[3] = y + 1 > box[3] ? y + 1 : box[3];
     }
     free(counts);
+  }
+  if (!nearest) { /* the counts are the plain pass's in both */
+    r->overflow_box[0] = box[0], r->overflow_box[1] = box[1];
+    r->overflow_box[2] = box[2] > box[0] ? box[2] - box[0] : 0;
+    r->overflow_box[3] = box[3] > box[1] ? box[3] - box[1] : 0;
   }
   return most;
 }

@@ -157,6 +157,9 @@ struct satf_renderer {
   GLuint keys_tex; /* per-pixel depth keys of the nearest `slots` fragments,
                       made when a pixel first overflows (0: none yet) */
   int slots;       /* fragments kept per pixel */
+  /* x, y, width, height of the pixels the last plain list pass overflowed
+   * (passes_lists: its nearest passes draw only there) */
+  int overflow_box[4];
   satf_gl_target *out, *dom_depth, *dom_opacity;
   float light_viewproj[16], dom_slab;
   strands_gpu *strands; /* strand reference mode (strands.c); NULL: clusters */

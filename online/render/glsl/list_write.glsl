@@ -20,21 +20,20 @@ layout(binding = 1, rgba32ui) uniform writeonly uimage2DArray u_frags;
 /* u_slots layers of keys, then mode 2's count of stores (cleared with the
  * keys to 0xFFFFFFFF, so its first add returns slot 0 - 1) */
 layout(binding = 2, r32ui) uniform coherent uimage2DArray u_keys;
-/* whether this fragment's pixel needs nothing in this mode (the nearest
- * passes, a pixel mode 0 did not overflow): the shaders ask first, before
- * any shading, which on the imported ponytail made the two nearest passes
- * cost what three plain passes had (issue 12) */
+/* whether the nearest passes need nothing of this fragment: mode 0 did not
+ * overflow its pixel (they draw only inside the box of those that
+ * overflowed, passes_lists; asked in those modes only, so that mode 0 pays
+ * nothing for it) */
 bool list_skip() {
-  return u_list_mode != 0 &&
-         imageLoad(u_counts, ivec2(gl_FragCoord.xy)).r <= uint(u_slots);
+  return imageLoad(u_counts, ivec2(gl_FragCoord.xy)).r <= uint(u_slots);
 }
 /* col premultiplied by alpha */
 void list_write(vec3 col, float alpha) {
   ivec2 px = ivec2(gl_FragCoord.xy);
   /* depth >= 0, so its bits order as the depths do */
   uint key = floatBitsToUint(gl_FragCoord.z);
-  if (list_skip()) return;
   if (u_list_mode == 1) {
+    if (list_skip()) return;
     /* lock-free sorted insertion: each atomicMin keeps the smaller key in
      * slot i and carries the larger on, so slot i ends as the (i+1)-th
      * smallest key whatever the arrival order */
@@ -44,7 +43,8 @@ void list_write(vec3 col, float alpha) {
   }
   uint slot;
   if (u_list_mode == 2) {
-    if (key > imageLoad(u_keys, ivec3(px, u_slots - 1)).r) return;
+    if (list_skip() || key > imageLoad(u_keys, ivec3(px, u_slots - 1)).r)
+      return;
     slot = imageAtomicAdd(u_keys, ivec3(px, u_slots), 1u) + 1u;
   } else {
     slot = imageAtomicAdd(u_counts, px, 1u);

@@ -181,9 +181,6 @@ vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   return dif + s1 + s2;
 }
 void main() {
-#if EXACT
-  if (list_skip()) discard;
-#endif
   load_instance();
   /* n1, n2 are the ellipse's axes, already turned by the twist (SATF
    * eq. 1, satf/geometry.h): the phase u is the angle from n1 */

@@ -133,9 +133,6 @@ vec3 shade_physical(vec3 t, vec3 v, float dom, out vec3 r_lobe,
 }
 
 void main() {
-#if LIST
-  if (list_skip()) discard;
-#endif
   float cover = strand_coverage(v_across, v_width);
   if (cover < 1.0 / 1024.0) discard;
   /* whole: the same test in both passes, so each fragment is drawn once */
