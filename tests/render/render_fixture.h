@@ -115,12 +115,14 @@ static inline satf_scene *fixture_scene(const char *json) {
   return s;
 }
 
-/* A w x h renderer of `scene` with database db, or NULL (and a message). */
+/* A w x h renderer of `scene` with database db and `threads` map threads
+ * (0: every core), or NULL (and a message). */
 static inline satf_renderer *fixture_renderer(const satf_scene *scene,
-                                              const satf_db *db, int w, int h) {
+                                              const satf_db *db, int w, int h,
+                                              int threads) {
   satf_renderer *r = NULL;
   satf_error err;
-  if (satf_renderer_create(scene, db, w, h, 0, &r, &err) != SATF_OK) {
+  if (satf_renderer_create(scene, db, w, h, threads, &r, &err) != SATF_OK) {
     fprintf(stderr, "fixture renderer: %s\n", err.message);
     return NULL;
   }

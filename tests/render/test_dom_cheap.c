@@ -49,13 +49,9 @@ static const char *const SCENE =
 /* tol: satf_renderer_set_shadow_move's texels (negative: the exact rule) */
 static satf_renderer *make(const fixture_gl *f, const satf_scene *scene,
                            float tol) {
-  satf_renderer *r = NULL;
-  satf_error err;
-  if (satf_renderer_create(scene, f->db, W, H, 2, &r, &err) != SATF_OK) {
-    fprintf(stderr, "%s\n", err.message);
-    return NULL;
-  }
-  satf_renderer_set_shadow_move(r, tol);
+  satf_renderer *r = fixture_renderer(scene, f->db, W, H, 2);
+  if (r)
+    satf_renderer_set_shadow_move(r, tol);
   return r;
 }
 
@@ -107,10 +103,9 @@ static void test_still_hair_keeps_map(void **state) {
   satf_scene *scene = fixture_scene(SCENE), *again = fixture_scene(SCENE);
   assert_non_null(scene);
   assert_non_null(again);
-  satf_renderer *r = NULL;
+  satf_renderer *r = fixture_renderer(scene, f->db, W, H, 2);
+  assert_non_null(r);
   satf_error err;
-  assert_int_equal(satf_renderer_create(scene, f->db, W, H, 2, &r, &err),
-                   SATF_OK);
   assert_true(satf_renderer_shadow_move(r) == DOM_MOVE_TOL);
   satf_image *a = fixture_render_image(r);
   assert_non_null(a);

@@ -193,10 +193,8 @@ static void test_renderer_maps_are_rounded_floats(void **state) {
   fixture_gl *f = *state;
   satf_scene *scene = fixture_scene(SCENE);
   assert_non_null(scene);
-  satf_renderer *r = NULL;
-  satf_error err;
-  assert_int_equal(satf_renderer_create(scene, f->db, W, H, 2, &r, &err),
-                   SATF_OK);
+  satf_renderer *r = fixture_renderer(scene, f->db, W, H, 2);
+  assert_non_null(r);
   assert_true(r->incremental);
   long all = fixture_render_lookups(r);
   assert_true(all > 0);
@@ -211,6 +209,7 @@ static void test_renderer_maps_are_rounded_floats(void **state) {
   satf_scene *next = fixture_scene(SCENE);
   assert_non_null(next);
   next->macro_clusters[0].instances[1].m[3] += 0.25f;
+  satf_error err;
   assert_int_equal(satf_renderer_set_scene(r, next, NULL, &err), SATF_OK);
   satf_renderer_camera(r)->position[0] += 0.7f;
   long some = fixture_render_lookups(r);

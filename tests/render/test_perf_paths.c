@@ -59,22 +59,10 @@ static const char *const SCENE =
     " \"background\": [0, 0, 0]}";
 
 static satf_renderer *make(const fixture_gl *f, const satf_scene *scene) {
-  satf_renderer *r = NULL;
-  satf_error err;
-  if (satf_renderer_create(scene, f->db, W, H, 2, &r, &err) != SATF_OK) {
-    fprintf(stderr, "%s\n", err.message);
-    return NULL;
-  }
-  return r;
+  return fixture_renderer(scene, f->db, W, H, 2);
 }
 
-static satf_image *image(satf_renderer *r) {
-  satf_image *img = NULL;
-  satf_error err;
-  if (satf_renderer_render_image(r, 0, &img, NULL, &err) != SATF_OK)
-    fprintf(stderr, "%s\n", err.message);
-  return img;
-}
+static satf_image *image(satf_renderer *r) { return fixture_render_image(r); }
 
 /* Covered pixels of an image (alpha above 1/256). */
 static long covered(const satf_image *img) {

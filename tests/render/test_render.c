@@ -268,7 +268,7 @@ static void test_highlight_across_flat_cluster(void **state) {
       "\"height\": 120}}";
   satf_scene *scene = fixture_scene(json);
   assert_non_null(scene);
-  satf_renderer *r = fixture_renderer(scene, f->db, W, H);
+  satf_renderer *r = fixture_renderer(scene, f->db, W, H, 0);
   assert_non_null(r);
   satf_image *img = render(r, 1);
   assert_non_null(img);
