@@ -349,8 +349,10 @@ satf_status satf_frontend_set_shading(const char *prog, satf_frontend *fe,
   char *fiber = fe->db_from_scene ? fiber_beside(fe->db_path) : NULL;
   satf_db *db = NULL;
   satf_error err;
-  if (fiber && satf_db_read(fiber, &db, &err) == SATF_OK &&
-      satf_db_kind(db) == SATF_RECORD_FIBER) {
+  satf_status read = fiber ? satf_db_read(fiber, &db, &err) : SATF_OK;
+  if (read != SATF_OK) /* there but unreadable: say why it was not taken */
+    fprintf(stderr, "%s: warning: %s\n", prog, err.message);
+  if (fiber && read == SATF_OK && satf_db_kind(db) == SATF_RECORD_FIBER) {
     fprintf(stderr, "%s: the physical shading takes the fibre database %s\n",
             prog, fiber);
     satf_db_destroy(fe->db);
