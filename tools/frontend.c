@@ -373,8 +373,9 @@ satf_status satf_frontend_set_shading(const char *prog, satf_frontend *fe,
 
 const char *const satf_frontend_sparse_help =
     "  --sparse-strands N   clusters of at most N strands (satf-import's\n"
-    "                       \"tracks\") are drawn as those strands, with\n"
-    "                       the clusters; 0: every cluster as a cluster\n"
+    "                       \"tracks\"), and tufts of short strands (fur),\n"
+    "                       are drawn as those strands, with the\n"
+    "                       clusters; 0: every cluster as a cluster\n"
     "                       (default 8)\n";
 
 int satf_frontend_sparse_flag(satf_cli_args *it, int *max_strands) {

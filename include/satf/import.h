@@ -295,7 +295,7 @@ typedef struct satf_import_fit {
    * "tracks", fields as in satf_scene_density); n_tracks 0: none */
   int track_slices, n_tracks;
   int *track_first, *track_count;
-  float *track_xy;
+  float *track_xy, *track_ends;
 } satf_import_fit;
 
 /* Fits the cluster of the strands `members`: the trajectory is the

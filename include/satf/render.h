@@ -200,10 +200,12 @@ int satf_renderer_samples(const satf_renderer *r);
 satf_composite satf_renderer_composite(const satf_renderer *r);
 /* Sparse clusters drawn as their strands: a cluster whose density is its
  * own strands' tracks (satf-import's "tracks") and holds at most
- * max_strands of them is drawn as those strands, ribbons of the width its
- * density assumes, composited with the clusters (0: every cluster is
- * drawn as a cluster). A handful of strands fills no volume for SATF's
- * shells to stand for; drawn as strands they look like themselves. */
+ * max_strands of them, or is a tuft of short strands
+ * (satf_scene_tracks_as_strands), is drawn as those strands, ribbons of
+ * the width its density assumes, composited with the clusters (0: every
+ * cluster is drawn as a cluster). A handful of strands fills no volume for
+ * SATF's shells to stand for, and the shells spread short strands over
+ * the cluster's length; drawn as strands they look like themselves. */
 #define SATF_SPARSE_STRANDS_DEFAULT SATF_SCENE_SPARSE_STRANDS
 #define SATF_SPARSE_STRANDS_MAX 1024
 satf_status satf_renderer_set_sparse_strands(satf_renderer *r, int max_strands,

@@ -120,10 +120,15 @@ typedef struct satf_scene_density {
    * 1)). Track k holds slices track_first[k] .. track_first[k] +
    * track_count[k] - 1 (a strand runs from its root to its tip, so it may
    * start after t = 0 and end before t = 1); its (x, y) pairs follow the
-   * previous track's in track_xy. */
+   * previous track's in track_xy. track_ends (NULL when absent: the
+   * tracks' first and last slices are the strands' ends) holds 6 per
+   * track, (t, x, y) of its strand's two ends, the lower t first: a strand
+   * starts and stops between slices, and drawn as a strand (the renderer's
+   * sparse clusters) it reaches its true root and tip. */
   int track_slices, n_tracks;
   int *track_first, *track_count;
   float *track_xy;
+  float *track_ends;
 } satf_scene_density;
 
 /* One generalized-disk cluster (SATF eq. 1-2): an ellipse with half-axes
@@ -333,6 +338,18 @@ uint64_t satf_scene_cluster_count(const satf_scene *scene);
 uint64_t satf_scene_layer_count(const satf_scene *scene);
 uint64_t satf_scene_hsv_count(const satf_scene *scene);
 uint64_t satf_scene_strand_count(const satf_scene *scene);
+
+/* Whether the renderer draws a cluster whose density is "tracks" (slices,
+ * n_tracks and track_count as in satf_scene_density) as its own strands
+ * rather than as shells: when it holds at most max_strands strands (too
+ * few to fill the volume the shells stand for), or when it is a tuft of
+ * short strands, each crossing on average at most half of its slices
+ * (fur: the shells spread strands that start and stop along the cluster
+ * as if each ran its whole length). max_strands 0: never. satf-import
+ * keeps such clusters out of macro-clusters: an instance drawn with its
+ * prototype's strands would draw other strands than its own. */
+int satf_scene_tracks_as_strands(int slices, int n_tracks,
+                                 const int *track_count, int max_strands);
 
 /* HSVs of one cluster: layers * st * su (SATF eq. 3). */
 uint64_t satf_scene_cluster_hsv_count(const satf_scene_cluster *cluster);

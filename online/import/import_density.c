@@ -199,6 +199,9 @@ void satf_import_share_width(satf_import_fit *fits, int n, int has_thickness) {
       pts += (size_t)f->track_count[i];
     for (size_t i = 0; i < 2 * pts; i++)
       f->track_xy[i] /= k;
+    for (int i = 0; f->track_ends && i < 6 * f->n_tracks; i++)
+      if (i % 3 != 0) /* (t, x, y): t stays */
+        f->track_ends[i] /= k;
     f->radius *= k;
     f->strand_width = 2.0f;
   }

@@ -202,12 +202,16 @@ void satf_import_macro_free(satf_import_macro *m) {
   }
 }
 
-/* A cluster of few strands is drawn as those strands
- * (SATF_SCENE_SPARSE_STRANDS): a transform of another cluster within the
- * tolerance (a few per cent of its length) would move each strand by
- * several of its widths, so it stays a prototype of its own. */
+/* A cluster of few strands, or a tuft of short ones, is drawn as its
+ * strands (satf_scene_tracks_as_strands): a transform of another cluster
+ * within the tolerance (a few per cent of its length) would move each
+ * strand by several of its widths, and the other's strands are not its
+ * own, so it stays a prototype of its own. */
 static int sparse(const satf_import_fit *f) {
-  return f->strands <= SATF_SCENE_SPARSE_STRANDS;
+  return f->strands <= SATF_SCENE_SPARSE_STRANDS ||
+         satf_scene_tracks_as_strands(f->track_slices, f->n_tracks,
+                                      f->track_count,
+                                      SATF_SCENE_SPARSE_STRANDS);
 }
 
 static size_t cluster_bytes(const satf_import_fit *f) {

@@ -142,6 +142,9 @@ static void fill_cluster(const satf_import_fit *f,
     d->track_count =
         copy_bytes(f->track_count, (size_t)f->n_tracks * sizeof(int), failed);
     d->track_xy = copy_bytes(f->track_xy, 2 * points * sizeof(float), failed);
+    if (f->track_ends)
+      d->track_ends = copy_bytes(
+          f->track_ends, 6 * (size_t)f->n_tracks * sizeof(float), failed);
     return;
   }
   d->type = SATF_SCENE_DENSITY_PROCEDURAL;

@@ -32,26 +32,59 @@ static int slice_count(const satf_import_projection *proj,
  * strand's place is known to far better than its width. */
 static float round4(float v) { return roundf(v * 1e4f) * 1e-4f; }
 
+static float clamp_coord(float v) {
+  /* the scene format holds |x|, |y| <= 8: strands beyond 8 radii are far
+   * outside the shells the features sample */
+  return round4(fminf(fmaxf(v, -8.0f), 8.0f));
+}
+
+/* Strand i's root and tip in the cluster's coordinates, the lower t
+ * first, into e[6]. A strand starts and stops between slices: its track
+ * alone draws it short by up to a slice interval at each end (fur: a
+ * quarter of a 4-slice strand). Returns whether either end lies beyond
+ * the track's slices t_lo .. t_hi. */
+static int track_ends(const satf_import_projection *proj, int i, float t_lo,
+                      float t_hi, float step, float e[6]) {
+  const float *q = proj->txy + 3 * proj->offset[i];
+  const float *r = proj->txy + 3 * (proj->offset[i + 1] - 1);
+  if (q[0] > r[0]) {
+    const float *swap = q;
+    q = r;
+    r = swap;
+  }
+  const float *end[2] = {q, r};
+  for (int k = 0; k < 2; k++) {
+    e[3 * k] = round4(fminf(fmaxf(end[k][0], 0.0f), 1.0f));
+    e[3 * k + 1] = clamp_coord(end[k][1]);
+    e[3 * k + 2] = clamp_coord(end[k][2]);
+  }
+  /* a tenth of a slice interval: closer, the slices hold the ends */
+  return e[0] < t_lo - 0.1f * step || e[3] > t_hi + 0.1f * step;
+}
+
 void satf_import_fit_tracks(const satf_import_projection *proj,
                             satf_import_fit *fit) {
   free(fit->track_first);
   free(fit->track_count);
   free(fit->track_xy);
+  free(fit->track_ends);
   fit->track_first = fit->track_count = NULL;
-  fit->track_xy = NULL;
+  fit->track_xy = fit->track_ends = NULL;
   fit->n_tracks = 0;
   int n = proj->n_strands, slices = slice_count(proj, fit);
   int *first = malloc(((size_t)n + 1) * sizeof(int));
   int *count = malloc(((size_t)n + 1) * sizeof(int));
   float *xy = malloc(((size_t)n * (size_t)slices * 2 + 1) * sizeof(float));
-  if (!first || !count || !xy) { /* the procedural density stands in */
+  float *ends = malloc((6 * (size_t)n + 1) * sizeof(float));
+  if (!first || !count || !xy || !ends) { /* procedural density stands in */
     free(first);
     free(count);
     free(xy);
+    free(ends);
     return;
   }
   size_t at = 0;
-  int kept = 0;
+  int kept = 0, beyond = 0;
   for (int i = 0; i < n; i++) {
     int lo = -1, hi = -1;
     float p[2];
@@ -74,12 +107,13 @@ void satf_import_fit_tracks(const satf_import_projection *proj,
         last[0] = p[0];
         last[1] = p[1];
       }
-      /* the scene format holds |x|, |y| <= 8: strands beyond 8 radii are
-       * far outside the shells the features sample */
-      xy[2 * at] = round4(fminf(fmaxf(last[0], -8.0f), 8.0f));
-      xy[2 * at + 1] = round4(fminf(fmaxf(last[1], -8.0f), 8.0f));
+      xy[2 * at] = clamp_coord(last[0]);
+      xy[2 * at + 1] = clamp_coord(last[1]);
       at++;
     }
+    float step = 1.0f / (float)(slices - 1);
+    beyond |= track_ends(proj, i, (float)lo * step, (float)hi * step, step,
+                         ends + 6 * kept);
     kept++;
   }
   fit->track_slices = slices;
@@ -87,4 +121,8 @@ void satf_import_fit_tracks(const satf_import_projection *proj,
   fit->track_first = first;
   fit->track_count = count;
   fit->track_xy = xy;
+  if (beyond) /* else the slices hold every strand end to end */
+    fit->track_ends = ends;
+  else
+    free(ends);
 }

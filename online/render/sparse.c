@@ -24,8 +24,9 @@
 
 static int is_sparse(const satf_scene_cluster *c, int max) {
   const satf_scene_density *d = &c->density;
-  return d->type == SATF_SCENE_DENSITY_TRACKS && d->n_tracks > 0 &&
-         d->n_tracks <= max;
+  return d->type == SATF_SCENE_DENSITY_TRACKS &&
+         satf_scene_tracks_as_strands(d->track_slices, d->n_tracks,
+                                      d->track_count, max);
 }
 
 static float curve_mean(const satf_scene_curve *c) {
@@ -63,7 +64,24 @@ static void section_point(const satf_cluster *cluster,
   }
 }
 
-/* Strands and points of every sparse instance (their tracks' slices). */
+/* Track k's points: its slices, and its strand's root and tip where they
+ * lie beyond them (the density's "ends"), whose (t, x, y) go into e. */
+static int track_points(const satf_scene_density *d, int k, float e[6],
+                        int *before, int *after) {
+  float denom = d->track_slices > 1 ? (float)(d->track_slices - 1) : 1.0f;
+  float t_lo = (float)d->track_first[k] / denom;
+  float t_hi = (float)(d->track_first[k] + d->track_count[k] - 1) / denom;
+  *before = *after = 0;
+  if (d->track_ends) {
+    memcpy(e, d->track_ends + 6 * (size_t)k, 6 * sizeof(float));
+    /* as the importer decides: a tenth of a slice interval */
+    *before = e[0] < t_lo - 0.1f / denom;
+    *after = e[3] > t_hi + 0.1f / denom;
+  }
+  return d->track_count[k] + *before + *after;
+}
+
+/* Strands and points of every sparse instance. */
 static void count_strands(const satf_renderer *r, int *strands,
                           size_t *points) {
   *strands = 0;
@@ -74,11 +92,14 @@ static void count_strands(const satf_renderer *r, int *strands,
       continue;
     const satf_scene_density *d =
         &r->scene->macro_clusters[m].prototype.density;
-    for (int k = 0; k < d->n_tracks; k++)
-      if (d->track_count[k] >= 2) {
+    for (int k = 0; k < d->n_tracks; k++) {
+      float e[6];
+      int before, after, count = track_points(d, k, e, &before, &after);
+      if (count >= 2) {
         *strands += p->ninsts;
-        *points += (size_t)p->ninsts * (size_t)d->track_count[k];
+        *points += (size_t)p->ninsts * (size_t)count;
       }
+    }
   }
 }
 
@@ -99,14 +120,27 @@ static int place_instance(const satf_renderer *r, int m, inst *in, int *counts,
   int n = 0;
   size_t at = 0;
   for (int k = 0; k < d->n_tracks; k++) {
-    int count = d->track_count[k];
+    float e[6];
+    int before, after, count = track_points(d, k, e, &before, &after);
     if (count < 2) { /* a strand in one slice has no length to draw */
-      xy += 2 * (size_t)count;
+      xy += 2 * (size_t)d->track_count[k];
       continue;
     }
-    for (int j = 0; j < count; j++, xy += 2) {
-      float t = (float)(d->track_first[k] + j) / denom, local[3];
-      section_point(p->cluster, c, t, xy, local);
+    for (int j = 0; j < count; j++) {
+      float t, local[3];
+      const float *at_xy;
+      if (j == 0 && before) {
+        t = e[0];
+        at_xy = e + 1;
+      } else if (j == count - 1 && after) {
+        t = e[3];
+        at_xy = e + 4;
+      } else {
+        t = (float)(d->track_first[k] + j - before) / denom;
+        at_xy = xy;
+        xy += 2;
+      }
+      section_point(p->cluster, c, t, at_xy, local);
       satf_mat4_point(in->m, local, xyz + 3 * (at + (size_t)j));
       width[at + (size_t)j] = w;
     }

@@ -28,6 +28,10 @@ static int tracks_equal(const satf_scene_density *a,
       return 0;
     points += (size_t)a->track_count[k];
   }
+  if (!a->track_ends != !b->track_ends ||
+      (a->track_ends &&
+       !floats_equal(a->track_ends, b->track_ends, 6 * a->n_tracks)))
+    return 0;
   return points == 0 ||
          floats_equal(a->track_xy, b->track_xy, (int)(2 * points));
 }

@@ -247,11 +247,42 @@ static satf_status parse_track(scene_ctx *ctx, const cJSON *item, int slices,
   return SATF_OK;
 }
 
+/* "ends": per track, (t, x, y) of its strand's root and tip, the lower t
+ * first (satf/scene.h). */
+static satf_status parse_ends(scene_ctx *ctx, const cJSON *obj,
+                              satf_scene_density *d) {
+  static const scene_range r_coord = {-8, 8, 0, 0};
+  const cJSON *arr;
+  int n = 0;
+  satf_status s =
+      scene_key_array(ctx, obj, "ends", 0, d->n_tracks, d->n_tracks, &arr, &n);
+  if (s != SATF_OK || !arr)
+    return s;
+  d->track_ends = malloc(6 * (size_t)n * sizeof(float) + 1);
+  if (!d->track_ends)
+    return scene_nomem(ctx);
+  size_t previous = scene_push_key(ctx, "ends");
+  int k = 0;
+  for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, k++) {
+    size_t item = scene_push_index(ctx, k);
+    float *v = d->track_ends + 6 * (size_t)k;
+    s = scene_vec(ctx, e, 6, &r_coord, v);
+    if (s == SATF_OK && !(v[0] >= 0.0f && v[0] <= v[3] && v[3] <= 1.0f))
+      s = scene_fail(ctx, SATF_ERR_ARGUMENT,
+                     "expected [t, x, y, t, x, y] with 0 <= t <= t <= 1, "
+                     "got t %g and %g",
+                     (double)v[0], (double)v[3]);
+    scene_pop(ctx, item);
+  }
+  scene_pop(ctx, previous);
+  return s;
+}
+
 /* "tracks": the cluster's own strands in its normalised cross-section. */
 static satf_status parse_tracks(scene_ctx *ctx, const cJSON *obj,
                                 satf_scene_density *d) {
-  static const char *const keys[] = {"type",  "slices", "strand_width",
-                                     "scale", "tracks", NULL};
+  static const char *const keys[] = {
+      "type", "slices", "strand_width", "scale", "tracks", "ends", NULL};
   static const scene_range r_slices = {2, SATF_SCENE_MAX_TRACK_SLICES, 0, 1};
   /* up to 2: a one-strand cluster is as thin as its strand (satf-import
    * floors its radius at half the strand's thickness), a diameter of 2 */
@@ -299,7 +330,7 @@ static satf_status parse_tracks(scene_ctx *ctx, const cJSON *obj,
     scene_pop(ctx, item);
   }
   scene_pop(ctx, previous);
-  return s;
+  return s == SATF_OK ? parse_ends(ctx, obj, d) : s;
 }
 
 static satf_status parse_density(scene_ctx *ctx, const cJSON *cluster,

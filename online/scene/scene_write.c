@@ -250,6 +250,16 @@ static cJSON *density(writer *w, const satf_scene_density *d) {
       append(w, tracks, t);
     }
     add(w, o, "tracks", tracks);
+    if (d->track_ends) {
+      cJSON *ends = array(w);
+      for (int k = 0; k < d->n_tracks; k++) {
+        cJSON *e = array(w);
+        for (int i = 0; i < 6; i++)
+          append(w, e, num_float(w, d->track_ends[6 * k + i]));
+        append(w, ends, e);
+      }
+      add(w, o, "ends", ends);
+    }
     return o;
   }
   add_string(w, o, "type", "procedural");

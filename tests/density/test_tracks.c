@@ -154,19 +154,23 @@ static void test_against_brute_force(void **state) {
   free(json);
 }
 
-static void test_round_trip(void **state) {
-  (void)state;
+/* The scene in json written and read back is the same scene, a snapshot
+ * copies its prototype, and a value moved in the read-back copy's float
+ * array at changed_offset in the density makes it another scene. */
+static void assert_round_trip(const char *json_in, size_t changed_offset) {
   satf_error err;
-  satf_scene *a = parse(scene_json, &err);
-  assert_non_null(a);
+  satf_scene *a = parse(json_in, &err);
+  if (!a)
+    fail_msg("%s", err.message);
   char *json = NULL;
   assert_int_equal(satf_scene_to_json(a, NULL, &json, &err), SATF_OK);
   satf_scene *b = parse(json, &err);
   if (!b)
     fail_msg("%s\n%s", err.message, json);
   assert_true(satf_scene_equal(a, b));
-  /* a changed point is a different scene */
-  b->macro_clusters[0].prototype.density.track_xy[3] += 0.01f;
+  float **field = (float **)((char *)&b->macro_clusters[0].prototype.density +
+                             changed_offset);
+  (*field)[3] += 0.01f;
   assert_false(satf_scene_equal(a, b));
   satf_scene *snap = NULL;
   assert_int_equal(satf_scene_at_frame(a, 1.0, &snap, &err), SATF_OK);
@@ -176,6 +180,67 @@ static void test_round_trip(void **state) {
   satf_scene_destroy(snap);
   satf_scene_destroy(a);
   satf_scene_destroy(b);
+}
+
+static void test_round_trip(void **state) {
+  (void)state;
+  /* a changed point is a different scene */
+  assert_round_trip(scene_json, offsetof(satf_scene_density, track_xy));
+}
+
+/* A short strand's true ends, where they lie between slices ("ends"):
+ * written back as read, part of the scene's identity, copied by a
+ * snapshot. */
+static const char *ends_json =
+    "{\"macro_clusters\": [{\"prototype\": {"
+    "  \"trajectory\": [[0, 0, 0], [0, 4, 0]], \"a\": 1,"
+    "  \"density\": {\"type\": \"tracks\", \"slices\": 5,"
+    "    \"tracks\": [[0, -0.5, 0, -0.25, 0, 0, 0, 0.25, 0, 0.5, 0],"
+    "                [1, 0, 0.6, 0, 0.6]],"
+    "    \"ends\": [[0, -0.5, 0, 1, 0.5, 0], [0.2, 0, 0.6, 0.6, 0.1, 0.6]]}"
+    "}}]}";
+
+static void test_ends_round_trip(void **state) {
+  (void)state;
+  satf_error err;
+  satf_scene *a = parse(ends_json, &err);
+  if (!a)
+    fail_msg("%s", err.message);
+  const satf_scene_density *d = &a->macro_clusters[0].prototype.density;
+  assert_non_null(d->track_ends);
+  assert_true(fabsf(d->track_ends[6] - 0.2f) < 1e-7f);
+  assert_true(fabsf(d->track_ends[10] - 0.1f) < 1e-7f);
+  /* the same tracks without ends are another scene */
+  satf_scene *c = parse(scene_json, &err);
+  assert_non_null(c);
+  assert_false(satf_scene_equal(a, c));
+  satf_scene_destroy(a);
+  satf_scene_destroy(c);
+  assert_round_trip(ends_json, offsetof(satf_scene_density, track_ends));
+}
+
+/* Which clusters the renderer draws as their strands: few strands, or a
+ * tuft of short ones (each crossing at most half of the slices on
+ * average); never with max 0. */
+static void test_as_strands(void **state) {
+  (void)state;
+  int counts[12];
+  for (int k = 0; k < 12; k++)
+    counts[k] = 5;
+  assert_true(satf_scene_tracks_as_strands(10, 8, counts, 8));
+  assert_false(satf_scene_tracks_as_strands(10, 8, counts, 0));
+  /* above max, but a tuft */
+  assert_true(satf_scene_tracks_as_strands(10, 8, counts, 7));
+  /* 12 strands over half the slices each: a tuft */
+  assert_true(satf_scene_tracks_as_strands(10, 12, counts, 8));
+  counts[0] = 6; /* one slice more: longer than half on average */
+  assert_false(satf_scene_tracks_as_strands(10, 12, counts, 8));
+  for (int k = 0; k < 12; k++)
+    counts[k] = 9;
+  assert_false(satf_scene_tracks_as_strands(10, 12, counts, 8));
+  assert_true(satf_scene_tracks_as_strands(10, 12, counts, 12));
+  assert_false(satf_scene_tracks_as_strands(10, 0, counts, 8));
+  assert_false(satf_scene_tracks_as_strands(1, 12, counts, 8));
 }
 
 static void test_malformed(void **state) {
@@ -195,6 +260,20 @@ static void test_malformed(void **state) {
       {"\"slices\": 3", "tracks"},
       {"\"slices\": 3, \"tracks\": [], \"x\": 1", "tracks"},
       {"\"slices\": 3, \"tracks\": [\"a\"]", "tracks[0]"},
+      {"\"slices\": 3, \"tracks\": [[0, 0, 0]], \"ends\": []",
+       "ends: has 0 entries, expected 1 to 1"},
+      {"\"slices\": 3, \"tracks\": [[0, 0, 0]], \"ends\": [[0, 0, 0]]",
+       "ends[0]"},
+      {"\"slices\": 3, \"tracks\": [[0, 0, 0]], "
+       "\"ends\": [[0.5, 0, 0, 0.2, 0, 0]]",
+       "ends[0]: expected [t, x, y, t, x, y] with 0 <= t <= t <= 1"},
+      {"\"slices\": 3, \"tracks\": [[0, 0, 0]], "
+       "\"ends\": [[0, 0, 0, 1.5, 0, 0]]",
+       "ends[0]: expected [t, x, y, t, x, y]"},
+      {"\"slices\": 3, \"tracks\": [[0, 0, 0]], "
+       "\"ends\": [[0, 0, 0, 1, 9, 0]]",
+       "ends[0]"},
+      {"\"slices\": 3, \"tracks\": [[0, 0, 0]], \"ends\": 4", "ends"},
   };
   for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
     char json[1024];
@@ -229,6 +308,8 @@ int main(void) {
       cmocka_unit_test(test_values),
       cmocka_unit_test(test_against_brute_force),
       cmocka_unit_test(test_round_trip),
+      cmocka_unit_test(test_ends_round_trip),
+      cmocka_unit_test(test_as_strands),
       cmocka_unit_test(test_malformed),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

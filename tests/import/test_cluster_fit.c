@@ -475,22 +475,28 @@ static double angle_deg(const float *u, const float *v) {
   return acos(d > 1.0 ? 1.0 : d < -1.0 ? -1.0 : d) * 180.0 / PI;
 }
 
-/* Track k of f as the renderer rebuilds it (online/render/sparse.c): slice
- * by slice, T + A x n1 + B y n2 in the cluster's twisted axes; the largest
+/* A point of a track as the renderer places it (online/render/sparse.c):
+ * T + A x n1 + B y n2 at t in the cluster's twisted axes. */
+static void track_point(const satf_cluster *cl, float t, const float xy[2],
+                        float p[3]) {
+  satf_cluster_section sec;
+  satf_cluster_section_at(cl, t, &sec);
+  for (int c = 0; c < 3; c++)
+    p[c] =
+        sec.center[c] + sec.a * xy[0] * sec.n1[c] + sec.b * xy[1] * sec.n2[c];
+}
+
+/* Track k of f as the renderer rebuilds it, slice by slice; the largest
  * turn, in degrees, between its consecutive segments. */
 static double track_worst_bend(const satf_cluster *cl, const satf_import_fit *f,
                                int k, const float *xy) {
   float prev[3] = {0.0f, 0.0f, 0.0f}, seg[3], last[3];
   double worst = 0.0;
   for (int j = 0; j < f->track_count[k]; j++) {
-    satf_cluster_section sec;
-    satf_cluster_section_at(
-        cl, (float)(f->track_first[k] + j) / (float)(f->track_slices - 1),
-        &sec);
     float p[3];
-    for (int c = 0; c < 3; c++)
-      p[c] = sec.center[c] + sec.a * xy[2 * j] * sec.n1[c] +
-             sec.b * xy[2 * j + 1] * sec.n2[c];
+    track_point(cl,
+                (float)(f->track_first[k] + j) / (float)(f->track_slices - 1),
+                xy + 2 * j, p);
     if (j > 0)
       for (int c = 0; c < 3; c++)
         seg[c] = p[c] - last[c];
@@ -555,6 +561,92 @@ static void test_fur_runs_along_strands(void **state) {
   assert_true(shells >= 8 && tracks > 1000);
   assert_true(bent * 100 < tracks);
   assert_true(tilted * 20 < shells);
+  outcome_free(&o);
+  satf_strand_set_destroy(s);
+}
+
+static double distance3(const float *a, const float *b) {
+  double d = 0.0;
+  for (int c = 0; c < 3; c++)
+    d += ((double)a[c] - b[c]) * ((double)a[c] - b[c]);
+  return sqrt(d);
+}
+
+/* The length of track k drawn through its slices, and with its strand's
+ * ends before and after them (the scene density's "ends"). */
+static void track_lengths(const satf_cluster *cl, const satf_import_fit *f,
+                          int k, const float *xy, double *slices,
+                          double *with_ends) {
+  float step = 1.0f / (float)(f->track_slices - 1), first[3], last[3], p[3];
+  *slices = 0.0;
+  for (int j = 0; j < f->track_count[k]; j++) {
+    track_point(cl, (float)(f->track_first[k] + j) * step, xy + 2 * j, p);
+    if (j == 0)
+      memcpy(first, p, sizeof p);
+    else
+      *slices += distance3(last, p);
+    memcpy(last, p, sizeof p);
+  }
+  *with_ends = *slices;
+  const float *e = f->track_ends ? f->track_ends + 6 * (size_t)k : NULL;
+  if (e && e[0] < (float)f->track_first[k] * step) {
+    track_point(cl, e[0], e + 1, p);
+    *with_ends += distance3(p, first);
+  }
+  if (e && e[3] > (float)(f->track_first[k] + f->track_count[k] - 1) * step) {
+    track_point(cl, e[3], e + 4, p);
+    *with_ends += distance3(last, p);
+  }
+}
+
+static void test_tuft_tracks_reach_ends(void **state) {
+  (void)state;
+  /* issue 10: the renderer draws a tuft of short strands (fur) as its
+   * strands, rebuilt from their tracks. A track holds the slices its
+   * strand crosses, so drawn through them alone each strand lost up to a
+   * slice interval at both ends (here 0.84 of its length); the density's
+   * ends take it to its root and tip. */
+  satf_strand_set *s;
+  outcome o;
+  fur_outcome(&o, &s);
+  double original = 0.0;
+  for (int i = 0; i < satf_strand_set_count(s); i++)
+    original += satf_strand_set_length(s, i);
+  original /= satf_strand_set_count(s);
+  int tufts = 0, shells = 0, tracks = 0;
+  double slices = 0.0, with_ends = 0.0;
+  for (int c = 0; c < o.n; c++) {
+    const satf_import_fit *f = &o.fits[c];
+    if (f->strands <= SATF_SCENE_SPARSE_STRANDS)
+      continue;
+    if (!satf_scene_tracks_as_strands(f->track_slices, f->n_tracks,
+                                      f->track_count,
+                                      SATF_SCENE_SPARSE_STRANDS)) {
+      shells++;
+      continue;
+    }
+    tufts++;
+    satf_cluster *cl = NULL;
+    satf_error err;
+    assert_int_equal(satf_import_fit_cluster_create(f, &cl, &err), SATF_OK);
+    const float *xy = f->track_xy;
+    for (int k = 0; k < f->n_tracks; k++) {
+      double a, b;
+      track_lengths(cl, f, k, xy, &a, &b);
+      slices += a;
+      with_ends += b;
+      tracks++;
+      xy += 2 * (size_t)f->track_count[k];
+    }
+    satf_cluster_destroy(cl);
+  }
+  slices /= tracks;
+  with_ends /= tracks;
+  printf("fur: %d tufts drawn as strands, %d shells; mean strand %.3f, "
+         "rebuilt through the slices %.3f, with the ends %.3f\n",
+         tufts, shells, original, slices, with_ends);
+  assert_true(tufts >= 8 && tufts > 4 * shells);
+  assert_true(fabs(with_ends / original - 1.0) < 0.04);
   outcome_free(&o);
   satf_strand_set_destroy(s);
 }
@@ -705,6 +797,7 @@ int main(void) {
       cmocka_unit_test(test_fur_core_holds_few),
       cmocka_unit_test(test_fur_density_covers),
       cmocka_unit_test(test_fur_runs_along_strands),
+      cmocka_unit_test(test_tuft_tracks_reach_ends),
       cmocka_unit_test(test_row_is_a_ring),
       cmocka_unit_test(test_crown_follows_strands),
       cmocka_unit_test(test_sparse),
