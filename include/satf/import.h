@@ -422,9 +422,13 @@ typedef struct satf_import_fit_stats {
   float area_per_strand[3];
   float aspect[3]; /* p50, p10 and min: low is bad */
   int worst_trajectory, worst_aspect;
-  int rings;       /* clusters shorter than their diameter */
+  int rings;       /* clusters shorter than their diameter, drawn as shells */
   int over;        /* clusters over the tolerance (when one was given) */
   int single;      /* clusters of one strand */
+  int as_strands;  /* clusters the renderer draws as their strands by
+                      default (satf_scene_tracks_as_strands) */
+  int tufts;       /* those of them with more than SATF_SCENE_SPARSE_STRANDS
+                      strands: tufts of short strands */
   float tolerance; /* 0: none */
 } satf_import_fit_stats;
 

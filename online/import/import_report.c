@@ -48,7 +48,14 @@ void satf_import_fit_stats_compute(const satf_import_fit *fits, int n,
   float worst_t = -1.0f, worst_a = FLT_MAX;
   for (int c = 0; c < n; c++) {
     const satf_import_fit_measures *m = &fits[c].measures;
-    out->rings += m->aspect < 1.0f;
+    const satf_import_fit *f = &fits[c];
+    int strands =
+        satf_scene_tracks_as_strands(f->track_slices, f->n_tracks,
+                                     f->track_count, SATF_SCENE_SPARSE_STRANDS);
+    out->as_strands += strands;
+    out->tufts += strands && f->strands > SATF_SCENE_SPARSE_STRANDS;
+    /* a cluster drawn as its strands is no ring however short */
+    out->rings += m->aspect < 1.0f && !strands;
     out->single += fits[c].strands == 1;
     if (rp)
       out->over += satf_import_fit_score(&fits[c], rp) > 1.0f;
@@ -101,6 +108,11 @@ void satf_import_fit_stats_print(FILE *out, const char *prog,
             "    tolerance      %.4g: %d of %d clusters over it (%d of one "
             "strand)\n",
             (double)st->tolerance, st->over, st->clusters, st->single);
+  fprintf(out,
+          "    as strands     %d of %d clusters are drawn as their strands "
+          "(%d tufts of short strands), %d as shells\n",
+          st->as_strands, st->clusters, st->tufts,
+          st->clusters - st->as_strands);
   if (st->rings > 0)
     fprintf(out,
             "%s: warning: %d of %d clusters are shorter than their diameter "

@@ -646,6 +646,9 @@ static void test_tuft_tracks_reach_ends(void **state) {
          "rebuilt through the slices %.3f, with the ends %.3f\n",
          tufts, shells, original, slices, with_ends);
   assert_true(tufts >= 8 && tufts > 4 * shells);
+  /* the import summary's count ("as strands") */
+  assert_int_equal(o.st.tufts, tufts);
+  assert_true(o.st.as_strands >= tufts && o.st.as_strands <= o.n - shells);
   assert_true(fabs(with_ends / original - 1.0) < 0.04);
   outcome_free(&o);
   satf_strand_set_destroy(s);
