@@ -424,7 +424,9 @@ void begin_frame(const satf_renderer *r, satf_aov aov,
 void hair_depth_test(int on) {
   if (on) {
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
+    /* LEQUAL: a strand's whole fragment passes at the depth its opaque
+     * pre-pass wrote (sparse_opaque_depth) */
+    glDepthFunc(GL_LEQUAL);
     glDepthMask(GL_FALSE);
   } else {
     glDisable(GL_DEPTH_TEST);
@@ -435,7 +437,7 @@ void hair_depth_test(int on) {
 /* Every cluster's fragments into the per-pixel arrays (mode: u_list_mode
  * of glsl/shade_fs.glsl). */
 static void fill_lists(const satf_renderer *r, satf_aov aov,
-                       const float viewproj[16], int mode) {
+                       const float viewproj[16], int mode, int opaque) {
   GLuint zero = 0, empty = 0xFFFFFFFFu;
   if (mode == 0) /* the nearest passes redo only pixels it overflowed */
     glClearTexImage(r->counts_tex, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -448,7 +450,7 @@ static void fill_lists(const satf_renderer *r, satf_aov aov,
     glBindImageTexture(2, r->keys_tex, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
   glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
   glViewport(0, 0, r->width, r->height);
-  hair_depth_test(r->nmeshes > 0);
+  hair_depth_test(r->nmeshes > 0 || opaque);
   glDisable(GL_CULL_FACE);
   set_shading_uniforms(r, r->prog_shade, aov);
   glUniform1i(glGetUniformLocation(r->prog_shade, "u_list_mode"), mode);
@@ -482,6 +484,12 @@ static void resolve_lists(const satf_renderer *r, const float viewproj[16]) {
 GLuint passes_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
                     int nearest, long *fragments, long *overflow) {
   begin_frame(r, aov, viewproj);
+  /* the strands' opaque fragments first: behind them nothing is stored
+   * (the ponytail drawn as its strands: 4.2 fragments a pixel, the
+   * crown's overflowing the arrays) */
+  glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
+  glViewport(0, 0, r->width, r->height);
+  int opaque = sparse_opaque_depth(r, viewproj);
   /* nearest: a first pass finds each pixel's r->slots nearest depths (an
    * arrival-order-free k-buffer), the second stores only fragments no
    * farther than the last of them; both only inside the box of the pixels
@@ -491,11 +499,11 @@ GLuint passes_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
     const int *b = r->overflow_box;
     glEnable(GL_SCISSOR_TEST);
     glScissor(b[0], b[1], b[2], b[3]);
-    fill_lists(r, aov, viewproj, 1);
-    fill_lists(r, aov, viewproj, 2);
+    fill_lists(r, aov, viewproj, 1, opaque);
+    fill_lists(r, aov, viewproj, 2, opaque);
     glDisable(GL_SCISSOR_TEST);
   } else {
-    fill_lists(r, aov, viewproj, 0);
+    fill_lists(r, aov, viewproj, 0, opaque);
   }
   resolve_lists(r, viewproj);
   /* the deepest pixel decides whether the arrays were large enough */

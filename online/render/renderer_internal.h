@@ -352,6 +352,11 @@ void strands_gpu_draw(const strands_gpu *s, size_t first, size_t count);
 /* Binds the shading program of strands_gpu_begin again (list_mode -1),
  * its uniforms as that call left them. */
 void strands_gpu_use(const strands_gpu *s);
+/* The depth of the fragments the strands cover whole (opaque: what lies
+ * behind them in a pixel is hidden) written into the bound framebuffer's
+ * depth; 0 if no strand is a pixel wide (nothing written). */
+int strands_gpu_opaque_depth(const satf_renderer *r, const strands_gpu *s,
+                             const float viewproj[16]);
 /* The strands into the bound deep opacity map (passes_dom_hair_fn). */
 void strands_gpu_dom(satf_renderer *r, strands_gpu *s, int opacity);
 
@@ -367,6 +372,10 @@ void sparse_release(satf_renderer *r);
 void sparse_lists(const satf_renderer *r, satf_aov aov,
                   const float viewproj[16], int mode);
 void sparse_dom(satf_renderer *r, int opacity);
+/* Before the fragment arrays are filled: the depth of the fragments the
+ * sparse strands cover whole (strands_gpu_opaque_depth), so no fragment
+ * behind one is stored; whether any was written. */
+int sparse_opaque_depth(const satf_renderer *r, const float viewproj[16]);
 /* The strands' shading program bound once per ordered frame: its
  * uniforms and textures stay while sparse_ordered switches to it. */
 void sparse_ordered_begin(satf_renderer *r, satf_aov aov,

@@ -281,6 +281,13 @@ void sparse_lists(const satf_renderer *r, satf_aov aov,
   strands_gpu_draw(r->sparse, 0, strands_gpu_segments(r->sparse));
 }
 
+int sparse_opaque_depth(const satf_renderer *r, const float viewproj[16]) {
+  if (!r->sparse)
+    return 0;
+  glDisable(GL_CULL_FACE); /* a ribbon faces the eye either way round */
+  return strands_gpu_opaque_depth(r, r->sparse, viewproj);
+}
+
 void sparse_dom(satf_renderer *r, int opacity) {
   if (r->sparse)
     strands_gpu_dom(r, r->sparse, opacity);

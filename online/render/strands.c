@@ -46,6 +46,7 @@ struct strands_gpu {
   GLuint vao, vbo, ibo;
   GLuint prog_shade, prog_dom;
   GLuint prog_list;   /* into the per-pixel arrays (sparse.c), or 0 */
+  GLuint prog_depth;  /* their whole fragments' depth (sparse.c), or 0 */
   float lo[3], hi[3]; /* bounds of the ribbons */
   fiber_gpu fiber;    /* the physical material's uniforms and tables */
 };
@@ -67,8 +68,8 @@ void strands_gpu_destroy(strands_gpu *s) {
   glDeleteBuffers(2, bufs);
   if (s->vao)
     glDeleteVertexArrays(1, &s->vao);
-  GLuint progs[3] = {s->prog_shade, s->prog_dom, s->prog_list};
-  for (int k = 0; k < 3; k++)
+  GLuint progs[4] = {s->prog_shade, s->prog_dom, s->prog_list, s->prog_depth};
+  for (int k = 0; k < 4; k++)
     if (progs[k])
       glDeleteProgram(progs[k]);
   fiber_gpu_release(&s->fiber);
@@ -199,6 +200,10 @@ static satf_status build_strand_programs(strands_gpu *s, int list,
     st = build_program("strands (fragment arrays)", satf_glsl_strand_vs,
                        satf_glsl_strand_fs, "#define LIST 1\n", &s->prog_list,
                        err);
+  if (st == SATF_OK && list)
+    st = build_program("strands (opaque depth)", satf_glsl_strand_vs,
+                       satf_glsl_strand_dom_fs, "#define WHOLE_DEPTH 1\n",
+                       &s->prog_depth, err);
   return st;
 }
 
@@ -394,6 +399,20 @@ void strands_gpu_draw(const strands_gpu *s, size_t first, size_t count) {
 }
 
 void strands_gpu_use(const strands_gpu *s) { glUseProgram(s->prog_shade); }
+
+int strands_gpu_opaque_depth(const satf_renderer *r, const strands_gpu *s,
+                             const float viewproj[16]) {
+  if (!s->prog_depth || !any_wide(s, viewproj, r->height))
+    return 0; /* hair thinner than a pixel covers none whole */
+  bind_strands(s->prog_depth, viewproj, r->width, r->height);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  strands_gpu_draw(s, 0, s->nsegs);
+  glDepthMask(GL_FALSE);
+  glDisable(GL_DEPTH_TEST);
+  return 1;
+}
 
 static void draw_segments(const strands_gpu *s) {
   strands_gpu_draw(s, 0, s->nsegs);

@@ -14,6 +14,13 @@ uniform int u_depth_only;
 out vec4 o_opacity;
 void main() {
   float cover = strand_coverage(v_across, v_width);
+#ifdef WHOLE_DEPTH
+  /* the cluster path's opaque pre-pass (sparse.c): only the fragments a
+   * strand covers whole, by strand_fs.glsl's test, write their depth */
+  if (cover < 1.0 - 1.0 / 1024.0) discard;
+  o_opacity = vec4(0.0);
+  return;
+#endif
   if (cover <= 0.0) discard;
   if (u_depth_only != 0) { o_opacity = vec4(0.0); return; }
   float d0 = texelFetch(u_dom_depth, ivec2(gl_FragCoord.xy), 0).r;

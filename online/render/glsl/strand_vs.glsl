@@ -8,6 +8,9 @@
  * strand is two vertices (even index: the -side, odd: the +side); the
  * quads meeting at a point share them, so a strand has no gaps or
  * overlaps at its joints. */
+/* the opaque pre-pass (strand_dom_fs.glsl with WHOLE_DEPTH) and the
+ * fragment arrays' pass must place a fragment at the same depth */
+invariant gl_Position;
 layout(location = 0) in vec4 a_pos;     /* world x, y, z; width (diameter) */
 layout(location = 1) in vec3 a_tangent; /* the strand's direction here */
 layout(location = 2) in float a_t;      /* arc length from the root / length */
