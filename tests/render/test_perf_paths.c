@@ -182,6 +182,43 @@ static void test_incremental_lookups(void **state) {
   satf_scene_destroy(scene);
 }
 
+/* One instance moved, on two threads: its layers are looked up on both
+ * (frame.c, build_maps_by_layer), and its maps and the frame equal those
+ * of one thread, which builds the instance whole, bit for bit. */
+static void test_layers_split(void **state) {
+  fixture_gl *f = *state;
+  satf_scene *scene = fixture_scene(SCENE), *next = fixture_scene(SCENE);
+  assert_non_null(scene);
+  assert_non_null(next);
+  satf_renderer *two = fixture_renderer(scene, f->db, W, H, 2);
+  satf_renderer *one = fixture_renderer(scene, f->db, W, H, 1);
+  assert_non_null(two);
+  assert_non_null(one);
+  assert_int_equal(fixture_render_lookups(two), fixture_render_lookups(one));
+  next->macro_clusters[0].instances[3].m[7] += 0.2f; /* y translation */
+  satf_error err;
+  assert_int_equal(satf_renderer_set_scene(two, next, NULL, &err), SATF_OK);
+  assert_int_equal(satf_renderer_set_scene(one, next, NULL, &err), SATF_OK);
+  long a = fixture_render_lookups(two);
+  assert_true(a > 0);
+  assert_int_equal(a, fixture_render_lookups(one));
+  assert_int_equal(two->maps_changed, 1);
+  assert_same_maps(two, one);
+  satf_image *x = image(two), *y = image(one);
+  assert_non_null(x);
+  assert_non_null(y);
+  assert_true(covered(x) > W * H / 10);
+  const char *ch[] = {"R", "G", "B", "A"};
+  for (int c = 0; c < 4; c++)
+    assert_true(fixture_same_bits(x, y, ch[c]));
+  satf_image_destroy(x);
+  satf_image_destroy(y);
+  satf_renderer_destroy(two);
+  satf_renderer_destroy(one);
+  satf_scene_destroy(next);
+  satf_scene_destroy(scene);
+}
+
 /* Mean |difference| of channel R between two frames of W x H. */
 static double mean_diff(const satf_image *a, const satf_image *b) {
   const float *pa = fixture_plane(a, "R"), *pb = fixture_plane(b, "R");
@@ -274,6 +311,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_instanced_same_image),
       cmocka_unit_test(test_incremental_lookups),
+      cmocka_unit_test(test_layers_split),
       cmocka_unit_test(test_dom_reuse),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
