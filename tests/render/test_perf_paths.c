@@ -73,6 +73,19 @@ static long covered(const satf_image *img) {
   return n;
 }
 
+/* Two frames (destroyed here) the same bit for bit, every cluster drawn:
+ * a good part of the frame is hair. */
+static void assert_same_frame(satf_image *a, satf_image *b) {
+  assert_non_null(a);
+  assert_non_null(b);
+  assert_true(covered(a) > W * H / 10);
+  const char *ch[] = {"R", "G", "B", "A"};
+  for (int c = 0; c < 4; c++)
+    assert_true(fixture_same_bits(a, b, ch[c]));
+  satf_image_destroy(a);
+  satf_image_destroy(b);
+}
+
 static void test_instanced_same_image(void **state) {
   fixture_gl *f = *state;
   satf_scene *scene = fixture_scene(SCENE);
@@ -90,16 +103,7 @@ static void test_instanced_same_image(void **state) {
     r->instanced = 1;
     satf_image *a = image(r);
     r->instanced = 0;
-    satf_image *b = image(r);
-    assert_non_null(a);
-    assert_non_null(b);
-    /* every cluster is drawn: a good part of the frame is hair */
-    assert_true(covered(a) > W * H / 10);
-    const char *ch[] = {"R", "G", "B", "A"};
-    for (int c = 0; c < 4; c++)
-      assert_true(fixture_same_bits(a, b, ch[c]));
-    satf_image_destroy(a);
-    satf_image_destroy(b);
+    assert_same_frame(a, image(r));
   }
   satf_renderer_destroy(r);
   satf_scene_destroy(scene);
@@ -204,15 +208,8 @@ static void test_layers_split(void **state) {
   assert_int_equal(a, fixture_render_lookups(one));
   assert_int_equal(two->maps_changed, 1);
   assert_same_maps(two, one);
-  satf_image *x = image(two), *y = image(one);
-  assert_non_null(x);
-  assert_non_null(y);
-  assert_true(covered(x) > W * H / 10);
-  const char *ch[] = {"R", "G", "B", "A"};
-  for (int c = 0; c < 4; c++)
-    assert_true(fixture_same_bits(x, y, ch[c]));
-  satf_image_destroy(x);
-  satf_image_destroy(y);
+  satf_image *x = image(two);
+  assert_same_frame(x, image(one));
   satf_renderer_destroy(two);
   satf_renderer_destroy(one);
   satf_scene_destroy(next);
