@@ -212,6 +212,81 @@ static int inst_job(void *ctx, size_t i, int thread) {
   return 0;
 }
 
+/* at most this many instances are split by layers (an array on the
+ * stack; more threads than this split nothing) */
+#define LAYER_SPLIT_MAX 64
+
+/* Fewer changed instances than threads (the single-cluster scenes of
+ * Fig. 6): one instance per job would leave threads idle, so each
+ * instance's layers are spread over them (its layers' look-ups are
+ * independent, kk_layer), each instance in a scratch buffer of its own,
+ * and the s-map sums and packing follow per instance. Job i is layer
+ * i % layers of instance i / layers; the instances have r->slices 1. */
+typedef struct layer_jobs {
+  satf_renderer *r;
+  const int *inst_of;
+  const int *unpack; /* per instance: start from its kept texels */
+  int layers;        /* the most layers of any of them */
+  long *lookups;     /* per job */
+} layer_jobs;
+
+static int layer_job(void *ctx, size_t i, int thread) {
+  (void)thread;
+  layer_jobs *j = ctx;
+  size_t q = i / (size_t)j->layers;
+  int k = (int)(i % (size_t)j->layers);
+  inst *in = &j->r->insts[j->inst_of[q]];
+  j->lookups[i] = 0;
+  if (k >= in->geom.shell.layers)
+    return 0;
+  size_t layer = satf_maps_layer_texels(&in->geom, j->r->w) * 4;
+  float *f = j->r->scratch[q] + (size_t)k * layer;
+  /* half -> float -> half is exact: kept texels come back unchanged */
+  if (j->unpack[q])
+    half_unpack(in->texels + (size_t)k * layer, f, layer);
+  j->lookups[i] = kk_layer(j->r, in, k, f);
+  return 0;
+}
+
+static int sums_job(void *ctx, size_t q, int thread) {
+  (void)thread;
+  layer_jobs *j = ctx;
+  inst *in = &j->r->insts[j->inst_of[q]];
+  long lookups = 0;
+  for (int k = 0; k < in->geom.shell.layers; k++)
+    lookups += j->lookups[q * (size_t)j->layers + (size_t)k];
+  if (lookups > 0) {
+    float *f = j->r->scratch[q];
+    satf_maps_shadow_sums(&in->geom, j->r->w, f);
+    half_pack(f, in->texels, inst_floats(j->r, in));
+    in->stale_upload = 1;
+  }
+  return 0;
+}
+
+/* build_maps for jobs (< r->threads, so each has a scratch buffer)
+ * instances by layers; the look-ups counted into *lookups. */
+static satf_status build_maps_by_layer(satf_renderer *r, const int *inst_of,
+                                       size_t jobs, long *lookups,
+                                       satf_error *err) {
+  int layers = 1, unpack[LAYER_SPLIT_MAX];
+  for (size_t q = 0; q < jobs; q++) {
+    const inst *in = &r->insts[inst_of[q]];
+    layers = in->geom.shell.layers > layers ? in->geom.shell.layers : layers;
+    unpack[q] = r->incremental && some_sector_kept(in);
+  }
+  size_t n = jobs * (size_t)layers;
+  layer_jobs lj = {r, inst_of, unpack, layers, calloc(n, sizeof(long))};
+  if (!lj.lookups)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  satf_parallel_for(n, r->threads, layer_job, &lj, NULL, NULL);
+  satf_parallel_for(jobs, r->threads, sums_job, &lj, NULL, NULL);
+  for (size_t i = 0; i < n; i++)
+    *lookups += lj.lookups[i];
+  free(lj.lookups);
+  return SATF_OK;
+}
+
 /* r->scratch: one buffer per map thread, each of the largest instance's
  * floats; kept between frames (a fresh one would fault its pages in every
  * frame). */
@@ -271,6 +346,13 @@ static satf_status build_maps(satf_renderer *r, long *lookups,
   for (int i = 0; i < r->ninsts; i++)
     if (!r->insts[i].still)
       ij.inst_of[q++] = i;
+  if (!r->fiber && r->slices == 1 && (int)jobs < r->threads &&
+      jobs <= LAYER_SPLIT_MAX) {
+    st = build_maps_by_layer(r, ij.inst_of, jobs, lookups, err);
+    free(ij.inst_of);
+    free(ij.lookups);
+    return st;
+  }
   satf_parallel_for(jobs, r->threads, inst_job, &ij, NULL, NULL);
   for (q = 0; q < jobs; q++)
     *lookups += ij.lookups[q];

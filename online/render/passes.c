@@ -452,11 +452,12 @@ static void fill_lists(const satf_renderer *r, satf_aov aov,
   glViewport(0, 0, r->width, r->height);
   hair_depth_test(r->nmeshes > 0 || opaque);
   glDisable(GL_CULL_FACE);
-  set_shading_uniforms(r, r->prog_shade, aov);
-  glUniform1i(glGetUniformLocation(r->prog_shade, "u_list_mode"), mode);
+  GLuint prog = r->lod ? r->prog_shade_lod : r->prog_shade;
+  set_shading_uniforms(r, prog, aov);
+  glUniform1i(glGetUniformLocation(prog, "u_list_mode"), mode);
   glEnable(GL_CULL_FACE); /* front faces: each traces the whole cluster */
   glCullFace(GL_BACK);
-  draw_clusters(r, r->prog_shade, viewproj, 0);
+  draw_clusters(r, prog, viewproj, 0);
   glDisable(GL_CULL_FACE);
   sparse_lists(r, aov, viewproj, mode); /* their strands, sorted with them */
   hair_depth_test(0);
@@ -548,7 +549,7 @@ satf_status passes_ordered(satf_renderer *r, satf_aov aov,
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
   glEnable(GL_CULL_FACE);
-  GLuint prog = r->prog_shade_ordered;
+  GLuint prog = r->lod ? r->prog_shade_ordered_lod : r->prog_shade_ordered;
   sparse_ordered_begin(r, aov, viewproj);
   set_shading_uniforms(r, prog, aov);
   GLint loc[LOC_COUNT];

@@ -118,6 +118,8 @@ struct satf_renderer {
   satf_composite composite;
   GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve,
       prog_display;
+  /* the shading programs with the level of detail compiled in (r->lod) */
+  GLuint prog_shade_lod, prog_shade_ordered_lod;
   /* per instance, for instanced draws (passes.c): the model matrices and
    * the eye and lights in each prototype frame (frame_instance_data) */
   GLuint inst_models, inst_shading;

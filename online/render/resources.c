@@ -47,10 +47,16 @@ satf_status build_program(const char *label, const char *vs, const char *fs,
 
 static satf_status build_programs(satf_renderer *r, satf_error *err) {
   /* the light loop runs a compile-time count so it unrolls */
-  char lights[64], ordered[96];
+  char lights[64], ordered[96], lights_lod[80], ordered_lod[112];
   snprintf(lights, sizeof lights, "#define NLIGHTS %d\n#define PHYSICAL %d\n",
            r->nlights, r->fiber != NULL);
   snprintf(ordered, sizeof ordered, "%s#define EXACT 0\n", lights);
+  /* the level of detail's shells are compiled in only where --lod is on
+   * (glsl/shade_fs.glsl: llvmpipe pays for them at every layer point) */
+  snprintf(lights_lod, sizeof lights_lod, "%s#define LOD 1\n", lights);
+  snprintf(ordered_lod, sizeof ordered_lod, "%s#define LOD 1\n", ordered);
+  strcat(lights, "#define LOD 0\n");
+  strcat(ordered, "#define LOD 0\n");
   char physical[32];
   snprintf(physical, sizeof physical, "#define PHYSICAL %d\n",
            r->fiber != NULL);
@@ -62,6 +68,10 @@ static satf_status build_programs(satf_renderer *r, satf_error *err) {
        &r->prog_shade},
       {"shade (ordered)", satf_glsl_cluster_vs, satf_glsl_shade_fs, ordered,
        &r->prog_shade_ordered},
+      {"shade (lod)", satf_glsl_cluster_vs, satf_glsl_shade_fs, lights_lod,
+       &r->prog_shade_lod},
+      {"shade (ordered, lod)", satf_glsl_cluster_vs, satf_glsl_shade_fs,
+       ordered_lod, &r->prog_shade_ordered_lod},
       {"depth", satf_glsl_layer_vs, satf_glsl_depth_fs, "", &r->prog_depth},
       {"dom", satf_glsl_layer_vs, satf_glsl_dom_fs, physical, &r->prog_dom},
       {"resolve", satf_glsl_fullscreen_vs, satf_glsl_resolve_fs, "",
@@ -281,10 +291,13 @@ void resources_release(satf_renderer *r) {
     glDeleteBuffers(1, &r->meshes[i].ibo);
   }
   free(r->meshes);
-  GLuint progs[9] = {r->prog_shade, r->prog_shade_ordered, r->prog_depth,
-                     r->prog_dom,   r->prog_resolve,       r->prog_display,
-                     r->prog_mesh,  r->prog_mesh_depth,    r->prog_mesh_dom};
-  for (int i = 0; i < 9; i++)
+  GLuint progs[11] = {r->prog_shade,     r->prog_shade_ordered,
+                      r->prog_shade_lod, r->prog_shade_ordered_lod,
+                      r->prog_depth,     r->prog_dom,
+                      r->prog_resolve,   r->prog_display,
+                      r->prog_mesh,      r->prog_mesh_depth,
+                      r->prog_mesh_dom};
+  for (int i = 0; i < 11; i++)
     if (progs[i])
       glDeleteProgram(progs[i]);
   if (r->empty_vao)

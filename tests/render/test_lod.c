@@ -189,6 +189,17 @@ static void no_popping(void **state) {
   assert_non_null(prev);
   satf_renderer_stats(r, &s);
   assert_int_equal(s.lod_levels[0], 9);
+  /* at level 0 everywhere the shading program with the level of detail
+   * compiled in (--lod on) and the one without (off: glsl/shade_fs.glsl,
+   * LOD 0) draw the same frame */
+  satf_renderer_set_lod(r, 0);
+  satf_image *off = render(r);
+  assert_non_null(off);
+  printf("lod on at level 0 vs off: mean |difference| %g\n",
+         mean_diff(prev, off));
+  assert_true(mean_diff(prev, off) == 0.0);
+  satf_image_destroy(off);
+  satf_renderer_set_lod(r, 1);
   enum { STEPS = 24 };
   double steps[STEPS], total = 0.0, most = 0.0;
   for (int i = 0; i < STEPS; i++) {

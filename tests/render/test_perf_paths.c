@@ -73,6 +73,19 @@ static long covered(const satf_image *img) {
   return n;
 }
 
+/* Two frames (destroyed here) the same bit for bit, every cluster drawn:
+ * a good part of the frame is hair. */
+static void assert_same_frame(satf_image *a, satf_image *b) {
+  assert_non_null(a);
+  assert_non_null(b);
+  assert_true(covered(a) > W * H / 10);
+  const char *ch[] = {"R", "G", "B", "A"};
+  for (int c = 0; c < 4; c++)
+    assert_true(fixture_same_bits(a, b, ch[c]));
+  satf_image_destroy(a);
+  satf_image_destroy(b);
+}
+
 static void test_instanced_same_image(void **state) {
   fixture_gl *f = *state;
   satf_scene *scene = fixture_scene(SCENE);
@@ -90,16 +103,7 @@ static void test_instanced_same_image(void **state) {
     r->instanced = 1;
     satf_image *a = image(r);
     r->instanced = 0;
-    satf_image *b = image(r);
-    assert_non_null(a);
-    assert_non_null(b);
-    /* every cluster is drawn: a good part of the frame is hair */
-    assert_true(covered(a) > W * H / 10);
-    const char *ch[] = {"R", "G", "B", "A"};
-    for (int c = 0; c < 4; c++)
-      assert_true(fixture_same_bits(a, b, ch[c]));
-    satf_image_destroy(a);
-    satf_image_destroy(b);
+    assert_same_frame(a, image(r));
   }
   satf_renderer_destroy(r);
   satf_scene_destroy(scene);
@@ -178,6 +182,36 @@ static void test_incremental_lookups(void **state) {
   assert_same_maps(r, full);
   satf_renderer_destroy(r);
   satf_renderer_destroy(full);
+  satf_scene_destroy(next);
+  satf_scene_destroy(scene);
+}
+
+/* One instance moved, on two threads: its layers are looked up on both
+ * (frame.c, build_maps_by_layer), and its maps and the frame equal those
+ * of one thread, which builds the instance whole, bit for bit. */
+static void test_layers_split(void **state) {
+  fixture_gl *f = *state;
+  satf_scene *scene = fixture_scene(SCENE), *next = fixture_scene(SCENE);
+  assert_non_null(scene);
+  assert_non_null(next);
+  satf_renderer *two = fixture_renderer(scene, f->db, W, H, 2);
+  satf_renderer *one = fixture_renderer(scene, f->db, W, H, 1);
+  assert_non_null(two);
+  assert_non_null(one);
+  assert_int_equal(fixture_render_lookups(two), fixture_render_lookups(one));
+  next->macro_clusters[0].instances[3].m[7] += 0.2f; /* y translation */
+  satf_error err;
+  assert_int_equal(satf_renderer_set_scene(two, next, NULL, &err), SATF_OK);
+  assert_int_equal(satf_renderer_set_scene(one, next, NULL, &err), SATF_OK);
+  long a = fixture_render_lookups(two);
+  assert_true(a > 0);
+  assert_int_equal(a, fixture_render_lookups(one));
+  assert_int_equal(two->maps_changed, 1);
+  assert_same_maps(two, one);
+  satf_image *x = image(two);
+  assert_same_frame(x, image(one));
+  satf_renderer_destroy(two);
+  satf_renderer_destroy(one);
   satf_scene_destroy(next);
   satf_scene_destroy(scene);
 }
@@ -274,6 +308,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_instanced_same_image),
       cmocka_unit_test(test_incremental_lookups),
+      cmocka_unit_test(test_layers_split),
       cmocka_unit_test(test_dom_reuse),
   };
   return cmocka_run_group_tests(tests, setup, teardown);

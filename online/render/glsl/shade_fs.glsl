@@ -161,18 +161,35 @@ void lighting(vec3 t, vec3 n, vec3 v, float dom, out vec3 dif,
  * n + 1 drops with weight 1 - f, their share going to the ones it keeps
  * (lod_layer_share: the same). A read shell's alpha a becomes that of the
  * `share` layers it stands for, 1 - (1 - a)^share (SATF eq. 14 over equal
- * layers). */
+ * layers). Compiled in only with LOD 1 (the renderer's --lod): llvmpipe
+ * runs both sides of a branch its lanes could take apart, so these cost
+ * every layer point their integer and exp2/log2 work even at level 0
+ * (14% of the shading pass of cluster_6a). */
+#ifndef LOD
+#define LOD 1
+#endif
 bool lod_read(int k) {
-  return u_lod <= 0.0 || (u_layers - 1 - k) % (1 << int(u_lod)) == 0;
+#if LOD
+  /* j % 2^n as j & (2^n - 1), j >= 0: llvmpipe divides integer vectors
+   * lane by lane */
+  return u_lod <= 0.0 || ((u_layers - 1 - k) & ((1 << int(u_lod)) - 1)) == 0;
+#else
+  return true;
+#endif
 }
 float lod_alpha(int k, float a) {
+#if LOD
   if (u_lod <= 0.0) return a;
   int n = int(u_lod), m1 = 1 << n, m2 = m1 << 1;
   float f = u_lod - float(n);
   int j = u_layers - 1 - k, left = u_layers - j, own = min(m1, left);
-  float share = j % m2 == 0 ? float(own) + f * float(clamp(left - m1, 0, m1))
-                            : (1.0 - f) * float(own);
+  float share = (j & (m2 - 1)) == 0
+                    ? float(own) + f * float(clamp(left - m1, 0, m1))
+                    : (1.0 - f) * float(own);
   return 1.0 - exp2(share * log2(max(1.0 - a, 1e-6)));
+#else
+  return a;
+#endif
 }
 vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   if (u_aov == 1) return dif;
@@ -230,8 +247,18 @@ void main() {
                               fiber_asin(clamp(dot(l0, hair), -1.0, 1.0)));
 #endif
   vec3 col = vec3(0.0);
-  float transmit = 1.0, noise = -1.0;
+  float transmit = 1.0;
+#if !PHYSICAL
+  /* SATF eq. 13 makes a layer point's colour the fragment's lighting L
+   * (one per ray, above) times a scalar, the point's reflectance and
+   * s-map shadow, so eq. 14's sum is L times the sum of the scalars: the
+   * loop sums one float per point, and the noise (of the first point that
+   * counts) scales L's secondary highlight once, after it */
+  float weight = 0.0, noise_u = 0.0, noise_t = -1.0;
+#endif
   int inner = 0;  /* innermost shell the ray meets */
+  /* the loop's divisions, hoisted */
+  float inv_layers = 1.0 / float(u_layers), inv_a = 1.0 / a;
   /* SATF eq. 14 front to back: the front halves, outer to inner, then
    * the back halves, inner to outer */
   for (int pass = 0; pass < 2; pass++) {
@@ -239,10 +266,10 @@ void main() {
       int k = pass == 0 ? u_layers - 1 - j : inner + j;
       if (k >= u_layers) break;
       if (!lod_read(k)) continue;
-      float r = u_core + (1.0 - u_core) * float(k + 1) / float(u_layers);
+      float r = u_core + (1.0 - u_core) * float(k + 1) * inv_layers;
       float disc = b * b - a * (c0 - r * r);
       if (disc <= 0.0) { inner = k + 1; break; }
-      float s = (-b + (pass == 0 ? -1.0 : 1.0) * sqrt(disc)) / a;
+      float s = (-b + (pass == 0 ? -1.0 : 1.0) * sqrt(disc)) * inv_a;
       vec2 X = P + s * D;
       float u_turns = atan2_turns(X.y, X.x);
       float t = v_t + s * dt_ds;
@@ -269,12 +296,12 @@ void main() {
       /* SATF eq. 12: exponential s-map from the outer layers' alpha */
       float tau = u_self_shadow != 0 ? exp(-u_kshadow * m.b) : 1.0;
 #endif
+#if PHYSICAL
       vec3 y;
       if (KEYS_ONLY) y = vec3(0.0);
       else if (u_aov == 4) y = vec3(tau * dom);
       else if (u_aov == 5) y = vec3(1.0);
       else {
-#if PHYSICAL
         /* the key light shadowed by this cluster's outer layers (eq. 12)
          * and the other clusters (deep opacity map), as in the paper's
          * mode; the records hold the shadowing inside an HSV */
@@ -282,14 +309,18 @@ void main() {
         if (u_cluster_shadow != 0) /* forward-scattered: Zinke 2008 */
           y += e0 * global * max(exp(-(n_dom + mf.a) * (1.0 - af0)) -
                                  exp(-(n_dom + mf.a)), vec3(0.0));
-#else
-        if (noise < 0.0) /* once per ray: the strands it meets first */
-          noise = mix(1.0, 2.0 * strand_noise(u_turns, t), u_noise);
-        vec3 L = select_aov(df, s1f, s2f * noise);
-        y = L * ra.x * tau;  /* SATF eq. 13 */
-#endif
       }
       col += transmit * ra.y * y;
+#else
+      /* the point's share of L (SATF eq. 13): the AOVs shadow (4) and
+       * alpha (5) take tau and 1, with L = dom and 1 below */
+      float g = u_aov == 5 ? 1.0 : u_aov == 4 ? tau : ra.x * tau;
+      weight += transmit * ra.y * g;
+      if (noise_t < 0.0) { /* the strands the ray meets first */
+        noise_u = u_turns;
+        noise_t = t;
+      }
+#endif
       transmit *= 1.0 - ra.y;
       /* what lies behind can change the pixel by less than 1/512 */
       if (transmit < 1.0 / 512.0) break;
@@ -297,6 +328,15 @@ void main() {
     if (transmit < 1.0 / 512.0) break;
   }
   float alpha = 1.0 - transmit;
+#if !PHYSICAL
+  if (KEYS_ONLY) col = vec3(0.0);
+  else if (u_aov == 4) col = vec3(weight * dom);
+  else if (u_aov == 5) col = vec3(weight);
+  else {
+    float noise = mix(1.0, 2.0 * strand_noise(noise_u, noise_t), u_noise);
+    col = select_aov(df, s1f, s2f * noise) * weight;
+  }
+#endif
 #if EXACT
   if (alpha < 1.0 / 1024.0) return;
   list_write(col, alpha);
