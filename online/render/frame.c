@@ -126,7 +126,8 @@ void frame_forget_lookups(inst *in) {
  * for their s-map sums). */
 typedef struct inst_jobs {
   satf_renderer *r;
-  int *inst_of;
+  int *inst_of;  /* per instance; job i builds part i % parts of instance */
+  int parts;     /* inst_of[i / parts] (physical, maps_fiber.h; else 1) */
   long *lookups; /* per job */
 } inst_jobs;
 
@@ -134,7 +135,8 @@ typedef struct inst_jobs {
  * instance's frame, looked up every frame (the longitudinal angles and
  * every light change the maps, not only the key light's azimuths); laid
  * straight into the instance's halfs, with `sums` as scratch. */
-static int fiber_maps(const satf_renderer *r, inst *in, float *sums) {
+static int fiber_maps(const satf_renderer *r, const inst *in, int part,
+                      int parts, float *sums) {
   satf_fiber_light lights[SATF_SCENE_MAX_LIGHTS];
   float col[3 * SATF_SCENE_MAX_LIGHTS];
   frame_light_colors(r, col);
@@ -144,7 +146,7 @@ static int fiber_maps(const satf_renderer *r, inst *in, float *sums) {
   }
   return satf_maps_fiber_build(r->maps, r->fiber, &in->geom, in->eye, lights,
                                r->nlights, r->effects.secondary_highlight,
-                               &r->map_opt, sums, in->texels);
+                               &r->map_opt, part, parts, sums, in->texels);
 }
 
 /* Whether some sector of `in` keeps the azimuths of its last look-up: then
@@ -187,15 +189,13 @@ static size_t inst_floats(const satf_renderer *r, const inst *in) {
 static int inst_job(void *ctx, size_t i, int thread) {
   inst_jobs *j = ctx;
   satf_renderer *r = j->r;
-  inst *in = &r->insts[j->inst_of[i]];
+  inst *in = &r->insts[j->inst_of[i / (size_t)j->parts]];
   float *f = r->scratch[thread];
   size_t n = inst_floats(r, in);
   size_t layer = satf_maps_layer_texels(&in->geom, r->w) * 4;
   long lookups = 0;
-  if (r->fiber) { /* every layer whole, every time */
-    lookups = fiber_maps(r, in, f);
-    if (lookups > 0)
-      in->stale_upload = 1;
+  if (r->fiber) { /* every layer whole, every time (build_maps uploads) */
+    lookups = fiber_maps(r, in, (int)(i % (size_t)j->parts), j->parts, f);
   } else {
     /* half -> float -> half is exact: kept texels come back unchanged */
     if (r->incremental && some_sector_kept(in))
@@ -263,7 +263,13 @@ static satf_status build_maps(satf_renderer *r, long *lookups,
   satf_status st = grow_scratch(r, most, err);
   if (st != SATF_OK)
     return st;
-  inst_jobs ij = {r, malloc(jobs * sizeof(int)), calloc(jobs, sizeof(long))};
+  /* fewer changed instances than threads (one cluster): the physical
+   * maps' instances in parts, so every thread has work */
+  int parts = r->fiber && jobs < (size_t)r->threads
+                  ? (int)(((size_t)r->threads + jobs - 1) / jobs)
+                  : 1;
+  inst_jobs ij = {r, malloc(jobs * sizeof(int)), parts,
+                  calloc(jobs * (size_t)parts, sizeof(long))};
   if (!ij.inst_of || !ij.lookups) {
     free(ij.inst_of);
     free(ij.lookups);
@@ -273,9 +279,13 @@ static satf_status build_maps(satf_renderer *r, long *lookups,
   for (int i = 0; i < r->ninsts; i++)
     if (!r->insts[i].still)
       ij.inst_of[q++] = i;
-  satf_parallel_for(jobs, r->threads, inst_job, &ij, NULL, NULL);
-  for (q = 0; q < jobs; q++)
+  satf_parallel_for(jobs * (size_t)parts, r->threads, inst_job, &ij, NULL,
+                    NULL);
+  for (q = 0; q < jobs * (size_t)parts; q++) {
     *lookups += ij.lookups[q];
+    if (r->fiber && ij.lookups[q] > 0)
+      r->insts[ij.inst_of[q / (size_t)parts]].stale_upload = 1;
+  }
   free(ij.inst_of);
   free(ij.lookups);
   return SATF_OK;

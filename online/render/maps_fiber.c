@@ -288,8 +288,8 @@ size_t satf_maps_fiber_scratch_floats(const satf_shell_geom *g, int width) {
 static int build_layer(const satf_maps *m, const satf_maps_fiber *f,
                        const satf_shell_geom *g, const float eye[3],
                        const satf_fiber_light *lights, int n_lights, int trt,
-                       const satf_map_options *opt, int k, half_pack_fn pack,
-                       float *sums, uint16_t *texels) {
+                       const satf_map_options *opt, int k, int j0, int j1,
+                       half_pack_fn pack, float *sums, uint16_t *texels) {
   const satf_shell_params *sh = &g->shell;
   int w = satf_maps_width(m), lookups = 0;
   size_t row_halfs = (size_t)sh->su * (size_t)w * 4;
@@ -298,7 +298,7 @@ static int build_layer(const satf_maps *m, const satf_maps_fiber *f,
   uint16_t *fill_slice = key_slice + slice;
   float key[4 * MAPS_MAX_WIDTH], fill[4 * MAPS_MAX_WIDTH];
   float row_key[4 * MAPS_MAX_WIDTH], row_fill[4 * MAPS_MAX_WIDTH];
-  for (int j = 0; j < sh->su; j++) {
+  for (int j = j0; j < j1; j++) {
     /* the boundary records along t, each looked up once: HSV i shows
      * boundary i in row 2i and boundary i + 1 in row 2i + 1 (SATF eq. 7) */
     sector_look cur, next;
@@ -319,7 +319,8 @@ static int build_layer(const satf_maps *m, const satf_maps_fiber *f,
       sector_radiance(g, f, &cur, nb, lights, n_lights, trt, w, key, fill);
       lookups += n_lights;
       lay_fiber_row(m, key, fill, cur.view.azimuth,
-                    sums + ((size_t)i * (size_t)sh->su + (size_t)j) * w,
+                    sums +
+                        ((size_t)i * (size_t)(j1 - j0) + (size_t)(j - j0)) * w,
                     row_key, row_fill);
       /* the top row of HSV i and the bottom row of HSV i - 1, the same
        * texels */
@@ -338,19 +339,23 @@ static int build_layer(const satf_maps *m, const satf_maps_fiber *f,
 int satf_maps_fiber_build(const satf_maps *m, const satf_maps_fiber *f,
                           const satf_shell_geom *g, const float eye[3],
                           const satf_fiber_light *lights, int n_lights, int trt,
-                          const satf_map_options *opt, float *sums,
-                          uint16_t *texels) {
+                          const satf_map_options *opt, int part, int parts,
+                          float *sums, uint16_t *texels) {
   /* from the outer layer in, so that each layer's s-map sum (eq. 12) is
    * the running sum of the alpha laid before it: the maps are written
    * once, as halfs, where a float copy, a pass for the sums and one to
    * pack would write and read them three times more */
+  int su = g->shell.su;
+  int j0 = (int)((long)su * part / parts),
+      j1 = (int)((long)su * (part + 1) / parts);
   memset(sums, 0,
-         satf_maps_fiber_scratch_floats(g, satf_maps_width(m)) * sizeof(float));
+         (size_t)(g->shell.st + 1) * (size_t)(j1 - j0) *
+             (size_t)satf_maps_width(m) * sizeof(float));
   half_pack_fn pack = half_stream_packer();
   int lookups = 0;
   for (int k = g->shell.layers - 1; k >= 0; k--)
-    lookups += build_layer(m, f, g, eye, lights, n_lights, trt, opt, k, pack,
-                           sums, texels);
+    lookups += build_layer(m, f, g, eye, lights, n_lights, trt, opt, k, j0, j1,
+                           pack, sums, texels);
   half_stream_end();
   return lookups;
 }

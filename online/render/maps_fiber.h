@@ -44,13 +44,15 @@ void satf_maps_fiber_destroy(satf_maps_fiber *fiber);
  * of satf_maps_layer_texels * 4 halfs, the s-map sums of eq. 12 in
  * channel 3 of the odd slices) as half floats (half.h); lights[0] is the
  * key light. trt 0 leaves out the TRT lobe, the physical secondary
- * highlight (the Fig. 4b switch in this mode). sums: scratch of
- * satf_maps_fiber_scratch_floats. Returns the look-ups made. */
+ * highlight (the Fig. 4b switch in this mode). Only part `part` of
+ * `parts` (0 <= part < parts) is written: that share of the su columns of
+ * HSVs, so that threads may build one cluster's parts at once. sums:
+ * scratch of satf_maps_fiber_scratch_floats. Returns the look-ups made. */
 int satf_maps_fiber_build(const satf_maps *maps, const satf_maps_fiber *fiber,
                           const satf_shell_geom *g, const float eye[3],
                           const satf_fiber_light *lights, int n_lights, int trt,
-                          const satf_map_options *opt, float *sums,
-                          uint16_t *texels);
+                          const satf_map_options *opt, int part, int parts,
+                          float *sums, uint16_t *texels);
 size_t satf_maps_fiber_scratch_floats(const satf_shell_geom *g, int width);
 
 #endif

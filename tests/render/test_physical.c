@@ -297,20 +297,28 @@ static void test_still_frames(void **state) {
  * from the outer layer in: channel 3 of the fill slice 2k + 1 is the sum
  * of the key slices' alpha over the layers outside k (eq. 12), 0 for the
  * outer one; HSV i's top row and HSV i - 1's bottom row, one boundary, are
- * the same texels in every slice. */
+ * the same texels in every slice. Three threads: the one cluster is built
+ * in three parts (frame.c), of 3, 3 and 4 columns of HSVs, the same maps
+ * as one thread's. */
 static void test_layout_sums(void **state) {
   (void)state;
   char json[2048], lights[512];
   snprintf(lights, sizeof lights,
            "%s, {\"direction\": [0.7, 0.1, -0.7], \"intensity\": 1}", FRONT);
   scene_json(json, sizeof json, "", lights, 1);
-  satf_scene *s;
-  satf_renderer *r;
+  satf_scene *s = fixture_scene(json);
+  assert_non_null(s);
+  satf_renderer *r, *one;
   satf_error err;
-  assert_int_equal(make_renderer(json, fiber_db, &s, &r, &err), SATF_OK);
-  satf_image *img = NULL;
+  assert_int_equal(satf_renderer_create(s, fiber_db, W, H, 3, &r, &err),
+                   SATF_OK);
+  assert_int_equal(satf_renderer_create(s, fiber_db, W, H, 1, &one, &err),
+                   SATF_OK);
+  satf_image *img = NULL, *img1 = NULL;
   satf_frame_timing t;
   assert_int_equal(satf_renderer_render_image(r, 0, &img, &t, &err), SATF_OK);
+  assert_int_equal(satf_renderer_render_image(one, 0, &img1, &t, &err),
+                   SATF_OK);
   const inst *in = &r->insts[0];
   const satf_shell_params *sh = &in->geom.shell;
   size_t n = satf_maps_layer_texels(&in->geom, r->w), slice = 4 * n;
@@ -341,9 +349,12 @@ static void test_layout_sums(void **state) {
     }
   printf("s-map sums up to %.3f over %d layers\n", deepest, sh->layers);
   assert_true(deepest > 0.5);
+  assert_memory_equal(in->texels, one->insts[0].texels, all * sizeof(uint16_t));
   free(v);
   satf_image_destroy(img);
+  satf_image_destroy(img1);
   satf_renderer_destroy(r);
+  satf_renderer_destroy(one);
   satf_scene_destroy(s);
 }
 
