@@ -151,6 +151,10 @@ static direction sector_direction(const float *frame, const float hair[3],
   return r;
 }
 
+/* Four floats in one vector (GCC's and clang's vector extension): a
+ * texel's channels, or a sample's colours and alpha. */
+typedef float v4f __attribute__((vector_size(16)));
+
 /* What sector q sees of the eye and the key light, found once: the
  * look-up one sector ahead fetches the key light's records by them, and
  * the sector's own look-up then uses them. */
@@ -197,7 +201,7 @@ static void sector_radiance(const satf_shell_geom *g, const satf_maps_fiber *f,
   int n = f->levels;
   /* alpha and the lobes (SATF_DB_CH_ALPHA on): the reflectance channel,
    * a total for Phong-style readers, is never read here */
-  float rec[(2 + 3 * 3) * MAPS_MAX_WIDTH], sum[MAPS_MAX_WIDTH];
+  float rec[(2 + 3 * 3) * MAPS_MAX_WIDTH];
   memset(key, 0, 4 * (size_t)w * sizeof(float));
   memset(fill, 0, 4 * (size_t)w * sizeof(float));
   for (int li = 0; li < n_lights; li++) {
@@ -216,19 +220,26 @@ static void sector_radiance(const satf_shell_geom *g, const satf_maps_fiber *f,
                                    s->view.azimuth, i.azimuth, SATF_DB_CH_ALPHA,
                                    f->channels - SATF_DB_CH_ALPHA, rec);
     float *dst = li == 0 ? key : fill;
+    const float *r = rec + (SATF_DB_CH_R - SATF_DB_CH_ALPHA) * w, *tt[3],
+                *tr[3], *ms[3];
+    v4f e = {0.0f, 0.0f, 0.0f, 0.0f};
     for (int c = 0; c < 3; c++) {
-      float e = lights[li].rgb[c] * fall;
       int k = f->level_of[c];
-      const float *r = rec + (SATF_DB_CH_R - SATF_DB_CH_ALPHA) * w;
-      const float *tt = rec + (SATF_DB_CH_TT(k) - SATF_DB_CH_ALPHA) * w;
-      const float *tr = rec + (SATF_DB_CH_TRT(k, n) - SATF_DB_CH_ALPHA) * w;
-      const float *ms = rec + (SATF_DB_CH_MS(k, n) - SATF_DB_CH_ALPHA) * w;
-      /* contiguous, so vectorised; then interleaved */
-      for (int x = 0; x < w; x++)
-        sum[x] =
-            e * (mp[0] * r[x] + mp[1] * tt[x] + mp[2] * tr[x] + mp[3] * ms[x]);
-      for (int x = 0; x < w; x++)
-        dst[4 * x + c] += sum[x];
+      e[c] = lights[li].rgb[c] * fall;
+      tt[c] = rec + (SATF_DB_CH_TT(k) - SATF_DB_CH_ALPHA) * w;
+      tr[c] = rec + (SATF_DB_CH_TRT(k, n) - SATF_DB_CH_ALPHA) * w;
+      ms[c] = rec + (SATF_DB_CH_MS(k, n) - SATF_DB_CH_ALPHA) * w;
+    }
+    /* a sample's three colours at once (each lane the scalar sum, in its
+     * order), texels as lay_fiber_row reads them */
+    for (int x = 0; x < w; x++) {
+      v4f vt = {tt[0][x], tt[1][x], tt[2][x], 0.0f};
+      v4f vr = {tr[0][x], tr[1][x], tr[2][x], 0.0f};
+      v4f vm = {ms[0][x], ms[1][x], ms[2][x], 0.0f};
+      v4f d;
+      memcpy(&d, dst + 4 * x, sizeof d);
+      d += e * (mp[0] * r[x] + mp[1] * vt + mp[2] * vr + mp[3] * vm);
+      memcpy(dst + 4 * x, &d, sizeof d);
     }
     if (li == 0)
       for (int x = 0; x < w; x++)
@@ -251,21 +262,22 @@ static void lay_fiber_row(const satf_maps *m, const float *restrict key,
   const float *fr;
   maps_columns(m, view, &idx, &fr);
   for (int x = 0; x < w; x++) {
-    const float *k0 = key + 4 * idx[x], *f0 = fill + 4 * idx[x];
-    float f = fr[x], tk[4], tf[4];
-    for (int c = 0; c < 4; c++) { /* maps_sample, four channels at once */
-      tk[c] = k0[c] + f * (k0[c + 4] - k0[c]);
-      tf[c] = f0[c] + f * (f0[c + 4] - f0[c]);
-    }
+    v4f k0, k1, f0, f1; /* samples idx[x] and idx[x] + 1 */
+    memcpy(&k0, key + 4 * idx[x], sizeof k0);
+    memcpy(&k1, key + 4 * idx[x] + 4, sizeof k1);
+    memcpy(&f0, fill + 4 * idx[x], sizeof f0);
+    memcpy(&f1, fill + 4 * idx[x] + 4, sizeof f1);
+    v4f tk = k0 + fr[x] * (k1 - k0),
+        tf = f0 + fr[x] * (f1 - f0); /* maps_sample */
     float a = tk[3];
     float inv = a > 1e-4f ? 1.0f / a : 0.0f;
-    for (int c = 0; c < 3; c++) {
-      row_key[4 * x + c] = inv * tk[c];
-      row_fill[4 * x + c] = inv * tf[c];
-    }
-    row_key[4 * x + 3] = a;
-    row_fill[4 * x + 3] = sum[x];
+    v4f sk = {inv, inv, inv, 1.0f}, sf = {inv, inv, inv, 0.0f};
+    tk *= sk;
+    tf *= sf;
+    tf[3] = sum[x];
     sum[x] += a;
+    memcpy(row_key + 4 * x, &tk, sizeof tk);
+    memcpy(row_fill + 4 * x, &tf, sizeof tf);
   }
 }
 
