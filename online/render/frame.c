@@ -120,20 +120,23 @@ void frame_forget_lookups(inst *in) {
 }
 
 /* One job per changed instance: its layers are built in floats in the
- * thread's scratch (small enough to stay in cache), summed for the s-maps
- * and packed to halfs once (half.h), so the maps kept and uploaded are
- * half the bytes. */
+ * thread's scratch, summed for the s-maps and packed to halfs once
+ * (half.h), so the maps kept and uploaded are half the bytes (the
+ * physical maps are laid as halfs directly, with the thread's scratch
+ * for their s-map sums). */
 typedef struct inst_jobs {
   satf_renderer *r;
-  int *inst_of;
+  int *inst_of;  /* per instance; job i builds part i % parts of instance */
+  int parts;     /* inst_of[i / parts] (physical, maps_fiber.h; else 1) */
   long *lookups; /* per job */
 } inst_jobs;
 
-/* The physical mode's layer (maps_fiber.h): every light, in the
+/* The physical mode's maps (maps_fiber.h): every light, in the
  * instance's frame, looked up every frame (the longitudinal angles and
- * every light change the maps, not only the key light's azimuths). */
-static int fiber_layer(const satf_renderer *r, const inst *in, int k,
-                       float *texels) {
+ * every light change the maps, not only the key light's azimuths); laid
+ * straight into the instance's halfs, with `sums` as scratch. */
+static int fiber_maps(const satf_renderer *r, const inst *in, int part,
+                      int parts, float *sums) {
   satf_fiber_light lights[SATF_SCENE_MAX_LIGHTS];
   float col[3 * SATF_SCENE_MAX_LIGHTS];
   frame_light_colors(r, col);
@@ -141,9 +144,9 @@ static int fiber_layer(const satf_renderer *r, const inst *in, int k,
     frame_light_local(in->inv, &r->lights[l], lights[l].local);
     memcpy(lights[l].rgb, col + 3 * l, sizeof lights[l].rgb);
   }
-  return satf_maps_fiber_build_layer(
-      r->maps, r->fiber, &in->geom, in->eye, lights, r->nlights,
-      r->effects.secondary_highlight, &r->map_opt, k, texels);
+  return satf_maps_fiber_build(r->maps, r->fiber, &in->geom, in->eye, lights,
+                               r->nlights, r->effects.secondary_highlight,
+                               &r->map_opt, part, parts, sums, in->texels);
 }
 
 /* Whether some sector of `in` keeps the azimuths of its last look-up: then
@@ -186,27 +189,24 @@ static size_t inst_floats(const satf_renderer *r, const inst *in) {
 static int inst_job(void *ctx, size_t i, int thread) {
   inst_jobs *j = ctx;
   satf_renderer *r = j->r;
-  inst *in = &r->insts[j->inst_of[i]];
+  inst *in = &r->insts[j->inst_of[i / (size_t)j->parts]];
   float *f = r->scratch[thread];
   size_t n = inst_floats(r, in);
   size_t layer = satf_maps_layer_texels(&in->geom, r->w) * 4;
   long lookups = 0;
-  if (r->fiber) { /* every layer whole, every time */
-    for (int k = 0; k < in->geom.shell.layers; k++)
-      lookups += fiber_layer(r, in, k, f);
-    satf_maps_fiber_shadow_sums(&in->geom, r->w, f);
+  if (r->fiber) { /* every layer whole, every time (build_maps uploads) */
+    lookups = fiber_maps(r, in, (int)(i % (size_t)j->parts), j->parts, f);
   } else {
     /* half -> float -> half is exact: kept texels come back unchanged */
     if (r->incremental && some_sector_kept(in))
       half_unpack(in->texels, f, n);
     for (int k = 0; k < in->geom.shell.layers; k++)
       lookups += kk_layer(r, in, k, f + (size_t)k * layer);
-    if (lookups > 0)
+    if (lookups > 0) {
       satf_maps_shadow_sums(&in->geom, r->w, f);
-  }
-  if (lookups > 0) {
-    half_pack(f, in->texels, n);
-    in->stale_upload = 1;
+      half_pack(f, in->texels, n);
+      in->stale_upload = 1;
+    }
   }
   j->lookups[i] = lookups;
   return 0;
@@ -288,8 +288,8 @@ static satf_status build_maps_by_layer(satf_renderer *r, const int *inst_of,
 }
 
 /* r->scratch: one buffer per map thread, each of the largest instance's
- * floats; kept between frames (a fresh one would fault its pages in every
- * frame). */
+ * floats (physical: its s-map sums); kept between frames (a fresh one would
+ * fault its pages in every frame). */
 static satf_status grow_scratch(satf_renderer *r, size_t floats,
                                 satf_error *err) {
   if (r->scratch_n >= r->threads && r->scratch_floats >= floats)
@@ -327,7 +327,9 @@ static satf_status build_maps(satf_renderer *r, long *lookups,
   for (int i = 0; i < r->ninsts; i++)
     if (!r->insts[i].still) {
       jobs++;
-      size_t n = inst_floats(r, &r->insts[i]);
+      size_t n = r->fiber
+                     ? satf_maps_fiber_scratch_floats(&r->insts[i].geom, r->w)
+                     : inst_floats(r, &r->insts[i]);
       most = n > most ? n : most;
     }
   *lookups = 0;
@@ -336,7 +338,13 @@ static satf_status build_maps(satf_renderer *r, long *lookups,
   satf_status st = grow_scratch(r, most, err);
   if (st != SATF_OK)
     return st;
-  inst_jobs ij = {r, malloc(jobs * sizeof(int)), calloc(jobs, sizeof(long))};
+  /* fewer changed instances than threads (one cluster): the physical
+   * maps' instances in parts, so every thread has work */
+  int parts = r->fiber && jobs < (size_t)r->threads
+                  ? (int)(((size_t)r->threads + jobs - 1) / jobs)
+                  : 1;
+  inst_jobs ij = {r, malloc(jobs * sizeof(int)), parts,
+                  calloc(jobs * (size_t)parts, sizeof(long))};
   if (!ij.inst_of || !ij.lookups) {
     free(ij.inst_of);
     free(ij.lookups);
@@ -353,9 +361,13 @@ static satf_status build_maps(satf_renderer *r, long *lookups,
     free(ij.lookups);
     return st;
   }
-  satf_parallel_for(jobs, r->threads, inst_job, &ij, NULL, NULL);
-  for (q = 0; q < jobs; q++)
+  satf_parallel_for(jobs * (size_t)parts, r->threads, inst_job, &ij, NULL,
+                    NULL);
+  for (q = 0; q < jobs * (size_t)parts; q++) {
     *lookups += ij.lookups[q];
+    if (r->fiber && ij.lookups[q] > 0)
+      r->insts[ij.inst_of[q / (size_t)parts]].stale_upload = 1;
+  }
   free(ij.inst_of);
   free(ij.lookups);
   return SATF_OK;

@@ -10,14 +10,27 @@
 #include <immintrin.h>
 #define HALF_F16C 1
 
+/* stream: the vectors stored past the cache (dst 16-byte aligned) */
 __attribute__((target("avx,f16c"))) static void
-pack_f16c(const float *src, uint16_t *dst, size_t n) {
+pack_f16c_to(const float *src, uint16_t *dst, size_t n, int stream) {
   size_t i = 0;
-  for (; i + 8 <= n; i += 8)
-    _mm_storeu_si128(
-        (__m128i *)(dst + i),
-        _mm256_cvtps_ph(_mm256_loadu_ps(src + i), _MM_FROUND_TO_NEAREST_INT));
+  for (; i + 8 <= n; i += 8) {
+    __m128i h =
+        _mm256_cvtps_ph(_mm256_loadu_ps(src + i), _MM_FROUND_TO_NEAREST_INT);
+    if (stream)
+      _mm_stream_si128((__m128i *)(dst + i), h);
+    else
+      _mm_storeu_si128((__m128i *)(dst + i), h);
+  }
   half_pack_portable(src + i, dst + i, n - i);
+}
+
+static void pack_f16c(const float *src, uint16_t *dst, size_t n) {
+  pack_f16c_to(src, dst, n, 0);
+}
+
+static void pack_stream_f16c(const float *src, uint16_t *dst, size_t n) {
+  pack_f16c_to(src, dst, n, ((uintptr_t)dst & 15) == 0);
 }
 
 __attribute__((target("avx,f16c"))) static void
@@ -50,6 +63,20 @@ void half_pack(const float *src, uint16_t *dst, size_t n) {
   }
 #endif
   half_pack_portable(src, dst, n);
+}
+
+half_pack_fn half_stream_packer(void) {
+#ifdef HALF_F16C
+  if (have_f16c())
+    return pack_stream_f16c;
+#endif
+  return half_pack_portable;
+}
+
+void half_stream_end(void) {
+#ifdef HALF_F16C
+  _mm_sfence();
+#endif
 }
 
 void half_unpack(const uint16_t *src, float *dst, size_t n) {

@@ -13,6 +13,16 @@
 /* dst[i] = half(src[i]) for i < n: F16C where the processor has it (x86-64,
  * chosen at run time), else half_pack_portable. */
 void half_pack(const float *src, uint16_t *dst, size_t n);
+/* A packer for output no one reads soon (maps far larger than the
+ * cache), chosen once (the processor check is a CPUID, slow in a virtual
+ * machine) for many short runs: with F16C, whole vectors to a 16-byte
+ * aligned dst are stored past the cache (non-temporal), so a store does
+ * not first read its line from memory; the same values as half_pack.
+ * Call half_stream_end before another thread reads dst. */
+typedef void (*half_pack_fn)(const float *src, uint16_t *dst, size_t n);
+half_pack_fn half_stream_packer(void);
+/* Orders the streamed stores before whatever follows (a fence). */
+void half_stream_end(void);
 /* dst[i] = float(src[i]) (exact: every half is a float). */
 void half_unpack(const uint16_t *src, float *dst, size_t n);
 

@@ -4,6 +4,7 @@
 #include "maps_fiber.h"
 
 #include "fiber_gpu.h"
+#include "half.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -24,7 +25,8 @@ struct satf_maps_fiber {
   int levels;  /* its absorption levels (distinct RGB values) */
   int level_of[3]; /* the level of each colour channel */
   satf_fiber fiber;
-  float v_ms; /* the longitudinal variance of multiple scattering */
+  float v_ms;   /* the longitudinal variance of multiple scattering */
+  int channels; /* the database's (satf_db_channels) */
 };
 
 /* The hair's RGB absorption as strictly ascending levels, and the level of
@@ -114,9 +116,11 @@ satf_status satf_maps_fiber_create(const satf_db *db,
   f->levels = rgb_levels(sigma, levels, f->level_of);
   satf_status st = satf_db_relevel(db, levels, f->levels, threads, &f->db, err);
   if (st != SATF_OK) {
+    free(f->mp);
     free(f);
     return st;
   }
+  f->channels = satf_db_channels(f->db);
   *out = f;
   return SATF_OK;
 }
@@ -147,169 +151,223 @@ static direction sector_direction(const float *frame, const float hair[3],
   return r;
 }
 
-/* The record of boundary sector q for every light, summed into key (the
+/* Four floats in one vector (GCC's and clang's vector extension): a
+ * texel's channels, or a sample's colours and alpha. */
+typedef float v4f __attribute__((vector_size(16)));
+
+/* What sector q sees of the eye and the key light, found once: the
+ * look-up one sector ahead fetches the key light's records by them, and
+ * the sector's own look-up then uses them. */
+typedef struct sector_look {
+  size_t q;
+  float hair[3]; /* N x T: along t, root to tip */
+  direction view, key;
+  float key_fall; /* the key light's falloff (1: directional) */
+} sector_look;
+
+/* Light l from sector frame fr: its direction and falloff. */
+static direction light_direction(const float *fr, const float hair[3],
+                                 const satf_fiber_light *l, float *fall) {
+  const float *L = l->local;
+  float ld[3] = {L[0] - L[3] * fr[0], L[1] - L[3] * fr[1], L[2] - L[3] * fr[2]};
+  *fall = L[3] > 0.0f ? 1.0f / fmaxf(satf_dot3f(ld, ld), 1e-6f) : 1.0f;
+  return sector_direction(fr, hair, ld);
+}
+
+static void look_at(const satf_shell_geom *g, size_t q, const float eye[3],
+                    const satf_fiber_light *lights, sector_look *s) {
+  const float *fr = g->frames + 9 * q;
+  s->q = q;
+  satf_cross3f(fr + 3, fr + 6, s->hair);
+  satf_normalize3f(s->hair);
+  float vd[3] = {eye[0] - fr[0], eye[1] - fr[1], eye[2] - fr[2]};
+  s->view = sector_direction(fr, s->hair, vd);
+  s->key = light_direction(fr, s->hair, &lights[0], &s->key_fall);
+}
+
+/* The record of a boundary sector for every light, summed into key (the
  * first light's radiance, which the deep opacity map and eq. 12 shadow)
  * and fill (the others'): E (M_R R + M_TT TT + M_TRT TRT + M_MS MS)
  * (satf/db.h fibre records, d'Eon 2011 eq. 7 for M_p), per record sample,
- * still premultiplied by coverage; alpha alongside. */
-static void sector_radiance(const satf_maps *m, const satf_maps_fiber *f,
-                            const satf_shell_geom *g, size_t q,
-                            const satf_db_neighbors *nb, const float eye[3],
+ * still premultiplied by coverage. Both hold 4 floats a sample, the
+ * colour in 0-2 (interleaved as the texels, for lay_fiber_row); key has
+ * the alpha in 3, fill 0. */
+static void sector_radiance(const satf_shell_geom *g, const satf_maps_fiber *f,
+                            const sector_look *s, const satf_db_neighbors *nb,
                             const satf_fiber_light *lights, int n_lights,
-                            int trt, float *key, float *fill, float *alpha,
-                            float *view) {
-  const float *fr = g->frames + 9 * q;
-  int w = satf_maps_width(m), n = f->levels;
-  float hair[3];
-  satf_cross3f(fr + 3, fr + 6, hair); /* N x T: along t, root to tip */
-  satf_normalize3f(hair);
-  float vd[3] = {eye[0] - fr[0], eye[1] - fr[1], eye[2] - fr[2]};
-  direction o = sector_direction(fr, hair, vd);
-  *view = o.azimuth;
+                            int trt, int w, float *restrict key,
+                            float *restrict fill) {
+  const float *fr = g->frames + 9 * s->q;
+  int n = f->levels;
   /* alpha and the lobes (SATF_DB_CH_ALPHA on): the reflectance channel,
    * a total for Phong-style readers, is never read here */
   float rec[(2 + 3 * 3) * MAPS_MAX_WIDTH];
-  memset(key, 0, 3 * (size_t)w * sizeof(float));
-  memset(fill, 0, 3 * (size_t)w * sizeof(float));
+  memset(key, 0, 4 * (size_t)w * sizeof(float));
+  memset(fill, 0, 4 * (size_t)w * sizeof(float));
   for (int li = 0; li < n_lights; li++) {
-    const float *L = lights[li].local;
-    float ld[3] = {L[0] - L[3] * fr[0], L[1] - L[3] * fr[1],
-                   L[2] - L[3] * fr[2]};
-    float fall = L[3] > 0.0f ? 1.0f / fmaxf(satf_dot3f(ld, ld), 1e-6f) : 1.0f;
-    direction i = sector_direction(fr, hair, ld);
+    float fall = s->key_fall;
+    direction i =
+        li == 0 ? s->key : light_direction(fr, s->hair, &lights[li], &fall);
     float mp[4];
-    mp_lookup(f, i.sin_t, o.sin_t, mp);
+    mp_lookup(f, i.sin_t, s->view.sin_t, mp);
     if (!trt)
       mp[2] = 0.0f;
     /* the other lights from the nearest sample alone: a quarter of the
      * blending for lights that neither shadow nor set the hair's look
      * (the key light's records blend all k, SATF eq. 4) */
     satf_db_neighbors nearest = {1, {nb->index[0]}, {1.0f}};
-    satf_db_lookup_neighbors_range(
-        f->db, li == 0 ? nb : &nearest, o.azimuth, i.azimuth, SATF_DB_CH_ALPHA,
-        satf_db_channels(f->db) - SATF_DB_CH_ALPHA, rec);
+    satf_db_lookup_neighbors_range(f->db, li == 0 ? nb : &nearest,
+                                   s->view.azimuth, i.azimuth, SATF_DB_CH_ALPHA,
+                                   f->channels - SATF_DB_CH_ALPHA, rec);
     float *dst = li == 0 ? key : fill;
+    const float *r = rec + (SATF_DB_CH_R - SATF_DB_CH_ALPHA) * w, *tt[3],
+                *tr[3], *ms[3];
+    v4f e = {0.0f, 0.0f, 0.0f, 0.0f};
     for (int c = 0; c < 3; c++) {
-      float e = lights[li].rgb[c] * fall;
       int k = f->level_of[c];
-      const float *r = rec + (SATF_DB_CH_R - SATF_DB_CH_ALPHA) * w;
-      const float *tt = rec + (SATF_DB_CH_TT(k) - SATF_DB_CH_ALPHA) * w;
-      const float *trt = rec + (SATF_DB_CH_TRT(k, n) - SATF_DB_CH_ALPHA) * w;
-      const float *ms = rec + (SATF_DB_CH_MS(k, n) - SATF_DB_CH_ALPHA) * w;
-      for (int x = 0; x < w; x++)
-        dst[c * w + x] +=
-            e * (mp[0] * r[x] + mp[1] * tt[x] + mp[2] * trt[x] + mp[3] * ms[x]);
+      e[c] = lights[li].rgb[c] * fall;
+      tt[c] = rec + (SATF_DB_CH_TT(k) - SATF_DB_CH_ALPHA) * w;
+      tr[c] = rec + (SATF_DB_CH_TRT(k, n) - SATF_DB_CH_ALPHA) * w;
+      ms[c] = rec + (SATF_DB_CH_MS(k, n) - SATF_DB_CH_ALPHA) * w;
+    }
+    /* a sample's three colours at once (each lane the scalar sum, in its
+     * order), texels as lay_fiber_row reads them */
+    for (int x = 0; x < w; x++) {
+      v4f vt = {tt[0][x], tt[1][x], tt[2][x], 0.0f};
+      v4f vr = {tr[0][x], tr[1][x], tr[2][x], 0.0f};
+      v4f vm = {ms[0][x], ms[1][x], ms[2][x], 0.0f};
+      v4f d;
+      memcpy(&d, dst + 4 * x, sizeof d);
+      d += e * (mp[0] * r[x] + mp[1] * vt + mp[2] * vr + mp[3] * vm);
+      memcpy(dst + 4 * x, &d, sizeof d);
     }
     if (li == 0)
-      memcpy(alpha, rec, (size_t)w * sizeof(float));
+      for (int x = 0; x < w; x++)
+        key[4 * x + 3] = rec[x];
   }
 }
 
-/* Lays one boundary's radiance across an HSV row of both slices (see
- * maps_fiber.h), resampled to the layer's columns as lay_row does, and
- * divided by alpha (eq. 14 multiplies by alpha again). */
-static void lay_fiber_row(const satf_maps *m, const float *key,
-                          const float *fill, const float *al, float view,
-                          float *row_key, float *row_fill) {
+/* Lays one boundary's radiance (sector_radiance's key and fill) across an
+ * HSV row of both slices (see maps_fiber.h), resampled to the layer's
+ * columns as lay_row does, and divided by alpha (eq. 14 multiplies by
+ * alpha again); the fill's channel 3 is the s-map sum `sum` of the outer
+ * layers (eq. 12), to which this layer's alpha is then added for the next
+ * layer in. */
+static void lay_fiber_row(const satf_maps *m, const float *restrict key,
+                          const float *restrict fill, float view,
+                          float *restrict sum, float *restrict row_key,
+                          float *restrict row_fill) {
   int w = satf_maps_width(m);
   const uint16_t *idx;
   const float *fr;
   maps_columns(m, view, &idx, &fr);
   for (int x = 0; x < w; x++) {
-    int i = idx[x];
-    float f = fr[x];
-    float a = maps_sample(al, i, f);
+    v4f k0, k1, f0, f1; /* samples idx[x] and idx[x] + 1 */
+    memcpy(&k0, key + 4 * idx[x], sizeof k0);
+    memcpy(&k1, key + 4 * idx[x] + 4, sizeof k1);
+    memcpy(&f0, fill + 4 * idx[x], sizeof f0);
+    memcpy(&f1, fill + 4 * idx[x] + 4, sizeof f1);
+    v4f tk = k0 + fr[x] * (k1 - k0),
+        tf = f0 + fr[x] * (f1 - f0); /* maps_sample */
+    float a = tk[3];
     float inv = a > 1e-4f ? 1.0f / a : 0.0f;
-    /* whole texels, one store each (the maps do not fit the cache); the
-     * fill's s-map (3) is satf_maps_fiber_shadow_sums' */
-    float tk[4], tf[4];
-    for (int c = 0; c < 3; c++) {
-      tk[c] = inv * maps_sample(key + c * w, i, f);
-      tf[c] = inv * maps_sample(fill + c * w, i, f);
-    }
-    tk[3] = a;
-    tf[3] = 0.0f;
-    memcpy(row_key + 4 * x, tk, sizeof tk);
-    memcpy(row_fill + 4 * x, tf, sizeof tf);
+    v4f sk = {inv, inv, inv, 1.0f}, sf = {inv, inv, inv, 0.0f};
+    tk *= sk;
+    tf *= sf;
+    tf[3] = sum[x];
+    sum[x] += a;
+    memcpy(row_key + 4 * x, &tk, sizeof tk);
+    memcpy(row_fill + 4 * x, &tf, sizeof tf);
   }
 }
 
-/* Fetches ahead the records of sector q's key light look-up (from its
+/* Fetches ahead the records of sector s's key light look-up (from its
  * cached neighbours; none without a cache): satf_db_prefetch. */
 static void prefetch_key(const satf_maps_fiber *f, const satf_shell_geom *g,
-                         size_t q, int k_nearest, const float eye[3],
-                         const satf_fiber_light *lights) {
-  const satf_db_neighbors *nb = maps_sector_neighbors(g, q, k_nearest);
-  if (!nb)
-    return;
-  const float *fr = g->frames + 9 * q, *L = lights[0].local;
-  float vd[3] = {eye[0] - fr[0], eye[1] - fr[1], eye[2] - fr[2]};
-  float ld[3] = {L[0] - L[3] * fr[0], L[1] - L[3] * fr[1], L[2] - L[3] * fr[2]};
-  satf_db_prefetch(f->db, nb, maps_azimuth(fr, vd), maps_azimuth(fr, ld),
-                   SATF_DB_CH_ALPHA,
-                   satf_db_channels(f->db) - SATF_DB_CH_ALPHA);
+                         const sector_look *s, int k_nearest) {
+  const satf_db_neighbors *nb = maps_sector_neighbors(g, s->q, k_nearest);
+  if (nb)
+    satf_db_prefetch(f->db, nb, s->view.azimuth, s->key.azimuth,
+                     SATF_DB_CH_ALPHA, f->channels - SATF_DB_CH_ALPHA);
 }
 
-int satf_maps_fiber_build_layer(const satf_maps *m, const satf_maps_fiber *f,
-                                const satf_shell_geom *g, const float eye[3],
-                                const satf_fiber_light *lights, int n_lights,
-                                int trt, const satf_map_options *opt, int k,
-                                float *texels) {
+size_t satf_maps_fiber_scratch_floats(const satf_shell_geom *g, int width) {
+  return (size_t)(g->shell.st + 1) * (size_t)g->shell.su * (size_t)width;
+}
+
+/* Layer k's two slices; sums holds the s-map sums of the layers outside
+ * it per boundary, and gets this layer's alpha added. */
+static int build_layer(const satf_maps *m, const satf_maps_fiber *f,
+                       const satf_shell_geom *g, const float eye[3],
+                       const satf_fiber_light *lights, int n_lights, int trt,
+                       const satf_map_options *opt, int k, int j0, int j1,
+                       half_pack_fn pack, float *sums, uint16_t *texels) {
   const satf_shell_params *sh = &g->shell;
   int w = satf_maps_width(m), lookups = 0;
-  size_t row_floats = (size_t)sh->su * (size_t)w * 4;
+  size_t row_halfs = (size_t)sh->su * (size_t)w * 4;
   size_t slice = satf_maps_layer_texels(g, w) * 4;
-  float *key_slice = texels + (size_t)(2 * k) * slice;
-  float *fill_slice = key_slice + slice;
-  float key[3 * MAPS_MAX_WIDTH], fill[3 * MAPS_MAX_WIDTH];
-  float al[MAPS_MAX_WIDTH], view;
-  for (int j = 0; j < sh->su; j++) {
+  uint16_t *key_slice = texels + (size_t)(2 * k) * slice;
+  uint16_t *fill_slice = key_slice + slice;
+  float key[4 * MAPS_MAX_WIDTH], fill[4 * MAPS_MAX_WIDTH];
+  float row_key[4 * MAPS_MAX_WIDTH], row_fill[4 * MAPS_MAX_WIDTH];
+  for (int j = j0; j < j1; j++) {
     /* the boundary records along t, each looked up once: HSV i shows
      * boundary i in row 2i and boundary i + 1 in row 2i + 1 (SATF eq. 7) */
+    sector_look cur, next;
+    look_at(g, maps_sector_index(sh, 0, k, j), eye, lights, &cur);
     for (int i = 0; i <= sh->st; i++) {
-      size_t q = maps_sector_index(sh, i, k, j);
-      if (i < sh->st) /* the next boundary's records load meanwhile */
-        prefetch_key(f, g, maps_sector_index(sh, i + 1, k, j), opt->k_nearest,
-                     eye, lights);
+      if (i < sh->st) { /* the next boundary's records load meanwhile */
+        look_at(g, maps_sector_index(sh, i + 1, k, j), eye, lights, &next);
+        prefetch_key(f, g, &next, opt->k_nearest);
+      }
       satf_db_neighbors found;
-      const satf_db_neighbors *nb = maps_sector_neighbors(g, q, opt->k_nearest);
+      const satf_db_neighbors *nb =
+          maps_sector_neighbors(g, cur.q, opt->k_nearest);
       if (!nb) {
-        satf_db_neighbors_find(maps_db(m), g->features + 3 * q, opt->k_nearest,
-                               &found);
+        satf_db_neighbors_find(maps_db(m), g->features + 3 * cur.q,
+                               opt->k_nearest, &found);
         nb = &found;
       }
-      sector_radiance(m, f, g, q, nb, eye, lights, n_lights, trt, key, fill, al,
-                      &view);
+      sector_radiance(g, f, &cur, nb, lights, n_lights, trt, w, key, fill);
       lookups += n_lights;
+      lay_fiber_row(m, key, fill, cur.view.azimuth,
+                    sums +
+                        ((size_t)i * (size_t)(j1 - j0) + (size_t)(j - j0)) * w,
+                    row_key, row_fill);
       /* the top row of HSV i and the bottom row of HSV i - 1, the same
-       * texels: laid once, copied */
-      size_t col = (size_t)j * w * 4, bytes = (size_t)w * 4 * sizeof(float);
-      size_t first = (size_t)(i > 0 ? 2 * i - 1 : 0) * row_floats + col;
-      lay_fiber_row(m, key, fill, al, view, key_slice + first,
-                    fill_slice + first);
-      if (i > 0 && i < sh->st) {
-        memcpy(key_slice + first + row_floats, key_slice + first, bytes);
-        memcpy(fill_slice + first + row_floats, fill_slice + first, bytes);
+       * texels */
+      size_t col = (size_t)j * w * 4;
+      for (int r = i > 0 ? 2 * i - 1 : 0; r <= 2 * i && r < 2 * sh->st; r++) {
+        pack(row_key, key_slice + (size_t)r * row_halfs + col, (size_t)w * 4);
+        pack(row_fill, fill_slice + (size_t)r * row_halfs + col, (size_t)w * 4);
       }
+      if (i < sh->st)
+        cur = next;
     }
   }
   return lookups;
 }
 
-/* SATF eq. 12 in the physical layout: alpha in channel 3 of slice 2k, the
- * sum of the outer layers' alpha into channel 3 of slice 2k + 1. */
-void satf_maps_fiber_shadow_sums(const satf_shell_geom *g, int width,
-                                 float *texels) {
-  int layers = g->shell.layers;
-  size_t n = satf_maps_layer_texels(g, width), slice = n * 4;
-  float *outer_fill = texels + (size_t)(2 * layers - 1) * slice;
-  for (size_t x = 0; x < n; x++)
-    outer_fill[4 * x + 3] = 0.0f;
-  for (int k = layers - 2; k >= 0; k--) {
-    float *fill = texels + (size_t)(2 * k + 1) * slice;
-    const float *up_key = texels + (size_t)(2 * k + 2) * slice;
-    const float *up_fill = up_key + slice;
-    for (size_t x = 0; x < n; x++)
-      fill[4 * x + 3] = up_fill[4 * x + 3] + up_key[4 * x + 3];
-  }
+int satf_maps_fiber_build(const satf_maps *m, const satf_maps_fiber *f,
+                          const satf_shell_geom *g, const float eye[3],
+                          const satf_fiber_light *lights, int n_lights, int trt,
+                          const satf_map_options *opt, int part, int parts,
+                          float *sums, uint16_t *texels) {
+  /* from the outer layer in, so that each layer's s-map sum (eq. 12) is
+   * the running sum of the alpha laid before it: the maps are written
+   * once, as halfs, where a float copy, a pass for the sums and one to
+   * pack would write and read them three times more */
+  int su = g->shell.su;
+  int j0 = (int)((long)su * part / parts),
+      j1 = (int)((long)su * (part + 1) / parts);
+  memset(sums, 0,
+         (size_t)(g->shell.st + 1) * (size_t)(j1 - j0) *
+             (size_t)satf_maps_width(m) * sizeof(float));
+  half_pack_fn pack = half_stream_packer();
+  int lookups = 0;
+  for (int k = g->shell.layers - 1; k >= 0; k--)
+    lookups += build_layer(m, f, g, eye, lights, n_lights, trt, opt, k, j0, j1,
+                           pack, sums, texels);
+  half_stream_end();
+  return lookups;
 }

@@ -40,19 +40,19 @@ satf_status satf_maps_fiber_create(const satf_db *db,
                                    satf_error *err);
 void satf_maps_fiber_destroy(satf_maps_fiber *fiber);
 
-/* Fills slices 2k and 2k + 1 of a cluster's texels (2 * layers slices of
- * satf_maps_layer_texels * 4 floats); lights[0] is the key light. trt 0
- * leaves out the TRT lobe, the physical secondary highlight (the Fig. 4b
- * switch in this mode). Returns the look-ups made. */
-int satf_maps_fiber_build_layer(const satf_maps *maps,
-                                const satf_maps_fiber *fiber,
-                                const satf_shell_geom *g, const float eye[3],
-                                const satf_fiber_light *lights, int n_lights,
-                                int trt, const satf_map_options *opt, int k,
-                                float *texels);
-
-/* Eq. 12 in this layout (channel 3 of the odd slices). */
-void satf_maps_fiber_shadow_sums(const satf_shell_geom *g, int width,
-                                 float *texels);
+/* Writes every layer's two slices of a cluster's maps (2 * layers slices
+ * of satf_maps_layer_texels * 4 halfs, the s-map sums of eq. 12 in
+ * channel 3 of the odd slices) as half floats (half.h); lights[0] is the
+ * key light. trt 0 leaves out the TRT lobe, the physical secondary
+ * highlight (the Fig. 4b switch in this mode). Only part `part` of
+ * `parts` (0 <= part < parts) is written: that share of the su columns of
+ * HSVs, so that threads may build one cluster's parts at once. sums:
+ * scratch of satf_maps_fiber_scratch_floats. Returns the look-ups made. */
+int satf_maps_fiber_build(const satf_maps *maps, const satf_maps_fiber *fiber,
+                          const satf_shell_geom *g, const float eye[3],
+                          const satf_fiber_light *lights, int n_lights, int trt,
+                          const satf_map_options *opt, int part, int parts,
+                          float *sums, uint16_t *texels);
+size_t satf_maps_fiber_scratch_floats(const satf_shell_geom *g, int width);
 
 #endif

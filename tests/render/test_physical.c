@@ -15,7 +15,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "half.h"
+#include "maps.h"
 #include "render_fixture.h"
+#include "renderer_internal.h"
 #include "satf/common.h"
 #include "satf/render.h"
 #include "test_util.h"
@@ -290,6 +293,71 @@ static void test_still_frames(void **state) {
   satf_scene_destroy(s);
 }
 
+/* The physical maps' layout (maps_fiber.h), built as halfs in one pass
+ * from the outer layer in: channel 3 of the fill slice 2k + 1 is the sum
+ * of the key slices' alpha over the layers outside k (eq. 12), 0 for the
+ * outer one; HSV i's top row and HSV i - 1's bottom row, one boundary, are
+ * the same texels in every slice. Three threads: the one cluster is built
+ * in three parts (frame.c), of 3, 3 and 4 columns of HSVs, the same maps
+ * as one thread's. */
+static void test_layout_sums(void **state) {
+  (void)state;
+  char json[2048], lights[512];
+  snprintf(lights, sizeof lights,
+           "%s, {\"direction\": [0.7, 0.1, -0.7], \"intensity\": 1}", FRONT);
+  scene_json(json, sizeof json, "", lights, 1);
+  satf_scene *s = fixture_scene(json);
+  assert_non_null(s);
+  satf_renderer *r, *one;
+  satf_error err;
+  assert_int_equal(satf_renderer_create(s, fiber_db, W, H, 3, &r, &err),
+                   SATF_OK);
+  assert_int_equal(satf_renderer_create(s, fiber_db, W, H, 1, &one, &err),
+                   SATF_OK);
+  satf_image *img = NULL, *img1 = NULL;
+  satf_frame_timing t;
+  assert_int_equal(satf_renderer_render_image(r, 0, &img, &t, &err), SATF_OK);
+  assert_int_equal(satf_renderer_render_image(one, 0, &img1, &t, &err),
+                   SATF_OK);
+  const inst *in = &r->insts[0];
+  const satf_shell_params *sh = &in->geom.shell;
+  size_t n = satf_maps_layer_texels(&in->geom, r->w), slice = 4 * n;
+  size_t all = slice * 2 * (size_t)sh->layers;
+  size_t row = (size_t)sh->su * (size_t)r->w * 4;
+  float *v = malloc(all * sizeof *v);
+  assert_non_null(v);
+  half_unpack(in->texels, v, all);
+  double deepest = 0.0;
+  for (int k = 0; k < sh->layers; k++) {
+    const float *fill = v + (size_t)(2 * k + 1) * slice;
+    for (size_t x = 0; x < n; x++) {
+      double sum = 0.0; /* of halfs, which the float sums were rounded to */
+      for (int m = k + 1; m < sh->layers; m++)
+        sum += v[(size_t)(2 * m) * slice + 4 * x + 3];
+      if (fabs(fill[4 * x + 3] - sum) > ldexp(sum, -9) + ldexp(1.0, -20))
+        fail_msg("layer %d texel %zu: s-map sum %.6g, outer alphas %.6g", k, x,
+                 (double)fill[4 * x + 3], sum);
+      deepest = fmax(deepest, sum);
+    }
+  }
+  for (int sl = 0; sl < 2 * sh->layers; sl++)
+    for (int i = 1; i < sh->st; i++) {
+      const uint16_t *a = in->texels + (size_t)sl * slice;
+      if (memcmp(a + (size_t)(2 * i - 1) * row, a + (size_t)(2 * i) * row,
+                 row * sizeof *a) != 0)
+        fail_msg("slice %d: rows %d and %d differ", sl, 2 * i - 1, 2 * i);
+    }
+  printf("s-map sums up to %.3f over %d layers\n", deepest, sh->layers);
+  assert_true(deepest > 0.5);
+  assert_memory_equal(in->texels, one->insts[0].texels, all * sizeof(uint16_t));
+  free(v);
+  satf_image_destroy(img);
+  satf_image_destroy(img1);
+  satf_renderer_destroy(r);
+  satf_renderer_destroy(one);
+  satf_scene_destroy(s);
+}
+
 /* A physical scene with a Phong database: refused with a message that
  * says what is needed. */
 static void test_phong_database_refused(void **state) {
@@ -315,6 +383,7 @@ int main(void) {
       cmocka_unit_test(test_no_secondary_drops_trt),
       cmocka_unit_test(test_still_frames),
       cmocka_unit_test(test_phong_database_refused),
+      cmocka_unit_test(test_layout_sums),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
