@@ -53,6 +53,11 @@ extern "C" {
  * renderer's default, satf_renderer_set_sparse_strands) and fitted one
  * strand to a cluster (satf-import) */
 #define SATF_SCENE_SPARSE_STRANDS 8
+/* A track's strand end ("ends") closer to its first or last slice than
+ * this many slice intervals adds no point: the slice holds it. satf-import
+ * writes ends only where one lies farther out; the renderer draws the
+ * same test. */
+#define SATF_SCENE_TRACK_END_MARGIN 0.1f
 #define SATF_SCENE_MAX_CLUMPS 16   /* clumps or holes per cluster */
 #define SATF_SCENE_MAX_COORD 1e6   /* |coordinate| in scene units */
 #define SATF_SCENE_MAX_IMAGE 16384 /* pixels per side */

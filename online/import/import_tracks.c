@@ -58,8 +58,8 @@ static int track_ends(const satf_import_projection *proj, int i, float t_lo,
     e[3 * k + 1] = clamp_coord(end[k][1]);
     e[3 * k + 2] = clamp_coord(end[k][2]);
   }
-  /* a tenth of a slice interval: closer, the slices hold the ends */
-  return e[0] < t_lo - 0.1f * step || e[3] > t_hi + 0.1f * step;
+  float margin = SATF_SCENE_TRACK_END_MARGIN * step;
+  return e[0] < t_lo - margin || e[3] > t_hi + margin;
 }
 
 void satf_import_fit_tracks(const satf_import_projection *proj,

@@ -74,9 +74,9 @@ static int track_points(const satf_scene_density *d, int k, float e[6],
   *before = *after = 0;
   if (d->track_ends) {
     memcpy(e, d->track_ends + 6 * (size_t)k, 6 * sizeof(float));
-    /* as the importer decides: a tenth of a slice interval */
-    *before = e[0] < t_lo - 0.1f / denom;
-    *after = e[3] > t_hi + 0.1f / denom;
+    float margin = SATF_SCENE_TRACK_END_MARGIN / denom;
+    *before = e[0] < t_lo - margin;
+    *after = e[3] > t_hi + margin;
   }
   return d->track_count[k] + *before + *after;
 }
