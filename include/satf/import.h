@@ -463,19 +463,24 @@ void satf_import_estimate_density(const satf_import_projection *proj,
 void satf_import_fit_tracks(const satf_import_projection *proj,
                             satf_import_fit *fit);
 
-/* Strands without a thickness in their file: a lone strand's cluster (one
- * member) has no neighbours to measure its width by, and took half its
- * own thin radius; it gets the hairstyle's width instead, the median of
- * strand_width x radius over the clusters of two or more strands. Its A
- * and B grow to half that width and its tracks shrink by as much (the
- * strand stays where it is); strand_width becomes 2. No change where
- * has_thickness, or where no cluster has two strands. */
-void satf_import_share_width(satf_import_fit *fits, int n, int has_thickness);
+/* Strands without a thickness in their file (import_spacing.c): each
+ * strand's width (a diameter) from the hairstyle's own spacing, before any
+ * clustering: twice the median, over its points (root and tip left out),
+ * of the distance to the nearest segment of another strand, kept between
+ * a quarter and twice the hairstyle's median (a strand with no other within
+ * a median segment length gets the median). width holds one float per
+ * strand. */
+satf_status satf_import_spacing_widths(const satf_strand_set *s, int threads,
+                                       float *width, satf_error *err);
 
 /* When the strands carry a thickness: fit->strand_width becomes the
  * members' mean diameter over the cluster radius (0.005..2), so the
  * density is that of the file's strands as they are drawn, not of strands
- * widened to fill the cluster. Nothing changes without thickness. */
+ * widened to fill the cluster. A one-strand cluster narrower than its
+ * strand grows round it instead (A and B up, its tracks down by as much:
+ * the strand stays in place) and takes strand_width 2. Nothing changes
+ * without thickness (satf_import_run gives strands without one a width
+ * from their spacing: satf_import_spacing_widths). */
 void satf_import_width_from_thickness(const satf_strand_set *s,
                                       const int *members, int n,
                                       satf_import_fit *fit);
@@ -755,6 +760,9 @@ typedef struct satf_import_result {
   /* what the strands were multiplied by to fit the scene limits (1: not
    * rescaled; satf_import_run) */
   double scale;
+  /* strands without thickness: the width from their spacing, p10 / p50 /
+   * p90 over the strands (0 when the files give a thickness) */
+  float spacing_width[3];
   /* 1 when --mesh was given and no strand root lies in or near the
    * transformed mesh's bounds (the head is probably misplaced) */
   int mesh_apart;

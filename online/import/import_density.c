@@ -140,6 +140,28 @@ void satf_import_estimate_density(const satf_import_projection *proj,
     fit->gradient = 0.0f;
 }
 
+/* A one-strand cluster narrower than its strand grows round it to the
+ * strand's width: A and B by k, its tracks (positions are track_xy x
+ * (A, B)) and ends by 1/k, so the strand stays where it is and is drawn
+ * at its own width (the tracks hold strands of up to 2 radii). */
+static void grow_round_strand(satf_import_fit *f, float width) {
+  float k = 0.5f * width / f->radius;
+  for (int j = 0; j < f->n_radius; j++) {
+    f->a[j] *= k;
+    f->b[j] *= k;
+  }
+  size_t pts = 0;
+  for (int i = 0; i < f->n_tracks; i++)
+    pts += (size_t)f->track_count[i];
+  for (size_t i = 0; f->track_xy && i < 2 * pts; i++)
+    f->track_xy[i] /= k;
+  for (int i = 0; f->track_ends && i < 6 * f->n_tracks; i++)
+    if (i % 3 != 0) /* (t, x, y): t stays */
+      f->track_ends[i] /= k;
+  f->radius *= k;
+  f->strand_width = 2.0f;
+}
+
 void satf_import_width_from_thickness(const satf_strand_set *s,
                                       const int *members, int n,
                                       satf_import_fit *fit) {
@@ -156,55 +178,15 @@ void satf_import_width_from_thickness(const satf_strand_set *s,
   }
   if (count == 0 || !(sum > 0.0) || !(fit->radius > 0.0f))
     return;
+  float width = (float)(sum / (double)count);
+  if (n == 1 && width > 2.0f * fit->radius) {
+    grow_round_strand(fit, width);
+    return;
+  }
   /* up to 2 (the tracks' range, satf/scene.h): a one-strand cluster's
    * radius is half its strand's thickness */
-  float w = (float)(sum / (double)count) / fit->radius;
+  float w = width / fit->radius;
   fit->strand_width = w < 0.005f ? 0.005f : w > 2.0f ? 2.0f : w;
-}
-
-static int cmp_width(const void *a, const void *b) {
-  float x = *(const float *)a, y = *(const float *)b;
-  return (x > y) - (x < y);
-}
-
-void satf_import_share_width(satf_import_fit *fits, int n, int has_thickness) {
-  if (has_thickness || n <= 0)
-    return;
-  float *w = malloc((size_t)n * sizeof *w);
-  int m = 0;
-  for (int c = 0; w && c < n; c++)
-    if (fits[c].strands >= 2 && fits[c].radius > 0.0f)
-      w[m++] = fits[c].strand_width * fits[c].radius;
-  if (m == 0) {
-    free(w);
-    return;
-  }
-  qsort(w, (size_t)m, sizeof *w, cmp_width);
-  float width = w[m / 2];
-  free(w);
-  for (int c = 0; c < n; c++) {
-    satf_import_fit *f = &fits[c];
-    if (f->strands != 1 || !(f->radius > 0.0f) ||
-        f->strand_width * f->radius >= width)
-      continue;
-    /* positions are track_xy x (A, B): scaling both by k and 1/k keeps
-     * the strand in place while the cluster grows round it */
-    float k = 0.5f * width / f->radius;
-    for (int j = 0; j < f->n_radius; j++) {
-      f->a[j] *= k;
-      f->b[j] *= k;
-    }
-    size_t pts = 0;
-    for (int i = 0; i < f->n_tracks; i++)
-      pts += (size_t)f->track_count[i];
-    for (size_t i = 0; i < 2 * pts; i++)
-      f->track_xy[i] /= k;
-    for (int i = 0; f->track_ends && i < 6 * f->n_tracks; i++)
-      if (i % 3 != 0) /* (t, x, y): t stays */
-        f->track_ends[i] /= k;
-    f->radius *= k;
-    f->strand_width = 2.0f;
-  }
 }
 
 void satf_import_density_free(satf_import_density *d) {

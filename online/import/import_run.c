@@ -129,14 +129,22 @@ static satf_status read_inputs(run *u, satf_error *err) {
   return SATF_OK;
 }
 
-/* Multiplies every point (and thickness) of u->all by k. */
-static satf_status scale_strands(run *u, double k, satf_error *err) {
+static int cmp_float(const void *a, const void *b) {
+  float x = *(const float *)a, y = *(const float *)b;
+  return (x > y) - (x < y);
+}
+
+/* Rebuilds u->all with every point (and thickness) multiplied by k, and,
+ * where width is given (one per strand), that width as every point's
+ * thickness. */
+static satf_status rebuild_strands(run *u, double k, const float *width,
+                                   satf_error *err) {
   const satf_strand_set *s = u->all;
   int n = satf_strand_set_count(s);
   size_t np = satf_strand_set_point_count(s);
   int *counts = malloc((size_t)n * sizeof(int));
   float *pts = malloc(3 * np * sizeof(float));
-  int thick = satf_strand_set_thickness(s, 0) != NULL;
+  int thick = width || satf_strand_set_thickness(s, 0) != NULL;
   float *th = thick ? malloc(np * sizeof(float)) : NULL;
   satf_status st = SATF_OK;
   if (!counts || !pts || (thick && !th))
@@ -148,19 +156,48 @@ static satf_status scale_strands(run *u, double k, satf_error *err) {
       for (int c = 0; c < 3; c++)
         pts[3 * at + c] = (float)(p[3 * j + c] * k);
       if (thick)
-        th[at] = (float)(t[j] * k);
+        th[at] = (float)((width ? width[i] : t[j]) * k);
     }
   }
-  satf_strand_set *scaled = NULL;
+  satf_strand_set *rebuilt = NULL;
   if (st == SATF_OK)
-    st = satf_strand_set_create(n, counts, pts, th, &scaled, err);
+    st = satf_strand_set_create(n, counts, pts, th, &rebuilt, err);
   if (st == SATF_OK) {
     satf_strand_set_destroy(u->all);
-    u->all = scaled;
+    u->all = rebuilt;
   }
   free(counts);
   free(pts);
   free(th);
+  return st;
+}
+
+/* Strands whose files give no thickness get one from the hairstyle's
+ * spacing (import_spacing.c), before clustering: the strand file, the
+ * reference, lone strands and the density then assume the same strands
+ * at every --quality. A sequence keeps its keyframes' own widths. */
+static satf_status spacing_thickness(run *u, satf_error *err) {
+  int n = satf_strand_set_count(u->all);
+  if (n == 0 || u->o->sequence || satf_strand_set_thickness(u->all, 0))
+    return SATF_OK;
+  float *w = malloc((size_t)n * sizeof *w);
+  if (!w)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  satf_status st = satf_import_spacing_widths(u->all, (int)u->o->threads, w,
+                                              err);
+  if (st == SATF_OK) {
+    float *sorted = malloc((size_t)n * sizeof *sorted);
+    if (sorted) {
+      memcpy(sorted, w, (size_t)n * sizeof *w);
+      qsort(sorted, (size_t)n, sizeof *sorted, cmp_float);
+      u->r->spacing_width[0] = sorted[n / 10];
+      u->r->spacing_width[1] = sorted[n / 2];
+      u->r->spacing_width[2] = sorted[(n - 1) - n / 10];
+      free(sorted);
+    }
+    st = rebuild_strands(u, 1.0, w, err);
+  }
+  free(w);
   return st;
 }
 
@@ -204,7 +241,7 @@ static satf_status fit_units(run *u, satf_error *err) {
                           o->inputs[0], more, span, far, IMPORT_MAX_COORD,
                           SATF_SCENE_MAX_COORD);
   u->r->scale = k;
-  return scale_strands(u, k, err);
+  return rebuild_strands(u, k, NULL, err);
 }
 
 static satf_status cluster(run *u, satf_error *err) {
@@ -267,11 +304,6 @@ static satf_status fit(run *u, satf_error *err) {
                           o->n_inputs > 1 ? " (and the other inputs)" : "",
                           why.message);
   return SATF_OK;
-}
-
-static int cmp_float(const void *a, const void *b) {
-  float x = *(const float *)a, y = *(const float *)b;
-  return (x > y) - (x < y);
 }
 
 /* The VDB voxel: a sixth of the median cluster radius, no finer than 1/512
@@ -579,7 +611,8 @@ static satf_status steps(run *u, satf_error *err) {
                                              u->database, err)) != SATF_OK) ||
       (u->o->mesh && (st = check_mesh(u, err)) != SATF_OK) ||
       (st = read_inputs(u, err)) != SATF_OK ||
-      (st = fit_units(u, err)) != SATF_OK)
+      (st = fit_units(u, err)) != SATF_OK ||
+      (st = spacing_thickness(u, err)) != SATF_OK)
     return st;
   r->t_read = satf_now_seconds() - u->t0;
   if (u->o->mesh)
@@ -589,10 +622,6 @@ static satf_status steps(run *u, satf_error *err) {
   r->t_cluster = satf_now_seconds() - u->t0;
   if ((st = fit(u, err)) != SATF_OK)
     return st;
-  /* a sequence's keyframes are fitted again, with their own radii */
-  if (!u->o->sequence)
-    satf_import_share_width(u->fits, r->n_clusters,
-                            satf_strand_set_thickness(u->all, 0) != NULL);
   r->t_fit = satf_now_seconds() - u->t0;
   if (u->o->fit_report &&
       (st = satf_import_write_fit_report(u->o->fit_report, u->fits,
@@ -666,6 +695,12 @@ void satf_import_print_summary(FILE *out, const char *prog,
           "  density          mean strand width %.3g cluster radii; %d of "
           "%d clusters \"gradient\", the rest \"uniform\"\n",
           r->width_sum / r->n_clusters, r->gradient, r->n_clusters);
+  if (r->spacing_width[1] > 0.0f)
+    fprintf(out,
+            "  strand width     %.3g (p10 %.3g, p90 %.3g): the files give "
+            "none, so twice the spacing of neighbouring strands\n",
+            (double)r->spacing_width[1], (double)r->spacing_width[0],
+            (double)r->spacing_width[2]);
   if (r->scale != 1.0)
     fprintf(out,
             "  scale            x%g (the hair's units were too %s for a "

@@ -180,6 +180,7 @@ static int fit_one(void *vctx, size_t c, int thread) {
     st = satf_import_project(j->strands, members, n, cl, &proj, err);
   if (st == SATF_OK) {
     satf_import_estimate_density(&proj, &j->fits[c]);
+    satf_import_width_from_thickness(j->strands, members, n, &j->fits[c]);
     satf_import_projection_free(&proj);
   }
   satf_cluster_destroy(cl);
