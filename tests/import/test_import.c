@@ -652,53 +652,100 @@ static void import_within_budget(void **state) {
   assert_null(f); /* nothing written */
 }
 
-/* A lone strand without a thickness takes the hairstyle's width: the
- * median strand_width x radius of the clusters of two or more strands;
- * its strand stays where it was (track x A and B unchanged). */
-static void lone_strand_shares_width(void **state) {
+/* A one-strand cluster narrower than its strand grows round it to the
+ * strand's width (A and B up, the track down by as much: the strand stays
+ * where it was); a cluster of several strands keeps its radius and takes
+ * their mean width over it. */
+static void lone_strand_grows_to_its_width(void **state) {
   (void)state;
-  enum { N = 4 };
-  float a[N][2] = {{1, 1}, {2, 2}, {4, 4}, {0.1f, 0.05f}};
-  float b[N][2] = {{1, 1}, {2, 2}, {4, 4}, {0.05f, 0.1f}};
+  const int counts[2] = {3, 3};
+  const float pts[18] = {0, 0, 0, 0, 0, 1, 0, 0, 2, 1, 0, 0, 1, 0, 1, 1, 0, 2};
+  const float th[6] = {0.8f, 0.8f, 0.8f, 0.2f, 0.2f, 0.2f};
+  satf_strand_set *s = NULL;
+  satf_error err;
+  assert_int_equal(satf_strand_set_create(2, counts, pts, th, &s, &err),
+                   SATF_OK);
+  float a[2] = {0.2f, 0.2f}, b[2] = {0.1f, 0.4f};
   float xy[4] = {0.5f, -0.25f, 0.2f, 0.4f}; /* 2 slices of one track */
+  float ends[6] = {0.0f, 0.5f, -0.25f, 1.0f, 0.2f, 0.4f};
   int first = 0, count = 2;
-  satf_import_fit f[N];
-  memset(f, 0, sizeof f);
-  const float widths[3] = {0.4f, 0.3f, 0.1f}; /* x radius: 0.4, 0.6, 0.4 */
-  for (int c = 0; c < N; c++) {
-    f[c].n_radius = 2;
-    f[c].a = a[c];
-    f[c].b = b[c];
-    f[c].radius =
-        sqrtf(0.5f * (a[c][0] + a[c][1]) * 0.5f * (b[c][0] + b[c][1]));
-    f[c].strands = c < 3 ? 5 : 1;
-    f[c].strand_width = c < 3 ? widths[c] : 0.5f;
-  }
-  f[3].n_tracks = 1;
-  f[3].track_slices = 2;
-  f[3].track_first = &first;
-  f[3].track_count = &count;
-  f[3].track_xy = xy;
-  /* with a thickness in the file nothing changes */
-  satf_import_share_width(f, N, 1);
-  assert_float_equal(f[3].strand_width, 0.5f, 0.0f);
-  assert_float_equal(a[3][0], 0.1f, 0.0f);
-  float before[4] = {xy[0] * a[3][0], xy[1] * b[3][0], xy[2] * a[3][1],
-                     xy[3] * b[3][1]};
-  float r0 = f[3].radius;
-  satf_import_share_width(f, N, 0);
-  /* the median of 0.4, 0.6, 0.4 is 0.4: the lone strand's radius 0.2 */
-  assert_float_equal(f[3].strand_width * f[3].radius, 0.4f, 1e-5f);
-  assert_float_equal(f[3].strand_width, 2.0f, 0.0f);
-  assert_float_equal(f[3].radius, 0.2f, 1e-5f);
-  assert_float_equal(a[3][0] / 0.1f, 0.2f / r0, 1e-4f);
-  float after[4] = {xy[0] * a[3][0], xy[1] * b[3][0], xy[2] * a[3][1],
-                    xy[3] * b[3][1]};
+  satf_import_fit f;
+  memset(&f, 0, sizeof f);
+  f.n_radius = 2;
+  f.a = a;
+  f.b = b;
+  f.radius = 0.2f;
+  f.strands = 1;
+  f.strand_width = 0.5f;
+  f.n_tracks = 1;
+  f.track_slices = 2;
+  f.track_first = &first;
+  f.track_count = &count;
+  f.track_xy = xy;
+  f.track_ends = ends;
+  float before[4] = {xy[0] * a[0], xy[1] * b[0], xy[2] * a[1], xy[3] * b[1]};
+  int lone = 0;
+  satf_import_width_from_thickness(s, &lone, 1, &f);
+  /* 0.8 wide against a radius of 0.2: the cluster grows by 2 */
+  assert_float_equal(f.radius, 0.4f, 1e-6f);
+  assert_float_equal(f.strand_width, 2.0f, 0.0f);
+  assert_float_equal(a[0], 0.4f, 1e-6f);
+  assert_float_equal(b[1], 0.8f, 1e-6f);
+  float after[4] = {xy[0] * a[0], xy[1] * b[0], xy[2] * a[1], xy[3] * b[1]};
   for (int i = 0; i < 4; i++)
     assert_float_equal(after[i], before[i], 1e-6f);
-  /* the clusters of several strands keep theirs */
-  assert_float_equal(f[1].strand_width, 0.3f, 0.0f);
-  assert_float_equal(a[1][0], 2.0f, 0.0f);
+  assert_float_equal(ends[0], 0.0f, 0.0f); /* t stays */
+  assert_float_equal(ends[1] * a[0], 0.5f * 0.2f, 1e-6f);
+  /* two strands (0.8 and 0.2 wide) in a cluster of radius 1: the mean */
+  satf_import_fit g;
+  memset(&g, 0, sizeof g);
+  float ga[1] = {1.0f}, gb[1] = {1.0f};
+  g.n_radius = 1;
+  g.a = ga;
+  g.b = gb;
+  g.radius = 1.0f;
+  g.strands = 2;
+  const int both[2] = {0, 1};
+  satf_import_width_from_thickness(s, both, 2, &g);
+  assert_float_equal(g.strand_width, 0.5f, 1e-6f);
+  assert_float_equal(g.radius, 1.0f, 0.0f);
+  assert_float_equal(ga[0], 1.0f, 0.0f);
+  satf_strand_set_destroy(s);
+}
+
+/* Strands without a thickness get twice the spacing of their neighbours:
+ * parallel strands 0.1 apart are 0.2 wide; two strands that nearly touch
+ * are held to a quarter of the median, and a strand with no neighbour
+ * within a segment length gets the median. */
+static void widths_from_spacing(void **state) {
+  (void)state;
+  enum { N = 7, M = 8 };
+  const float x[N] = {0.0f, 0.1f, 0.2f, 0.3f, 0.4f, 0.41f, 50.0f};
+  int counts[N];
+  float pts[3 * N * M];
+  for (int i = 0; i < N; i++) {
+    counts[i] = M;
+    for (int k = 0; k < M; k++) {
+      pts[3 * (M * i + k)] = x[i];
+      pts[3 * (M * i + k) + 1] = 0.0f;
+      pts[3 * (M * i + k) + 2] = (float)k;
+    }
+  }
+  satf_strand_set *s = NULL;
+  satf_error err;
+  assert_int_equal(satf_strand_set_create(N, counts, pts, NULL, &s, &err),
+                   SATF_OK);
+  for (int threads = 1; threads <= 2; threads++) {
+    float w[N];
+    assert_int_equal(satf_import_spacing_widths(s, threads, w, &err), SATF_OK);
+    for (int i = 0; i < 4; i++)
+      assert_float_equal(w[i], 0.2f, 1e-5f);
+    /* 0.01 apart: 0.02, held to a quarter of the median 0.2 */
+    assert_float_equal(w[4], 0.05f, 1e-5f);
+    assert_float_equal(w[5], 0.05f, 1e-5f);
+    assert_float_equal(w[6], 0.2f, 1e-5f); /* alone: the median */
+  }
+  satf_strand_set_destroy(s);
 }
 
 int main(void) {
@@ -712,7 +759,8 @@ int main(void) {
       cmocka_unit_test(macro_clusters_from_copies),
       cmocka_unit_test(kmeans_chooses_count),
       cmocka_unit_test(scene_file_with_vdb),
-      cmocka_unit_test(lone_strand_shares_width),
+      cmocka_unit_test(lone_strand_grows_to_its_width),
+      cmocka_unit_test(widths_from_spacing),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
