@@ -569,6 +569,9 @@ typedef struct satf_import_scene_options {
   int width, height;       /* image size, 0 = 640 x 480 */
   uint64_t seed;           /* procedural placement seeds start here */
   const char *mesh_file;   /* an opaque head mesh to list, or NULL */
+  /* the box the camera frames (the strands' bounds, so that the view does
+   * not change with the clustering or --quality), or NULL: the clusters' */
+  const float *frame_lo, *frame_hi;
 } satf_import_scene_options;
 
 /* Shell sampling chosen for a fitted cluster: 3..6 layers (more for more

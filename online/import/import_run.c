@@ -183,8 +183,8 @@ static satf_status spacing_thickness(run *u, satf_error *err) {
   float *w = malloc((size_t)n * sizeof *w);
   if (!w)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  satf_status st = satf_import_spacing_widths(u->all, (int)u->o->threads, w,
-                                              err);
+  satf_status st =
+      satf_import_spacing_widths(u->all, (int)u->o->threads, w, err);
   if (st == SATF_OK) {
     float *sorted = malloc((size_t)n * sizeof *sorted);
     if (sorted) {
@@ -393,9 +393,23 @@ static satf_status build_scene(run *u, satf_scene **scene, satf_error *err) {
            o->inputs[0], o->n_inputs > 1 ? " and more" : "", u->r->n_strands,
            u->r->n_clusters, u->macro.n_macro);
   /* The grid's published name is known once it is written (publish). */
+  /* the camera frames the strands, grown by their widest half-width */
+  float lo[3], hi[3], grow = 0.0f;
+  satf_strand_set_bounds(u->all, lo, hi);
+  for (int i = 0; satf_strand_set_thickness(u->all, 0) &&
+                  i < satf_strand_set_count(u->all);
+       i++) {
+    const float *th = satf_strand_set_thickness(u->all, i);
+    for (int k = 0; k < satf_strand_set_points(u->all, i); k++)
+      grow = fmaxf(grow, 0.5f * th[k]);
+  }
+  for (int c = 0; c < 3; c++) {
+    lo[c] -= grow;
+    hi[c] += grow;
+  }
   satf_import_scene_options so = {
       o->vdb, "density", o->database ? u->database : NULL, desc, 0,
-      0,      o->seed,   o->mesh ? u->mesh_path : NULL};
+      0,      o->seed,   o->mesh ? u->mesh_path : NULL,    lo,   hi};
   satf_status st = satf_import_scene_build(u->fits, u->r->n_clusters, &u->macro,
                                            &so, o->output, scene, err);
   if (st == SATF_OK)

@@ -177,9 +177,16 @@ static void fits_bounds(const satf_import_fit *fits, int n, double lo[3],
 }
 
 static void frame_camera(const satf_import_fit *fits, int n,
+                         const satf_import_scene_options *o,
                          satf_scene_camera *cam) {
   double lo[3], hi[3];
-  fits_bounds(fits, n, lo, hi);
+  if (o && o->frame_lo && o->frame_hi)
+    for (int c = 0; c < 3; c++) {
+      lo[c] = o->frame_lo[c];
+      hi[c] = o->frame_hi[c];
+    }
+  else
+    fits_bounds(fits, n, lo, hi);
   /* the box's diagonal sphere wastes most of the frame on hair that is
    * long and thin; its largest half-extent with a margin frames it */
   double c[3], r = 0.0;
@@ -219,7 +226,7 @@ static satf_status fill_view(satf_scene *scene, const satf_import_fit *fits,
                              const char *base_dir, satf_error *err) {
   scene->image.width = o && o->width ? o->width : 640;
   scene->image.height = o && o->height ? o->height : 480;
-  frame_camera(fits, n, &scene->camera);
+  frame_camera(fits, n, o, &scene->camera);
   satf_scene_light *lights = calloc(2, sizeof *lights);
   if (!lights)
     return satf_error_set(err, SATF_ERR_NOMEM, "scene: out of memory");

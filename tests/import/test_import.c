@@ -538,8 +538,8 @@ static void scene_file_with_vdb(void **state) {
   assert_true(sh.layers >= 3 && sh.layers <= 6);
   assert_true(sh.st >= 8 && sh.st <= 64);
   assert_true(sh.su >= 16 && sh.su <= 32);
-  satf_import_scene_options o = {"hair.vdb", "density", "db.exr", "test",
-                                 320,        200,       7,        NULL};
+  satf_import_scene_options o = {"hair.vdb", "density", "db.exr", "test", 320,
+                                 200,        7,         NULL,     NULL,   NULL};
   char path[512];
   test_path(path, sizeof path, "import_scene.json");
   assert_int_equal(satf_import_write_scene(path, &fit, 1, NULL, &o, &err),
@@ -560,6 +560,27 @@ static void scene_file_with_vdb(void **state) {
   satf_scene_bounds(scene, lo, hi);
   for (int k = 0; k < 3; k++)
     assert_float_equal(scene->camera.target[k], 0.5f * (lo[k] + hi[k]), 1e-3);
+  satf_scene_destroy(scene);
+  /* given a box (the strands' bounds: satf_import_run), the camera frames
+   * it whatever the clusters, from the same direction and farther for a
+   * larger box */
+  float box_lo[3] = {-1.0f, 2.0f, 3.0f}, box_hi[3] = {1.0f, 6.0f, 5.0f};
+  o.frame_lo = box_lo;
+  o.frame_hi = box_hi;
+  assert_int_equal(satf_import_write_scene(path, &fit, 1, NULL, &o, &err),
+                   SATF_OK);
+  assert_int_equal(satf_scene_load(path, &scene, &err), SATF_OK);
+  const float mid[3] = {0.0f, 4.0f, 4.0f};
+  for (int k = 0; k < 3; k++)
+    assert_float_equal(scene->camera.target[k], mid[k], 1e-5);
+  float far0 = scene->camera.position[2] - mid[2];
+  satf_scene_destroy(scene);
+  box_hi[1] = 10.0f; /* twice the largest half-extent */
+  assert_int_equal(satf_import_write_scene(path, &fit, 1, NULL, &o, &err),
+                   SATF_OK);
+  assert_int_equal(satf_scene_load(path, &scene, &err), SATF_OK);
+  assert_float_equal(scene->camera.position[2] - scene->camera.target[2],
+                     2.0f * far0, 1e-3);
   satf_scene_destroy(scene);
   satf_import_fit_free(&fit);
   free(members);
