@@ -686,6 +686,10 @@ typedef struct satf_import_options {
   double voxel;           /* VDB voxel size; 0: from the clusters */
   double follow_radius;   /* < 0: the guides' mean root spacing */
   double tip_separation;
+  /* > 0: the width (a diameter, in the input's units) of every strand whose
+   * file gives none; 0: twice the spacing of neighbouring strands
+   * (satf_import_spacing_widths) */
+  double strand_width;
   double macro_tol; /* 0: no macro-clusters */
   uint64_t seed;
   int quiet; /* no progress bars */
@@ -763,9 +767,11 @@ typedef struct satf_import_result {
   /* what the strands were multiplied by to fit the scene limits (1: not
    * rescaled; satf_import_run) */
   double scale;
-  /* strands without thickness: the width from their spacing, p10 / p50 /
-   * p90 over the strands (0 when the files give a thickness) */
+  /* strands without thickness: the width given them (from their spacing,
+   * or --strand-width), p10 / p50 / p90 over the strands (0 when the files
+   * give a thickness) */
   float spacing_width[3];
+  int strand_width_given; /* 1: they are --strand-width's */
   /* 1 when --mesh was given and no strand root lies in or near the
    * transformed mesh's bounds (the head is probably misplaced) */
   int mesh_apart;

@@ -183,8 +183,13 @@ static satf_status spacing_thickness(run *u, satf_error *err) {
   float *w = malloc((size_t)n * sizeof *w);
   if (!w)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  satf_status st =
-      satf_import_spacing_widths(u->all, (int)u->o->threads, w, err);
+  satf_status st = SATF_OK;
+  u->r->strand_width_given = u->o->strand_width > 0.0;
+  if (u->o->strand_width > 0.0) /* the user's, in the input's units */
+    for (int i = 0; i < n; i++)
+      w[i] = (float)(u->o->strand_width * u->r->scale);
+  else
+    st = satf_import_spacing_widths(u->all, (int)u->o->threads, w, err);
   if (st == SATF_OK) {
     float *sorted = malloc((size_t)n * sizeof *sorted);
     if (sorted) {
@@ -712,9 +717,12 @@ void satf_import_print_summary(FILE *out, const char *prog,
   if (r->spacing_width[1] > 0.0f)
     fprintf(out,
             "  strand width     %.3g (p10 %.3g, p90 %.3g): the files give "
-            "none, so twice the spacing of neighbouring strands\n",
+            "none, so %s\n",
             (double)r->spacing_width[1], (double)r->spacing_width[0],
-            (double)r->spacing_width[2]);
+            (double)r->spacing_width[2],
+            r->strand_width_given ? "--strand-width's"
+                                  : "twice the spacing of neighbouring "
+                                    "strands (--strand-width sets one)");
   if (r->scale != 1.0)
     fprintf(out,
             "  scale            x%g (the hair's units were too %s for a "

@@ -60,6 +60,10 @@ static void usage(FILE *out) {
       "  --tip-separation F     followers spread (1 + F) times wider at "
       "the tip\n"
       "                         (default 0.5)\n"
+      "  --strand-width W       the width of strands whose files give none\n"
+      "                         (TressFX, PLY, .data), in the input's units\n"
+      "                         (default: twice the spacing of neighbouring\n"
+      "                         strands)\n"
       "  --control N            trajectory control points (default 8)\n"
       "  --macro-tol T          macro-cluster shape tolerance, relative "
       "to the\n"
@@ -268,6 +272,8 @@ static int value_option(satf_cli_args *it, satf_import_options *o) {
     return satf_cli_value_double(it, 0.0, 1e6, &o->follow_radius) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--tip-separation"))
     return satf_cli_value_double(it, 0.0, 100.0, &o->tip_separation) ? 2 : 0;
+  if (satf_cli_is(it, NULL, "--strand-width"))
+    return satf_cli_value_double(it, 1e-9, 1e6, &o->strand_width) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--macro-tol"))
     return satf_cli_value_double(it, 0.0, 1.0, &o->macro_tol) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--memory-budget")) {
