@@ -9,10 +9,9 @@
 # PNGs into OUT_DIR (the README's gallery). Also the strand reference
 # (`satf-render --strands`, the same fibre shading on the source strands)
 # and a lighter brown (melanin 0.2) front-lit. The strand reference is
-# drawn at Cycles' one strand width (twice its radius): the strands file
-# holds per-strand widths from the cluster fits (0.14 to 1.95 on the
-# ponytail), and against hair of another width SSIM measures the widths,
-# not the shading (front-lit 0.73 at the file's widths, 0.83 at Cycles').
+# drawn at Cycles' one strand width (twice its radius), as the clusters
+# are (the import's --strand-width): against hair of another width SSIM
+# measures the widths, not the shading.
 # SAMPLES is satf's anti-aliasing (--samples; Cycles filters every pixel
 # over its SPP samples): 8 adds 0.02 to the strand reference's SSIM and
 # 0.01 to the clusters'. Cycles takes minutes a
@@ -45,8 +44,14 @@ mkdir -p "$out"
 material=(--redness 0 --roughness 0.3 --radial-roughness 0.3)
 [ -n "$refs" ] && mkdir -p "$refs"
 refs=${refs:-$work}
+# TressFX gives no thickness: satf-import gives each strand twice its
+# neighbours' spacing (p10-p90 0.34-1.18 on the ponytail), Cycles draws one
+# radius; the scene takes their median for every strand (--strand-width), so
+# both renderers draw the same strands
+width=$("$bin/satf-import" "$data"/ponytail_*.tfx -o "$work/probe.json" \
+  --no-strands 2>/dev/null | sed -n 's/^  strand width *\([0-9.e+-]*\) .*/\1/p')
 "$bin/satf-import" "$data"/ponytail_*.tfx -o "$work/pony.json" -q \
-  --shading physical --melanin 0.6 "${material[@]}"
+  --shading physical --melanin 0.6 "${material[@]}" --strand-width "$width"
 # black background (the EXRs are premultiplied over black anyway), and a
 # back-lit copy with one light travelling from behind the hair to the camera;
 # the strands' median width for Cycles' radius
