@@ -190,7 +190,19 @@ const char *satf_strands_format_name(satf_strands_format f);
  * transforms), satf_import_density (a cluster's density grid) and the scene
  * writer's options. Every struct with pointers is freed by its *_free. */
 
-#define SATF_IMPORT_MAX_CLUSTERS 4096
+#define SATF_IMPORT_MAX_CLUSTERS 8192
+
+/* The widest strand (a mean diameter, in units of the cluster radius
+ * sqrt(mean A x mean B)) a cluster's shells can show: twice the widest
+ * strand of the database's generalized sectors (offline/sector.c: Gaussians
+ * of sigma up to 0.02 of the envelope radius, the mass of a disc 0.04
+ * across). A cluster of wider strands is a few strands side by side that no
+ * record holds (the shared ponytail's guides, 0.12-0.31 radii across, drew
+ * as smooth scales: SSIM 0.59 against its strands); the adaptive clustering
+ * splits it into single strands, which the renderer draws as themselves
+ * (issue 10 item 4). Dense hair stays in volumes (a generated curtain of
+ * 4,000 strands: 0.04-0.06). */
+#define SATF_IMPORT_SHELL_STRAND_WIDTH 0.08
 
 /* Called now and then from the calling thread; may be NULL. */
 typedef void (*satf_import_progress_fn)(void *ctx, size_t done, size_t total);

@@ -213,10 +213,11 @@ typedef struct refine {
   int k, cap;           /* clusters, room in the arrays */
   int *labels;
   satf_import_fit *fits;
-  int *ctrl;       /* each cluster's trajectory control points */
-  int *state;      /* STALE, FITTED, FINAL */
-  float *score;    /* satf_import_fit_score of a fitted cluster */
-  int *ctrl_tried; /* more control points did not help */
+  int *ctrl;               /* each cluster's trajectory control points */
+  int *state;              /* STALE, FITTED, FINAL */
+  float *score;            /* satf_import_fit_score of a fitted cluster */
+  int *ctrl_tried;         /* more control points did not help */
+  unsigned char *too_wide; /* strands_too_wide of a fitted cluster */
   groups g;
   satf_error *errs;
   /* per round */
@@ -238,7 +239,38 @@ enum { STALE = 0, FITTED, FINAL };
  * strands zigzag (measured on Bangs_100: 39 of its 100 strands). */
 static int sparse_group(const refine *r, int c) {
   int n = r->g.off[c + 1] - r->g.off[c];
-  return n >= 2 && n <= SATF_SCENE_SPARSE_STRANDS;
+  return n >= 2 && (n <= SATF_SCENE_SPARSE_STRANDS || r->too_wide[c]);
+}
+
+/* Whether cluster c's strands are too wide for its shells
+ * (SATF_IMPORT_SHELL_STRAND_WIDTH): their mean thickness over the fitted
+ * radius sqrt(mean A x mean B). Tufts of short strands (their mean length
+ * at most half the trajectory's: fur) are left whole, since the renderer
+ * draws them as their strands from each root to its tip. */
+static int strands_too_wide(const refine *r, int c) {
+  const satf_import_fit *f = &r->fits[c];
+  const int *m = r->g.idx + r->g.off[c];
+  int n = r->g.off[c + 1] - r->g.off[c];
+  if (n < 2 || !satf_strand_set_thickness(r->s, 0) || f->n_radius < 1)
+    return 0;
+  double a = 0.0, b = 0.0, th = 0.0, len = 0.0;
+  size_t points = 0;
+  for (int j = 0; j < f->n_radius; j++) {
+    a += f->a[j];
+    b += f->b[j];
+  }
+  double radius = sqrt(a / f->n_radius * (b / f->n_radius));
+  for (int i = 0; i < n; i++) {
+    const float *t = satf_strand_set_thickness(r->s, m[i]);
+    int k = satf_strand_set_points(r->s, m[i]);
+    for (int j = 0; j < k; j++)
+      th += t[j];
+    points += (size_t)k;
+    len += satf_strand_set_length(r->s, m[i]);
+  }
+  if (!(radius > 0.0) || points == 0 || len <= 0.5 * n * (double)f->length)
+    return 0;
+  return th / (double)points > SATF_IMPORT_SHELL_STRAND_WIDTH * radius;
 }
 
 /* Fits cluster batch[i] with its own control point count. */
@@ -259,6 +291,7 @@ static int fit_job(void *vctx, size_t i, int thread) {
   if (satf_import_fit_cluster(r->s, m, n, &fp, &r->fits[c], &r->errs[c]))
     return 1;
   r->score[c] = satf_import_fit_score(&r->fits[c], r->rp);
+  r->too_wide[c] = (unsigned char)strands_too_wide(r, c);
   return 0;
 }
 
@@ -424,6 +457,7 @@ static void refine_free(refine *r) {
   free(r->state);
   free(r->score);
   free(r->ctrl_tried);
+  free(r->too_wide);
   free(r->errs);
   free(r->batch);
   free(r->sides);
@@ -487,13 +521,15 @@ satf_status satf_import_refine(const satf_strand_set *s,
   r.state = calloc(cap, sizeof(int));
   r.score = calloc(cap, sizeof(float));
   r.ctrl_tried = calloc(cap, sizeof(int));
+  r.too_wide = calloc(cap, 1);
   r.errs = calloc(cap, sizeof *r.errs);
   r.batch = malloc(cap * sizeof(int));
   r.sides = malloc((size_t)n * sizeof(int));
   r.split_ones = malloc(cap * sizeof(int));
   r.split_want = malloc(cap * sizeof(int));
-  if (!r.fits || !r.ctrl || !r.state || !r.score || !r.ctrl_tried || !r.errs ||
-      !r.batch || !r.sides || !r.split_ones || !r.split_want) {
+  if (!r.fits || !r.ctrl || !r.state || !r.score || !r.ctrl_tried ||
+      !r.too_wide || !r.errs || !r.batch || !r.sides || !r.split_ones ||
+      !r.split_want) {
     free(r.fits);
     refine_free(&r);
     return satf_error_set(err, SATF_ERR_NOMEM, "clustering: out of memory");

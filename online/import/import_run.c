@@ -149,6 +149,14 @@ static satf_status rebuild_strands(run *u, double k, const float *width,
   satf_status st = SATF_OK;
   if (!counts || !pts || (thick && !th))
     st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  /* no strand wider than the hair: a cyHair file in tiny units keeps its
+   * header's default thickness of 1, which x1e40 would overflow */
+  float lo[3], hi[3];
+  satf_strand_set_bounds(s, lo, hi);
+  double widest = 0.0;
+  for (int c = 0; c < 3; c++)
+    widest += ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
+  widest = sqrt(widest) * k;
   for (int i = 0, at = 0; i < n && st == SATF_OK; i++) {
     const float *p = satf_strand_set_strand(s, i, &counts[i]);
     const float *t = satf_strand_set_thickness(s, i);
@@ -156,7 +164,7 @@ static satf_status rebuild_strands(run *u, double k, const float *width,
       for (int c = 0; c < 3; c++)
         pts[3 * at + c] = (float)(p[3 * j + c] * k);
       if (thick)
-        th[at] = (float)((width ? width[i] : t[j]) * k);
+        th[at] = (float)fmin((width ? width[i] : t[j]) * k, widest);
     }
   }
   satf_strand_set *rebuilt = NULL;

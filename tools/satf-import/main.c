@@ -273,7 +273,7 @@ static int value_option(satf_cli_args *it, satf_import_options *o) {
   if (satf_cli_is(it, NULL, "--tip-separation"))
     return satf_cli_value_double(it, 0.0, 100.0, &o->tip_separation) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--strand-width"))
-    return satf_cli_value_double(it, 1e-9, 1e6, &o->strand_width) ? 2 : 0;
+    return satf_cli_value_double(it, 1e-30, 1e30, &o->strand_width) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--macro-tol"))
     return satf_cli_value_double(it, 0.0, 1.0, &o->macro_tol) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--memory-budget")) {
