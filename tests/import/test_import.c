@@ -652,53 +652,56 @@ static void import_within_budget(void **state) {
   assert_null(f); /* nothing written */
 }
 
-/* A lone strand without a thickness takes the hairstyle's width: the
- * median strand_width x radius of the clusters of two or more strands;
- * its strand stays where it was (track x A and B unchanged). */
-static void lone_strand_shares_width(void **state) {
+/* A lone strand whose cluster is narrower than its thickness: the
+ * cluster grows round it (A and B up, its track down by as much), so the
+ * strand stays where it was and is drawn at its own width. */
+static void lone_strand_grows_round(void **state) {
   (void)state;
-  enum { N = 4 };
-  float a[N][2] = {{1, 1}, {2, 2}, {4, 4}, {0.1f, 0.05f}};
-  float b[N][2] = {{1, 1}, {2, 2}, {4, 4}, {0.05f, 0.1f}};
+  float a[2] = {0.1f, 0.05f}, b[2] = {0.05f, 0.1f};
   float xy[4] = {0.5f, -0.25f, 0.2f, 0.4f}; /* 2 slices of one track */
   int first = 0, count = 2;
-  satf_import_fit f[N];
-  memset(f, 0, sizeof f);
-  const float widths[3] = {0.4f, 0.3f, 0.1f}; /* x radius: 0.4, 0.6, 0.4 */
-  for (int c = 0; c < N; c++) {
-    f[c].n_radius = 2;
-    f[c].a = a[c];
-    f[c].b = b[c];
-    f[c].radius =
-        sqrtf(0.5f * (a[c][0] + a[c][1]) * 0.5f * (b[c][0] + b[c][1]));
-    f[c].strands = c < 3 ? 5 : 1;
-    f[c].strand_width = c < 3 ? widths[c] : 0.5f;
-  }
-  f[3].n_tracks = 1;
-  f[3].track_slices = 2;
-  f[3].track_first = &first;
-  f[3].track_count = &count;
-  f[3].track_xy = xy;
-  /* with a thickness in the file nothing changes */
-  satf_import_share_width(f, N, 1);
-  assert_float_equal(f[3].strand_width, 0.5f, 0.0f);
-  assert_float_equal(a[3][0], 0.1f, 0.0f);
-  float before[4] = {xy[0] * a[3][0], xy[1] * b[3][0], xy[2] * a[3][1],
-                     xy[3] * b[3][1]};
-  float r0 = f[3].radius;
-  satf_import_share_width(f, N, 0);
-  /* the median of 0.4, 0.6, 0.4 is 0.4: the lone strand's radius 0.2 */
-  assert_float_equal(f[3].strand_width * f[3].radius, 0.4f, 1e-5f);
-  assert_float_equal(f[3].strand_width, 2.0f, 0.0f);
-  assert_float_equal(f[3].radius, 0.2f, 1e-5f);
-  assert_float_equal(a[3][0] / 0.1f, 0.2f / r0, 1e-4f);
-  float after[4] = {xy[0] * a[3][0], xy[1] * b[3][0], xy[2] * a[3][1],
-                    xy[3] * b[3][1]};
+  satf_import_fit f;
+  memset(&f, 0, sizeof f);
+  f.n_radius = 2;
+  f.a = a;
+  f.b = b;
+  f.radius = sqrtf(0.075f * 0.075f);
+  f.strands = 1;
+  f.strand_width = 0.5f;
+  f.n_tracks = 1;
+  f.track_slices = 2;
+  f.track_first = &first;
+  f.track_count = &count;
+  f.track_xy = xy;
+  int counts[1] = {2}, member = 0;
+  float pts[6] = {0, 0, 0, 0, 0, 1}, th[2] = {0.4f, 0.4f};
+  satf_strand_set *s = NULL;
+  satf_error err;
+  assert_int_equal(satf_strand_set_create(1, counts, pts, th, &s, &err),
+                   SATF_OK);
+  float before[4] = {xy[0] * a[0], xy[1] * b[0], xy[2] * a[1], xy[3] * b[1]};
+  satf_import_width_from_thickness(s, &member, 1, &f);
+  /* drawn at its own width 0.4: radius 0.2, strand_width 2 */
+  assert_float_equal(f.strand_width * f.radius, 0.4f, 1e-5f);
+  assert_float_equal(f.strand_width, 2.0f, 0.0f);
+  assert_float_equal(f.radius, 0.2f, 1e-5f);
+  float after[4] = {xy[0] * a[0], xy[1] * b[0], xy[2] * a[1], xy[3] * b[1]};
   for (int i = 0; i < 4; i++)
     assert_float_equal(after[i], before[i], 1e-6f);
-  /* the clusters of several strands keep theirs */
-  assert_float_equal(f[1].strand_width, 0.3f, 0.0f);
-  assert_float_equal(a[1][0], 2.0f, 0.0f);
+  /* a cluster of several strands keeps its size: width over radius */
+  float a2[2] = {1, 1}, b2[2] = {1, 1};
+  satf_import_fit g;
+  memset(&g, 0, sizeof g);
+  g.n_radius = 2;
+  g.a = a2;
+  g.b = b2;
+  g.radius = 1.0f;
+  g.strands = 2;
+  int two[2] = {0, 0};
+  satf_import_width_from_thickness(s, two, 2, &g);
+  assert_float_equal(g.strand_width, 0.4f, 1e-6f);
+  assert_float_equal(a2[0], 1.0f, 0.0f);
+  satf_strand_set_destroy(s);
 }
 
 int main(void) {
@@ -712,7 +715,7 @@ int main(void) {
       cmocka_unit_test(macro_clusters_from_copies),
       cmocka_unit_test(kmeans_chooses_count),
       cmocka_unit_test(scene_file_with_vdb),
-      cmocka_unit_test(lone_strand_shares_width),
+      cmocka_unit_test(lone_strand_grows_round),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
