@@ -889,15 +889,48 @@ static int cmp_dist(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
+/* The generated ponytail with each strand its own thickness, 0.02 to 0.1
+ * (as satf-import gives strands their spacing's width). */
+static satf_strand_set *thick_ponytail(int n) {
+  satf_strand_set *p = ponytail(n);
+  size_t np = satf_strand_set_point_count(p);
+  int *counts = malloc((size_t)n * sizeof(int));
+  float *pts = malloc(3 * np * sizeof(float)), *th = malloc(np * sizeof(float));
+  assert_true(counts && pts && th);
+  size_t at = 0;
+  for (int i = 0; i < n; i++) {
+    const float *q = satf_strand_set_strand(p, i, &counts[i]);
+    memcpy(pts + 3 * at, q, 3 * (size_t)counts[i] * sizeof(float));
+    for (int k = 0; k < counts[i]; k++)
+      th[at + (size_t)k] = 0.02f + 0.08f * (float)((i * 37) % 101) / 100.0f;
+    at += (size_t)counts[i];
+  }
+  satf_strand_set *s = NULL;
+  satf_error err;
+  assert_int_equal(satf_strand_set_create(n, counts, pts, th, &s, &err),
+                   SATF_OK);
+  satf_strand_set_destroy(p);
+  free(counts);
+  free(pts);
+  free(th);
+  return s;
+}
+
 static void test_tracks_rebuild_members(void **state) {
   (void)state;
+  /* A cluster drawn as its strands (online/render/sparse.c) should show
+   * the strands themselves: each rebuilt track within a fraction of a
+   * strand width of its member, and as wide as it. All members were drawn
+   * at the cluster's mean width, 0.6x to 1.7x their own on the ponytail
+   * (p10, p90); the tracks now carry each one's (track_width).
+   * SATF_TRACKS_HAIR=FILE.hair measures another hairstyle. */
   const char *path = getenv("SATF_TRACKS_HAIR");
   satf_strand_set *s = NULL;
   satf_error err;
   if (path)
     assert_int_equal(satf_hair_read(path, &s, &err), SATF_OK);
   else
-    s = ponytail(2000);
+    s = thick_ponytail(2000);
   outcome o;
   refine(s, SATF_IMPORT_QUALITY_DEFAULT, &o);
   size_t cap = satf_strand_set_point_count(s) * 4 + 1024;
@@ -905,9 +938,42 @@ static void test_tracks_rebuild_members(void **state) {
   assert_non_null(d);
   size_t nd = rebuilt_distances(s, &o, d, cap);
   qsort(d, nd, sizeof(float), cmp_dist);
+  /* widths: the drawn diameter (track_width x radius) against the
+   * member's mean thickness */
+  int tracks = 0, off = 0;
+  for (int c = 0; c < o.n; c++) {
+    const satf_import_fit *f = &o.fits[c];
+    if (f->n_tracks < 2)
+      continue;
+    int *members, n;
+    assert_int_equal(satf_import_members(o.labels, satf_strand_set_count(s), c,
+                                         &members, &n, &err),
+                     SATF_OK);
+    for (int k = 0; k < f->n_tracks; k++) {
+      int i = members[f->track_member[k]], m = satf_strand_set_points(s, i);
+      const float *th = satf_strand_set_thickness(s, i);
+      double own = 0.0;
+      for (int j = 0; j < m; j++)
+        own += th[j];
+      own /= m;
+      float drawn =
+          (f->track_width ? f->track_width[k] : f->strand_width) * f->radius;
+      tracks++;
+      off += fabs(drawn / own - 1.0) > 0.01;
+    }
+    free(members);
+  }
   printf("tracks: %zu distances, p50 %.4f p90 %.4f p99 %.4f max %.4f strand "
-         "widths\n",
-         nd, d[nd / 2], d[nd * 9 / 10], d[nd * 99 / 100], d[nd - 1]);
+         "widths; %d of %d tracks drawn over 1%% off their strand's width\n",
+         nd, d[nd / 2], d[nd * 9 / 10], d[nd * 99 / 100], d[nd - 1], off,
+         tracks);
+  assert_true(tracks > 100);
+  assert_int_equal(off, 0);
+  /* positions: the tail (p99 0.4, max 64 here) is the strands' points
+   * beyond the trajectory's ends, which project onto its end sections
+   * (satf_import_project_point clamps t to 0..1); not fixed yet */
+  if (!path)
+    assert_true(d[nd * 9 / 10] < 0.15f);
   free(d);
   outcome_free(&o);
   satf_strand_set_destroy(s);
