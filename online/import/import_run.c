@@ -183,8 +183,8 @@ static satf_status spacing_thickness(run *u, satf_error *err) {
   float *w = malloc((size_t)n * sizeof *w);
   if (!w)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  satf_status st = satf_import_spacing_widths(u->all, (int)u->o->threads, w,
-                                              err);
+  satf_status st =
+      satf_import_spacing_widths(u->all, (int)u->o->threads, w, err);
   if (st == SATF_OK) {
     float *sorted = malloc((size_t)n * sizeof *sorted);
     if (sorted) {

@@ -25,14 +25,14 @@ typedef struct {
 
 typedef struct {
   const satf_strand_set *s;
-  const int *owner;      /* strand of each segment */
-  const float *a;        /* segment start, 3 floats */
-  const float *b;        /* segment end */
+  const int *owner; /* strand of each segment */
+  const float *a;   /* segment start, 3 floats */
+  const float *b;   /* segment end */
   const cell_entry *cells;
   size_t n_cells;
   float lo[3], cell;
-  float *spacing;        /* per strand: median distance to another strand */
-  float **scratch;       /* per thread, room for the longest strand */
+  float *spacing;  /* per strand: median distance to another strand */
+  float **scratch; /* per thread, room for the longest strand */
 } grid;
 
 #define AXIS_BITS 21
@@ -118,8 +118,8 @@ static float nearest_other(const grid *g, const float p[3], int strand) {
           int sg = g->cells[i].segment;
           if (g->owner[sg] == strand)
             continue;
-          float d2 = segment_dist2(p, g->a + 3 * (size_t)sg,
-                                   g->b + 3 * (size_t)sg);
+          float d2 =
+              segment_dist2(p, g->a + 3 * (size_t)sg, g->b + 3 * (size_t)sg);
           if (d2 < best)
             best = d2;
         }
@@ -212,8 +212,7 @@ satf_status satf_import_spacing_widths(const satf_strand_set *s, int threads,
   for (int t = 0; scratch && t < nt; t++)
     if (!(scratch[t] = malloc((size_t)longest * sizeof(float))))
       st = SATF_ERR_NOMEM;
-  if (!owner || !a || !b || !len || !scratch || !spacing ||
-      st != SATF_OK) {
+  if (!owner || !a || !b || !len || !scratch || !spacing || st != SATF_OK) {
     st = satf_error_set(err, SATF_ERR_NOMEM,
                         "strand spacing: out of memory for %d strands", n);
     goto done;
