@@ -308,6 +308,12 @@ typedef struct satf_import_fit {
   int track_slices, n_tracks;
   int *track_first, *track_count;
   float *track_xy, *track_ends;
+  /* which member (an index into the members fitted) each track follows;
+   * and, filled by satf_import_width_from_thickness where a cluster has
+   * two or more tracks, each one's strand width in cluster radii (NULL:
+   * all at strand_width) */
+  int *track_member;
+  float *track_width;
 } satf_import_fit;
 
 /* Fits the cluster of the strands `members`: the trajectory is the
@@ -486,7 +492,8 @@ satf_status satf_import_spacing_widths(const satf_strand_set *s, int threads,
                                        float *width, satf_error *err);
 
 /* When the strands carry a thickness: fit->strand_width becomes the
- * members' mean diameter over the cluster radius (0.005..2), so the
+ * members' mean diameter over the cluster radius (0.005..2), and with two
+ * or more tracks each track's own (track_width), so the
  * density is that of the file's strands as they are drawn, not of strands
  * widened to fill the cluster. A one-strand cluster narrower than its
  * strand grows round it instead (A and B up, its tracks down by as much:

@@ -129,11 +129,16 @@ typedef struct satf_scene_density {
    * tracks' first and last slices are the strands' ends) holds 6 per
    * track, (t, x, y) of its strand's two ends, the lower t first: a strand
    * starts and stops between slices, and drawn as a strand (the renderer's
-   * sparse clusters) it reaches its true root and tip. */
+   * sparse clusters) it reaches its true root and tip. track_width (NULL
+   * when absent: every strand is strand_width wide) holds one per track,
+   * its strand's own diameter in units of the cluster radius, as
+   * strand_width; the renderer draws the strands of a sparse cluster at
+   * these widths (strand_width stays their mean, what the density uses). */
   int track_slices, n_tracks;
   int *track_first, *track_count;
   float *track_xy;
   float *track_ends;
+  float *track_width;
 } satf_scene_density;
 
 /* One generalized-disk cluster (SATF eq. 1-2): an ellipse with half-axes

@@ -32,6 +32,8 @@ void satf_import_fit_free(satf_import_fit *fit) {
     free(fit->track_first);
     free(fit->track_count);
     free(fit->track_xy);
+    free(fit->track_member);
+    free(fit->track_width);
     free(fit->track_ends);
     memset(fit, 0, sizeof *fit);
   }

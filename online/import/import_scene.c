@@ -145,6 +145,8 @@ static void fill_cluster(const satf_import_fit *f,
     if (f->track_ends)
       d->track_ends = copy_bytes(
           f->track_ends, 6 * (size_t)f->n_tracks * sizeof(float), failed);
+    if (f->track_width)
+      d->track_width = rounded(f->track_width, f->n_tracks, failed);
     return;
   }
   d->type = SATF_SCENE_DENSITY_PROCEDURAL;

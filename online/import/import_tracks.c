@@ -68,19 +68,24 @@ void satf_import_fit_tracks(const satf_import_projection *proj,
   free(fit->track_count);
   free(fit->track_xy);
   free(fit->track_ends);
-  fit->track_first = fit->track_count = NULL;
-  fit->track_xy = fit->track_ends = NULL;
+  free(fit->track_member);
+  free(fit->track_width);
+  fit->track_first = fit->track_count = fit->track_member = NULL;
+  fit->track_xy = fit->track_ends = fit->track_width = NULL;
   fit->n_tracks = 0;
   int n = proj->n_strands, slices = slice_count(proj, fit);
   int *first = malloc(((size_t)n + 1) * sizeof(int));
   int *count = malloc(((size_t)n + 1) * sizeof(int));
   float *xy = malloc(((size_t)n * (size_t)slices * 2 + 1) * sizeof(float));
   float *ends = malloc((6 * (size_t)n + 1) * sizeof(float));
-  if (!first || !count || !xy || !ends) { /* procedural density stands in */
+  int *member = malloc(((size_t)n + 1) * sizeof(int));
+  if (!first || !count || !xy || !ends || !member) {
+    /* procedural density stands in */
     free(first);
     free(count);
     free(xy);
     free(ends);
+    free(member);
     return;
   }
   size_t at = 0;
@@ -98,6 +103,7 @@ void satf_import_fit_tracks(const satf_import_projection *proj,
     if (lo < 0) /* shorter than a slice interval: no slice sees it */
       continue;
     first[kept] = lo;
+    member[kept] = i;
     count[kept] = hi - lo + 1;
     float last[2] = {0.0f, 0.0f};
     for (int s = lo; s <= hi; s++) {
@@ -121,6 +127,7 @@ void satf_import_fit_tracks(const satf_import_projection *proj,
   fit->track_first = first;
   fit->track_count = count;
   fit->track_xy = xy;
+  fit->track_member = member;
   if (beyond) /* else the slices hold every strand end to end */
     fit->track_ends = ends;
   else

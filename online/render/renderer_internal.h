@@ -368,6 +368,16 @@ void strands_gpu_dom(satf_renderer *r, strands_gpu *s, int opacity);
  * r->sparse_max strands: proto.sparse) and their instances' strands on the
  * GPU, in world space; called when the hierarchy is built or updated. */
 satf_status sparse_build(satf_renderer *r, satf_error *err);
+/* The strands a sparse cluster c (density "tracks") is drawn as, built
+ * without GL so that tests can measure them: the points of each of its
+ * tracks placed on `cluster` (c's generalized cylinder as hierarchy.c
+ * builds it) and mapped by the instance transform m, into xyz (3 a point)
+ * and width (1 a point), each strand's point count into counts; returns
+ * the strands written. sparse_cluster_size gives the room they need. */
+int sparse_place(const satf_cluster *cluster, const satf_scene_cluster *c,
+                 const float m[16], int *counts, float *xyz, float *width);
+void sparse_cluster_size(const satf_scene_density *d, int *strands,
+                         size_t *points);
 void sparse_release(satf_renderer *r);
 /* The sparse strands into the per-pixel arrays (list mode of
  * passes_lists) or into the bound deep opacity map. */

@@ -81,6 +81,20 @@ static int track_points(const satf_scene_density *d, int k, float e[6],
   return d->track_count[k] + *before + *after;
 }
 
+void sparse_cluster_size(const satf_scene_density *d, int *strands,
+                         size_t *points) {
+  *strands = 0;
+  *points = 0;
+  for (int k = 0; k < d->n_tracks; k++) {
+    float e[6];
+    int before, after, count = track_points(d, k, e, &before, &after);
+    if (count >= 2) {
+      (*strands)++;
+      *points += (size_t)count;
+    }
+  }
+}
+
 /* Strands and points of every sparse instance. */
 static void count_strands(const satf_renderer *r, int *strands,
                           size_t *points) {
@@ -90,31 +104,24 @@ static void count_strands(const satf_renderer *r, int *strands,
     const proto *p = &r->protos[m];
     if (!p->sparse)
       continue;
-    const satf_scene_density *d =
-        &r->scene->macro_clusters[m].prototype.density;
-    for (int k = 0; k < d->n_tracks; k++) {
-      float e[6];
-      int before, after, count = track_points(d, k, e, &before, &after);
-      if (count >= 2) {
-        *strands += p->ninsts;
-        *points += (size_t)p->ninsts * (size_t)count;
-      }
-    }
+    int n;
+    size_t np;
+    sparse_cluster_size(&r->scene->macro_clusters[m].prototype.density, &n,
+                        &np);
+    *strands += p->ninsts * n;
+    *points += (size_t)p->ninsts * np;
   }
 }
 
-/* Instance `in` of prototype m: its strands' points into xyz and widths,
- * their point counts into counts; returns the strands written. */
-static int place_instance(const satf_renderer *r, int m, inst *in, int *counts,
-                          float *xyz, float *width) {
-  const satf_scene_cluster *c = &r->scene->macro_clusters[m].prototype;
+int sparse_place(const satf_cluster *cluster, const satf_scene_cluster *c,
+                 const float m[16], int *counts, float *xyz, float *width) {
   const satf_scene_density *d = &c->density;
-  const proto *p = &r->protos[m];
-  /* "strand_width" is a diameter in units of the cluster radius
-   * sqrt(mean A * mean B) (satf/scene.h; what satf-import writes and the
-   * strand reference draws), scaled by the instance's size */
+  /* "strand_width" (or each track's "widths") is a diameter in units of
+   * the cluster radius sqrt(mean A * mean B) (satf/scene.h; what
+   * satf-import writes and the strand reference draws), scaled by the
+   * instance's size */
   float radius = sqrtf(curve_mean(&c->a) * curve_mean(&c->b));
-  float w = d->strand_width * radius * cbrtf(fabsf(satf_mat4_det3(in->m)));
+  float unit = radius * cbrtf(fabsf(satf_mat4_det3(m)));
   float denom = d->track_slices > 1 ? (float)(d->track_slices - 1) : 1.0f;
   const float *xy = d->track_xy;
   int n = 0;
@@ -126,6 +133,7 @@ static int place_instance(const satf_renderer *r, int m, inst *in, int *counts,
       xy += 2 * (size_t)d->track_count[k];
       continue;
     }
+    float w = (d->track_width ? d->track_width[k] : d->strand_width) * unit;
     for (int j = 0; j < count; j++) {
       float t, local[3];
       const float *at_xy;
@@ -140,8 +148,8 @@ static int place_instance(const satf_renderer *r, int m, inst *in, int *counts,
         at_xy = xy;
         xy += 2;
       }
-      section_point(p->cluster, c, t, at_xy, local);
-      satf_mat4_point(in->m, local, xyz + 3 * (at + (size_t)j));
+      section_point(cluster, c, t, at_xy, local);
+      satf_mat4_point(m, local, xyz + 3 * (at + (size_t)j));
       width[at + (size_t)j] = w;
     }
     counts[n++] = count;
@@ -241,7 +249,8 @@ satf_status sparse_build(satf_renderer *r, satf_error *err) {
     const proto *p = &r->protos[m];
     for (int i = 0; p->sparse && i < p->ninsts; i++) {
       inst *in = &r->insts[p->first_inst + i];
-      int got = place_instance(r, m, in, counts + n, xyz + 3 * at, width + at);
+      int got = sparse_place(p->cluster, &r->scene->macro_clusters[m].prototype,
+                             in->m, counts + n, xyz + 3 * at, width + at);
       in->seg0 = seg;
       size_t from = at;
       for (int k = n; k < n + got; k++) {

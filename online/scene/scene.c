@@ -18,6 +18,7 @@ static void free_cluster(satf_scene_cluster *c) {
   free(c->density.track_count);
   free(c->density.track_xy);
   free(c->density.track_ends);
+  free(c->density.track_width);
 }
 
 void satf_scene_destroy(satf_scene *scene) {

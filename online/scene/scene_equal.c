@@ -32,6 +32,10 @@ static int tracks_equal(const satf_scene_density *a,
       (a->track_ends &&
        !floats_equal(a->track_ends, b->track_ends, 6 * a->n_tracks)))
     return 0;
+  if (!a->track_width != !b->track_width ||
+      (a->track_width &&
+       !floats_equal(a->track_width, b->track_width, a->n_tracks)))
+    return 0;
   return points == 0 ||
          floats_equal(a->track_xy, b->track_xy, (int)(2 * points));
 }

@@ -278,11 +278,39 @@ static satf_status parse_ends(scene_ctx *ctx, const cJSON *obj,
   return s;
 }
 
+/* "widths": per track, its strand's diameter in cluster radii, in the
+ * range of strand_width (satf/scene.h). */
+static satf_status parse_widths(scene_ctx *ctx, const cJSON *obj,
+                                satf_scene_density *d) {
+  static const scene_range r_width = {0, 2, 1, 0};
+  const cJSON *arr;
+  int n = 0;
+  satf_status s = scene_key_array(ctx, obj, "widths", 0, d->n_tracks,
+                                  d->n_tracks, &arr, &n);
+  if (s != SATF_OK || !arr)
+    return s;
+  d->track_width = malloc((size_t)n * sizeof(float) + 1);
+  if (!d->track_width)
+    return scene_nomem(ctx);
+  size_t previous = scene_push_key(ctx, "widths");
+  int k = 0;
+  for (const cJSON *e = arr->child; e && s == SATF_OK; e = e->next, k++) {
+    size_t item = scene_push_index(ctx, k);
+    double v;
+    s = scene_number(ctx, e, &r_width, &v);
+    d->track_width[k] = (float)v;
+    scene_pop(ctx, item);
+  }
+  scene_pop(ctx, previous);
+  return s;
+}
+
 /* "tracks": the cluster's own strands in its normalised cross-section. */
 static satf_status parse_tracks(scene_ctx *ctx, const cJSON *obj,
                                 satf_scene_density *d) {
-  static const char *const keys[] = {
-      "type", "slices", "strand_width", "scale", "tracks", "ends", NULL};
+  static const char *const keys[] = {"type",   "slices", "strand_width",
+                                     "scale",  "tracks", "ends",
+                                     "widths", NULL};
   static const scene_range r_slices = {2, SATF_SCENE_MAX_TRACK_SLICES, 0, 1};
   /* up to 2: a one-strand cluster is as thin as its strand (satf-import
    * floors its radius at half the strand's thickness), a diameter of 2 */
@@ -330,7 +358,9 @@ static satf_status parse_tracks(scene_ctx *ctx, const cJSON *obj,
     scene_pop(ctx, item);
   }
   scene_pop(ctx, previous);
-  return s == SATF_OK ? parse_ends(ctx, obj, d) : s;
+  if (s == SATF_OK)
+    s = parse_ends(ctx, obj, d);
+  return s == SATF_OK ? parse_widths(ctx, obj, d) : s;
 }
 
 static satf_status parse_density(scene_ctx *ctx, const cJSON *cluster,

@@ -69,6 +69,8 @@ static void copy_macro_cluster(const satf_scene_macro_cluster *from,
       copy_bytes(fc->density.track_xy, 2 * np * sizeof(float), failed);
   tc->density.track_ends =
       copy_bytes(fc->density.track_ends, 6 * nt * sizeof(float), failed);
+  tc->density.track_width =
+      copy_bytes(fc->density.track_width, nt * sizeof(float), failed);
   tc->n_points = fc->n_points;
   tc->trajectory =
       copy_bytes(fc->trajectory,

@@ -260,6 +260,12 @@ static cJSON *density(writer *w, const satf_scene_density *d) {
       }
       add(w, o, "ends", ends);
     }
+    if (d->track_width) {
+      cJSON *widths = array(w);
+      for (int k = 0; k < d->n_tracks; k++)
+        append(w, widths, num_float(w, d->track_width[k]));
+      add(w, o, "widths", widths);
+    }
     return o;
   }
   add_string(w, o, "type", "procedural");

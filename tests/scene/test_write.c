@@ -342,10 +342,68 @@ static void test_too_many_lights(void **state) {
                       "many.json: lights: has 9 entries, expected 1 to 8");
 }
 
+/* A "tracks" density with its optional "ends" and "widths" reads back
+ * the same; without "widths" (older scenes) every strand is strand_width
+ * wide; a width out of range, or one too few, is refused. */
+static const char TRACKED[] =
+    "{\"macro_clusters\": [{\"prototype\": {"
+    "  \"trajectory\": [[0, 0, 0], [0, -1, 0]], \"a\": 0.2, \"b\": 0.1,"
+    "  \"density\": {\"type\": \"tracks\", \"slices\": 3,"
+    "    \"strand_width\": 0.5, \"tracks\": [[0, 0.1, 0.2, 0.3, 0.4],"
+    "      [1, -0.5, 0.5, -0.25, 0.25]],"
+    "    \"ends\": [[0, 0.1, 0.2, 0.6, 0.3, 0.4], [0.3, -0.5, 0.5, 1, 0, 0]]"
+    "    %s}}}]}";
+
+static satf_status parse_tracked(const char *widths, satf_scene **out,
+                                 satf_error *err) {
+  char json[sizeof TRACKED + 64];
+  snprintf(json, sizeof json, TRACKED, widths);
+  return satf_scene_parse(json, strlen(json), "tracked.json", out, err);
+}
+
+static void test_track_widths_round_trip(void **state) {
+  (void)state;
+  satf_scene *scene, *again;
+  satf_error err;
+  if (parse_tracked(", \"widths\": [0.25, 1.75]", &scene, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  const satf_scene_density *d = &scene->macro_clusters[0].prototype.density;
+  assert_non_null(d->track_width);
+  assert_float_equal(d->track_width[0], 0.25f, 0.0f);
+  assert_float_equal(d->track_width[1], 1.75f, 0.0f);
+  char *text;
+  assert_int_equal(satf_scene_to_json(scene, NULL, &text, &err), SATF_OK);
+  assert_non_null(strstr(text, "\"widths\""));
+  if (satf_scene_parse(text, strlen(text), "again.json", &again, &err) !=
+      SATF_OK)
+    fail_msg("%s\n%s", text, err.message);
+  if (!satf_scene_equal(scene, again))
+    fail_msg("reads back different:\n%s", text);
+  free(text);
+  satf_scene_destroy(again);
+  /* the same scene without widths is another scene */
+  assert_int_equal(parse_tracked("", &again, &err), SATF_OK);
+  assert_null(again->macro_clusters[0].prototype.density.track_width);
+  assert_false(satf_scene_equal(scene, again));
+  assert_int_equal(satf_scene_to_json(again, NULL, &text, &err), SATF_OK);
+  assert_null(strstr(text, "\"widths\""));
+  free(text);
+  satf_scene_destroy(again);
+  satf_scene_destroy(scene);
+  assert_int_equal(parse_tracked(", \"widths\": [0.25, 2.5]", &scene, &err),
+                   SATF_ERR_ARGUMENT);
+  assert_non_null(strstr(err.message, "widths"));
+  assert_int_not_equal(parse_tracked(", \"widths\": [0.25]", &scene, &err),
+                       SATF_OK);
+  assert_int_not_equal(parse_tracked(", \"widths\": [0, 1]", &scene, &err),
+                       SATF_OK);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_samples_round_trip),
       cmocka_unit_test(test_every_key_round_trips),
+      cmocka_unit_test(test_track_widths_round_trip),
       cmocka_unit_test(test_built_scene),
       cmocka_unit_test(test_too_many_lights),
       cmocka_unit_test(test_paths_relative_to_the_file),
