@@ -395,10 +395,7 @@ void satf_db_neighbors_find(const satf_db *db,
 
 /* The four stored azimuth pairs around (theta_v, theta_l), periodically,
  * and their bilinear weights. */
-typedef struct corners {
-  int v[2], l[2];
-  float bw[4];
-} corners;
+typedef satf_db_cell corners;
 
 static void corners_of(const satf_db *db, float theta_v, float theta_l,
                        corners *c) {
@@ -409,6 +406,11 @@ static void corners_of(const satf_db *db, float theta_v, float theta_l,
   c->bw[1] = fv * (1 - fl);
   c->bw[2] = (1 - fv) * fl;
   c->bw[3] = fv * fl;
+}
+
+void satf_db_cell_find(const satf_db *db, float theta_v, float theta_l,
+                       satf_db_cell *out) {
+  corners_of(db, theta_v, theta_l, out);
 }
 
 /* Offsets in rec of the four corners' records of sample 0, channel ch0,
@@ -466,11 +468,23 @@ void satf_db_lookup_neighbors_range(const satf_db *db,
   blend_range(db, nb, &cs, ch0, nch, out);
 }
 
+void satf_db_lookup_cell_range(const satf_db *db, const satf_db_neighbors *nb,
+                               const satf_db_cell *cell, int ch0, int nch,
+                               float *out) {
+  blend_range(db, nb, cell, ch0, nch, out);
+}
+
 void satf_db_prefetch(const satf_db *db, const satf_db_neighbors *nb,
                       float theta_v, float theta_l, int ch0, int nch) {
-#if defined(__GNUC__) || defined(__clang__)
   corners cs;
   corners_of(db, theta_v, theta_l, &cs);
+  satf_db_prefetch_cell(db, nb, &cs, ch0, nch);
+}
+
+void satf_db_prefetch_cell(const satf_db *db, const satf_db_neighbors *nb,
+                           const satf_db_cell *cell, int ch0, int nch) {
+#if defined(__GNUC__) || defined(__clang__)
+  const corners cs = *cell;
   size_t w = (size_t)db->p.trace.width;
   /* the records the look-up reads: halfs when there are */
   size_t size = db->rec16 ? sizeof *db->rec16 : sizeof *db->rec;
@@ -486,7 +500,7 @@ void satf_db_prefetch(const satf_db *db, const satf_db_neighbors *nb,
       __builtin_prefetch(r + bytes - 1); /* a run need not start a line */
     }
 #else
-  (void)db, (void)nb, (void)theta_v, (void)theta_l, (void)ch0, (void)nch;
+  (void)db, (void)nb, (void)cell, (void)ch0, (void)nch;
 #endif
 }
 

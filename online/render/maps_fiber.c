@@ -183,6 +183,7 @@ typedef struct sector_look {
   direction view;
   direction light[SATF_SCENE_MAX_LIGHTS];
   float fall[SATF_SCENE_MAX_LIGHTS]; /* falloff (1: directional) */
+  satf_db_cell key; /* the key light's look-up's, for it and its prefetch */
 } sector_look;
 
 /* Light l from sector frame fr: its direction and falloff. */
@@ -194,7 +195,8 @@ static direction light_direction(const float *fr, const float hair[3],
   return sector_direction(fr, hair, ld);
 }
 
-static void look_at(const satf_shell_geom *g, size_t q, const float eye[3],
+static void look_at(const satf_maps_fiber *f, const satf_shell_geom *g,
+                    size_t q, const float eye[3],
                     const satf_fiber_light *lights, int n_lights,
                     column_entry *c, sector_look *s) {
   const float *fr = g->frames + 9 * q;
@@ -219,6 +221,7 @@ static void look_at(const satf_shell_geom *g, size_t q, const float eye[3],
                       ? c->light[l]
                       : light_direction(fr, s->hair, &lights[l], &s->fall[l]);
   }
+  satf_db_cell_find(f->db, s->view.azimuth, s->light[0].azimuth, &s->key);
 }
 
 /* The record of a boundary sector for every light, summed into key (the
@@ -237,8 +240,8 @@ static void sector_radiance(const satf_maps_fiber *f, const sector_look *s,
   /* alpha and the lobes (SATF_DB_CH_ALPHA on): the reflectance channel,
    * a total for Phong-style readers, is never read here */
   float rec[(2 + 3 * 3) * MAPS_MAX_WIDTH];
-  memset(key, 0, 4 * (size_t)w * sizeof(float));
-  memset(fill, 0, 4 * (size_t)w * sizeof(float));
+  if (n_lights < 2) /* no other light: none */
+    memset(fill, 0, 4 * (size_t)w * sizeof(float));
   for (int li = 0; li < n_lights; li++) {
     const direction *i = &s->light[li];
     v4f mp = mp_lookup(f, i->sin_t, s->view.sin_t);
@@ -250,10 +253,14 @@ static void sector_radiance(const satf_maps_fiber *f, const sector_look *s,
      * alpha, which the key light's look-up gives (a range's values are
      * those of the full look-up, satf_db_lookup_neighbors_range) */
     satf_db_neighbors nearest = {1, {nb->index[0]}, {1.0f}};
-    int ch0 = li == 0 ? SATF_DB_CH_ALPHA : SATF_DB_CH_R;
-    satf_db_lookup_neighbors_range(
-        f->db, li == 0 ? nb : &nearest, s->view.azimuth, i->azimuth, ch0,
-        f->channels - ch0, rec + (ch0 - SATF_DB_CH_ALPHA) * w);
+    if (li == 0)
+      satf_db_lookup_cell_range(f->db, nb, &s->key, SATF_DB_CH_ALPHA,
+                                f->channels - SATF_DB_CH_ALPHA, rec);
+    else
+      satf_db_lookup_neighbors_range(
+          f->db, &nearest, s->view.azimuth, i->azimuth, SATF_DB_CH_R,
+          f->channels - SATF_DB_CH_R,
+          rec + (SATF_DB_CH_R - SATF_DB_CH_ALPHA) * w);
     float *dst = li == 0 ? key : fill;
     const float *r = rec + (SATF_DB_CH_R - SATF_DB_CH_ALPHA) * w, *tt[3],
                 *tr[3], *ms[3];
@@ -266,19 +273,25 @@ static void sector_radiance(const satf_maps_fiber *f, const sector_look *s,
       ms[c] = rec + (SATF_DB_CH_MS(k, n) - SATF_DB_CH_ALPHA) * w;
     }
     /* a sample's three colours at once (each lane the scalar sum, in its
-     * order), texels as lay_fiber_row reads them */
+     * order), texels as lay_fiber_row reads them; the key light and the
+     * first other one store theirs where a cleared sum was loaded, added
+     * to and stored again (perf: the hottest load of the map stage), the
+     * further ones add */
+    int add = li > 1;
     for (int x = 0; x < w; x++) {
       v4f vt = {tt[0][x], tt[1][x], tt[2][x], 0.0f};
       v4f vr = {tr[0][x], tr[1][x], tr[2][x], 0.0f};
       v4f vm = {ms[0][x], ms[1][x], ms[2][x], 0.0f};
-      v4f d;
-      memcpy(&d, dst + 4 * x, sizeof d);
-      d += e * (mp[0] * r[x] + mp[1] * vt + mp[2] * vr + mp[3] * vm);
-      memcpy(dst + 4 * x, &d, sizeof d);
+      v4f v = e * (mp[0] * r[x] + mp[1] * vt + mp[2] * vr + mp[3] * vm);
+      if (li == 0)
+        v[3] = rec[x]; /* alpha */
+      if (add) {
+        v4f d;
+        memcpy(&d, dst + 4 * x, sizeof d);
+        v = d + v;
+      }
+      memcpy(dst + 4 * x, &v, sizeof v);
     }
-    if (li == 0)
-      for (int x = 0; x < w; x++)
-        key[4 * x + 3] = rec[x];
   }
 }
 
@@ -322,8 +335,8 @@ static void prefetch_key(const satf_maps_fiber *f, const satf_shell_geom *g,
                          const sector_look *s, int k_nearest) {
   const satf_db_neighbors *nb = maps_sector_neighbors(g, s->q, k_nearest);
   if (nb)
-    satf_db_prefetch(f->db, nb, s->view.azimuth, s->light[0].azimuth,
-                     SATF_DB_CH_ALPHA, f->channels - SATF_DB_CH_ALPHA);
+    satf_db_prefetch_cell(f->db, nb, &s->key, SATF_DB_CH_ALPHA,
+                          f->channels - SATF_DB_CH_ALPHA);
 }
 
 /* The scratch of one build: a column's s-map sums, (st + 1) x width
@@ -357,11 +370,11 @@ static int build_column(const satf_maps *m, const satf_maps_fiber *f,
   /* the boundary records along t, each looked up once: HSV i shows
    * boundary i in row 2i and boundary i + 1 in row 2i + 1 (SATF eq. 7) */
   sector_look cur, next;
-  look_at(g, maps_sector_index(sh, 0, k, j), eye, lights, n_lights, &column[0],
-          &cur);
+  look_at(f, g, maps_sector_index(sh, 0, k, j), eye, lights, n_lights,
+          &column[0], &cur);
   for (int i = 0; i <= sh->st; i++) {
     if (i < sh->st) { /* the next boundary's records load meanwhile */
-      look_at(g, maps_sector_index(sh, i + 1, k, j), eye, lights, n_lights,
+      look_at(f, g, maps_sector_index(sh, i + 1, k, j), eye, lights, n_lights,
               &column[i + 1], &next);
       prefetch_key(f, g, &next, opt->k_nearest);
     }
