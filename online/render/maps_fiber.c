@@ -368,28 +368,29 @@ static int build_column(const satf_maps *m, const satf_maps_fiber *f,
   float key[4 * MAPS_MAX_WIDTH], fill[4 * MAPS_MAX_WIDTH];
   float row_key[4 * MAPS_MAX_WIDTH], row_fill[4 * MAPS_MAX_WIDTH];
   /* the boundary records along t, each looked up once: HSV i shows
-   * boundary i in row 2i and boundary i + 1 in row 2i + 1 (SATF eq. 7) */
-  sector_look cur, next;
+   * boundary i in row 2i and boundary i + 1 in row 2i + 1 (SATF eq. 7);
+   * the current and next boundary's looks swap roles rather than copy */
+  sector_look looks[2], *cur = &looks[0], *next = &looks[1];
   look_at(f, g, maps_sector_index(sh, 0, k, j), eye, lights, n_lights,
-          &column[0], &cur);
+          &column[0], cur);
   for (int i = 0; i <= sh->st; i++) {
     if (i < sh->st) { /* the next boundary's records load meanwhile */
       look_at(f, g, maps_sector_index(sh, i + 1, k, j), eye, lights, n_lights,
-              &column[i + 1], &next);
-      prefetch_key(f, g, &next, opt->k_nearest);
+              &column[i + 1], next);
+      prefetch_key(f, g, next, opt->k_nearest);
     }
     satf_db_neighbors found;
     const satf_db_neighbors *nb =
-        maps_sector_neighbors(g, cur.q, opt->k_nearest);
+        maps_sector_neighbors(g, cur->q, opt->k_nearest);
     if (!nb) {
-      satf_db_neighbors_find(maps_db(m), g->features + 3 * cur.q,
+      satf_db_neighbors_find(maps_db(m), g->features + 3 * cur->q,
                              opt->k_nearest, &found);
       nb = &found;
     }
-    sector_radiance(f, &cur, nb, lights, n_lights, trt, w, key, fill);
+    sector_radiance(f, cur, nb, lights, n_lights, trt, w, key, fill);
     lookups += n_lights;
-    lay_fiber_row(m, key, fill, cur.view.azimuth, sums + (size_t)i * w, row_key,
-                  row_fill);
+    lay_fiber_row(m, key, fill, cur->view.azimuth, sums + (size_t)i * w,
+                  row_key, row_fill);
     /* the top row of HSV i and the bottom row of HSV i - 1, the same
      * texels */
     size_t col = (size_t)j * w * 4;
@@ -397,8 +398,9 @@ static int build_column(const satf_maps *m, const satf_maps_fiber *f,
       pack(row_key, key_slice + (size_t)r * row_halfs + col, (size_t)w * 4);
       pack(row_fill, fill_slice + (size_t)r * row_halfs + col, (size_t)w * 4);
     }
-    if (i < sh->st)
-      cur = next;
+    sector_look *t = cur;
+    cur = next;
+    next = t;
   }
   return lookups;
 }
