@@ -254,8 +254,8 @@ int satf_db_nearest(const satf_db *db, const float feature[SATF_FEATURES],
 static void angle_cell(float theta, int n, int *i0, int *i1, float *f) {
   double x = (double)theta / SATF_TWO_PI * n;
   /* into [0, n); the maps' azimuths are there already (maps_azimuth), and
-   * the division and floor were a tenth of the physical map stage (perf,
-   * hair_7c); either branch then snaps alike */
+   * with the division and floor corners_of took 11% of the CPU samples of
+   * hair_7c's physical frames (perf); either branch then snaps alike */
   if (!(x >= 0.0 && x < (double)n))
     x -= floor(x / n) * n;
   double r = floor(x + 0.5);
