@@ -253,7 +253,11 @@ int satf_db_nearest(const satf_db *db, const float feature[SATF_FEATURES],
  * returns the stored record exactly despite float rounding of 2 pi k / n. */
 static void angle_cell(float theta, int n, int *i0, int *i1, float *f) {
   double x = (double)theta / SATF_TWO_PI * n;
-  x -= floor(x / n) * n; /* into [0, n) */
+  /* into [0, n); the maps' azimuths are there already (maps_azimuth), and
+   * with the division and floor corners_of took 11% of the CPU samples of
+   * hair_7c's physical frames (perf); either branch then snaps alike */
+  if (!(x >= 0.0 && x < (double)n))
+    x -= floor(x / n) * n;
   double r = floor(x + 0.5);
   if (fabs(x - r) < 1e-4)
     x = r;
@@ -293,36 +297,50 @@ AVX2_CLONE static void blend4(float *restrict out, const float *const src[4],
 }
 
 /* The half-float records (satf_db.rec16): x86-64 processors with AVX2 and
- * F16C, GCC or clang; blend4_half is blend4 reading halfs, each converted
+ * F16C, GCC or clang; blend_half is blend4 reading halfs, each converted
  * to the float it equals, then the same operations in the same order (no
  * fused multiply-adds), so the same values. */
 #if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
 #include <immintrin.h>
 #define DB_HALFS 1
 
+/* Neighbour n's four records (src[4n..4n+3], weights c[4n..4n+3]) blended
+ * as blend4 does, then summed over n in order: out = v_0 + v_1 + ..., each
+ * v_n = c s_0 + c s_1 + c s_2 + c s_3 left to right, the values of blend4
+ * called per neighbour with accumulate, but out is written once (one pass
+ * over the run instead of one per neighbour). */
 __attribute__((target("avx2,f16c"))) static void
-blend4_half(float *restrict out, const uint16_t *const src[4], const float c[4],
-            int w, int accumulate) {
-  __m256 c0 = _mm256_set1_ps(c[0]), c1 = _mm256_set1_ps(c[1]);
-  __m256 c2 = _mm256_set1_ps(c[2]), c3 = _mm256_set1_ps(c[3]);
+blend_half(float *restrict out, const uint16_t *const src[], const float c[],
+           int count, int w) {
   int j = 0;
   for (; j + 8 <= w; j += 8) {
-    __m256 s[4];
-    for (int k = 0; k < 4; k++)
-      s[k] = _mm256_cvtph_ps(_mm_loadu_si128((const __m128i *)(src[k] + j)));
-    __m256 v =
-        _mm256_add_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(c0, s[0]),
-                                                  _mm256_mul_ps(c1, s[1])),
-                                    _mm256_mul_ps(c2, s[2])),
-                      _mm256_mul_ps(c3, s[3]));
-    if (accumulate)
-      v = _mm256_add_ps(_mm256_loadu_ps(out + j), v);
-    _mm256_storeu_ps(out + j, v);
+    __m256 acc = _mm256_setzero_ps();
+    for (int n = 0; n < count; n++) {
+      const uint16_t *const *s = src + 4 * n;
+      const float *cn = c + 4 * n;
+      __m256 s0 = _mm256_cvtph_ps(_mm_loadu_si128((const __m128i *)(s[0] + j)));
+      __m256 s1 = _mm256_cvtph_ps(_mm_loadu_si128((const __m128i *)(s[1] + j)));
+      __m256 s2 = _mm256_cvtph_ps(_mm_loadu_si128((const __m128i *)(s[2] + j)));
+      __m256 s3 = _mm256_cvtph_ps(_mm_loadu_si128((const __m128i *)(s[3] + j)));
+      __m256 v = _mm256_add_ps(
+          _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(cn[0]), s0),
+                                      _mm256_mul_ps(_mm256_set1_ps(cn[1]), s1)),
+                        _mm256_mul_ps(_mm256_set1_ps(cn[2]), s2)),
+          _mm256_mul_ps(_mm256_set1_ps(cn[3]), s3));
+      acc = n > 0 ? _mm256_add_ps(acc, v) : v;
+    }
+    _mm256_storeu_ps(out + j, acc);
   }
   for (; j < w; j++) {
-    float v = c[0] * _cvtsh_ss(src[0][j]) + c[1] * _cvtsh_ss(src[1][j]) +
-              c[2] * _cvtsh_ss(src[2][j]) + c[3] * _cvtsh_ss(src[3][j]);
-    out[j] = accumulate ? out[j] + v : v;
+    float acc = 0.0f;
+    for (int n = 0; n < count; n++) {
+      const uint16_t *const *s = src + 4 * n;
+      const float *cn = c + 4 * n;
+      float v = cn[0] * _cvtsh_ss(s[0][j]) + cn[1] * _cvtsh_ss(s[1][j]) +
+                cn[2] * _cvtsh_ss(s[2][j]) + cn[3] * _cvtsh_ss(s[3][j]);
+      acc = n > 0 ? acc + v : v;
+    }
+    out[j] = acc;
   }
 }
 #endif
@@ -377,10 +395,7 @@ void satf_db_neighbors_find(const satf_db *db,
 
 /* The four stored azimuth pairs around (theta_v, theta_l), periodically,
  * and their bilinear weights. */
-typedef struct corners {
-  int v[2], l[2];
-  float bw[4];
-} corners;
+typedef satf_db_cell corners;
 
 static void corners_of(const satf_db *db, float theta_v, float theta_l,
                        corners *c) {
@@ -393,29 +408,43 @@ static void corners_of(const satf_db *db, float theta_v, float theta_l,
   c->bw[3] = fv * fl;
 }
 
+void satf_db_cell_find(const satf_db *db, float theta_v, float theta_l,
+                       satf_db_cell *out) {
+  corners_of(db, theta_v, theta_l, out);
+}
+
+/* Offsets in rec of the four corners' records of sample 0, channel ch0,
+ * and the values of one sample: record (sample, corner k) starts at
+ * base[k] + sample * stride (satf_db_record_offset, found once per look-up
+ * rather than per record). */
+static size_t corner_offsets(const satf_db *db, const corners *cs, int ch0,
+                             size_t base[4]) {
+  size_t skip = (size_t)ch0 * (size_t)db->p.trace.width;
+  for (int k = 0; k < 4; k++)
+    base[k] = satf_db_record_offset(db, 0, cs->v[k & 1], cs->l[k >> 1]) + skip;
+  return values_per_sample(&db->p);
+}
+
 /* Channels [ch0, ch0 + nch) of the corners' records of every neighbour:
  * one contiguous run of nch * width values each (records are
- * channel-major), blended into out in one pass per neighbour (blend4).
- * Per value the sums run in the order of a channel-by-channel blend, so
- * any range gives the values of the full look-up, bit for bit. */
+ * channel-major), blended into out (blend4 per neighbour; with halfs, all
+ * neighbours in one pass, blend_half). Per value the sums run in the order
+ * of a channel-by-channel blend, so any range gives the values of the full
+ * look-up, bit for bit. */
 static void blend_range(const satf_db *db, const satf_db_neighbors *nb,
                         const corners *cs, int ch0, int nch, float *out) {
   int run = nch * db->p.trace.width;
-  size_t skip = (size_t)ch0 * (size_t)db->p.trace.width;
+  size_t base[4], stride = corner_offsets(db, cs, ch0, base);
 #ifdef DB_HALFS
   if (db->rec16) {
-    for (int n = 0; n < nb->count; n++) {
-      const uint16_t *r[4];
-      float c[4];
+    const uint16_t *r[4 * SATF_DB_KMAX];
+    float c[4 * SATF_DB_KMAX];
+    for (int n = 0; n < nb->count; n++)
       for (int k = 0; k < 4; k++) {
-        r[k] = db->rec16 +
-               satf_db_record_offset(db, nb->index[n], cs->v[k & 1],
-                                     cs->l[k >> 1]) +
-               skip;
-        c[k] = nb->weight[n] * cs->bw[k];
+        r[4 * n + k] = db->rec16 + base[k] + (size_t)nb->index[n] * stride;
+        c[4 * n + k] = nb->weight[n] * cs->bw[k];
       }
-      blend4_half(out, r, c, run, n > 0);
-    }
+    blend_half(out, r, c, nb->count, run);
     return;
   }
 #endif
@@ -423,9 +452,7 @@ static void blend_range(const satf_db *db, const satf_db_neighbors *nb,
     const float *r[4];
     float c[4];
     for (int k = 0; k < 4; k++) {
-      r[k] = satf_db_record_channels(db, nb->index[n], cs->v[k & 1],
-                                     cs->l[k >> 1]) +
-             skip;
+      r[k] = db->rec + base[k] + (size_t)nb->index[n] * stride;
       c[k] = nb->weight[n] * cs->bw[k];
     }
     blend4(out, r, c, run, n > 0);
@@ -441,29 +468,39 @@ void satf_db_lookup_neighbors_range(const satf_db *db,
   blend_range(db, nb, &cs, ch0, nch, out);
 }
 
+void satf_db_lookup_cell_range(const satf_db *db, const satf_db_neighbors *nb,
+                               const satf_db_cell *cell, int ch0, int nch,
+                               float *out) {
+  blend_range(db, nb, cell, ch0, nch, out);
+}
+
 void satf_db_prefetch(const satf_db *db, const satf_db_neighbors *nb,
                       float theta_v, float theta_l, int ch0, int nch) {
-#if defined(__GNUC__) || defined(__clang__)
   corners cs;
   corners_of(db, theta_v, theta_l, &cs);
+  satf_db_prefetch_cell(db, nb, &cs, ch0, nch);
+}
+
+void satf_db_prefetch_cell(const satf_db *db, const satf_db_neighbors *nb,
+                           const satf_db_cell *cell, int ch0, int nch) {
+#if defined(__GNUC__) || defined(__clang__)
+  const corners cs = *cell;
   size_t w = (size_t)db->p.trace.width;
   /* the records the look-up reads: halfs when there are */
   size_t size = db->rec16 ? sizeof *db->rec16 : sizeof *db->rec;
   const char *base =
       db->rec16 ? (const char *)db->rec16 : (const char *)db->rec;
   size_t bytes = (size_t)nch * w * size;
+  size_t at[4], stride = corner_offsets(db, &cs, ch0, at);
   for (int n = 0; n < nb->count; n++)
     for (int k = 0; k < 4; k++) {
-      const char *r = base + (satf_db_record_offset(db, nb->index[n],
-                                                    cs.v[k & 1], cs.l[k >> 1]) +
-                              (size_t)ch0 * w) *
-                                 size;
+      const char *r = base + (at[k] + (size_t)nb->index[n] * stride) * size;
       for (size_t b = 0; b < bytes; b += 64)
         __builtin_prefetch(r + b);
       __builtin_prefetch(r + bytes - 1); /* a run need not start a line */
     }
 #else
-  (void)db, (void)nb, (void)theta_v, (void)theta_l, (void)ch0, (void)nch;
+  (void)db, (void)nb, (void)cell, (void)ch0, (void)nch;
 #endif
 }
 

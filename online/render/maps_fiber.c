@@ -19,10 +19,19 @@
  * off the map stage (measured on cluster_6a). */
 #define MP_TABLE 256
 
+/* Four floats in one vector (GCC's and clang's vector extension): a
+ * texel's channels, a sample's colours and alpha, or the four lobes' M_p
+ * at one table node. */
+typedef float v4f __attribute__((vector_size(16)));
+
 struct satf_maps_fiber {
-  float *mp;   /* 4 tables (R, TT, TRT with their tilts, MS) of MP_TABLE^2 */
-  satf_db *db; /* the fibre database re-levelled at the hair's sigma_a */
-  int levels;  /* its absorption levels (distinct RGB values) */
+  /* MP_TABLE^2 nodes of 4 lobes (R, TT, TRT with their tilts, MS), the
+   * lobes of a node side by side: a look-up reads 2 x 32 bytes where four
+   * separate tables (1 MB in all) cost four cache misses a light and
+   * sector (perf, hair_7c: the hottest loads of the map code) */
+  v4f *mp;
+  satf_db *db;     /* the fibre database re-levelled at the hair's sigma_a */
+  int levels;      /* its absorption levels (distinct RGB values) */
   int level_of[3]; /* the level of each colour channel */
   satf_fiber fiber;
   float v_ms;   /* the longitudinal variance of multiple scattering */
@@ -63,29 +72,27 @@ static float mp_exact(const satf_maps_fiber *f, int p, float si, float so) {
 }
 
 static void mp_tables(satf_maps_fiber *f) {
-  for (int p = 0; p < 4; p++)
-    for (int b = 0; b < MP_TABLE; b++)
-      for (int a = 0; a < MP_TABLE; a++)
-        f->mp[((size_t)p * MP_TABLE + (size_t)b) * MP_TABLE + (size_t)a] =
+  for (int b = 0; b < MP_TABLE; b++)
+    for (int a = 0; a < MP_TABLE; a++)
+      for (int p = 0; p < 4; p++)
+        f->mp[(size_t)b * MP_TABLE + (size_t)a][p] =
             mp_exact(f, p, -1.0f + 2.0f * (float)a / (MP_TABLE - 1),
                      -1.0f + 2.0f * (float)b / (MP_TABLE - 1));
 }
 
-/* The four lobes' M_p at (sin theta_i, sin theta_o), bilinear. */
-static void mp_lookup(const satf_maps_fiber *f, float si, float so,
-                      float mp[4]) {
+/* The four lobes' M_p at (sin theta_i, sin theta_o), bilinear (each lane
+ * the scalar interpolation of its lobe, in its order). */
+static v4f mp_lookup(const satf_maps_fiber *f, float si, float so) {
   float x = (si + 1.0f) * 0.5f * (MP_TABLE - 1);
   float y = (so + 1.0f) * 0.5f * (MP_TABLE - 1);
   int a = (int)x, b = (int)y;
   a = a < 0 ? 0 : a > MP_TABLE - 2 ? MP_TABLE - 2 : a;
   b = b < 0 ? 0 : b > MP_TABLE - 2 ? MP_TABLE - 2 : b;
   float fx = x - (float)a, fy = y - (float)b;
-  for (int p = 0; p < 4; p++) {
-    const float *t = f->mp + ((size_t)p * MP_TABLE + (size_t)b) * MP_TABLE + a;
-    float lo = t[0] + fx * (t[1] - t[0]);
-    float hi = t[MP_TABLE] + fx * (t[MP_TABLE + 1] - t[MP_TABLE]);
-    mp[p] = lo + fy * (hi - lo);
-  }
+  const v4f *t = f->mp + (size_t)b * MP_TABLE + (size_t)a;
+  v4f lo = t[0] + fx * (t[1] - t[0]);
+  v4f hi = t[MP_TABLE] + fx * (t[MP_TABLE + 1] - t[MP_TABLE]);
+  return lo + fy * (hi - lo);
 }
 
 satf_status satf_maps_fiber_create(const satf_db *db,
@@ -107,7 +114,7 @@ satf_status satf_maps_fiber_create(const satf_db *db,
    * another lobe, so its longitudinal spread is about the sum of theirs;
    * we take v_TT + v_TRT, unshifted (the lobes' shifts partly cancel). */
   f->v_ms = f->fiber.v[1] + f->fiber.v[2];
-  if (!(f->mp = malloc(4 * MP_TABLE * MP_TABLE * sizeof *f->mp))) {
+  if (!(f->mp = malloc(MP_TABLE * MP_TABLE * sizeof *f->mp))) {
     free(f);
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }
@@ -151,18 +158,32 @@ static direction sector_direction(const float *frame, const float hair[3],
   return r;
 }
 
-/* Four floats in one vector (GCC's and clang's vector extension): a
- * texel's channels, or a sample's colours and alpha. */
-typedef float v4f __attribute__((vector_size(16)));
+/* What boundary sector i of a column sees of the lights, for every layer
+ * of the column: a directional light's direction and inclination depend
+ * only on the sector's axes (frame + 3, frame + 6), which in a generalized
+ * cylinder are those of its (i, j) in every layer (satf_shell_geom_create:
+ * the section's normal plane at u). Kept with the axes they were found at
+ * and used again only for bit-identical axes, so the sector's own
+ * computation would give the same values; they cost two atan2s and a
+ * square root a light and sector (with the view's, about 9% of the CPU
+ * samples of hair_7c's physical frames, perf). */
+typedef struct column_entry {
+  float axes[6];
+  int ready;     /* axes, hair and light are set */
+  float hair[3]; /* N x T: along t, root to tip */
+  direction light[SATF_SCENE_MAX_LIGHTS];
+} column_entry;
 
-/* What sector q sees of the eye and the key light, found once: the
- * look-up one sector ahead fetches the key light's records by them, and
- * the sector's own look-up then uses them. */
+/* What sector q sees of the eye and every light, found once: the look-up
+ * one sector ahead fetches the key light's records by them, and the
+ * sector's own look-up then uses them. */
 typedef struct sector_look {
   size_t q;
-  float hair[3]; /* N x T: along t, root to tip */
-  direction view, key;
-  float key_fall; /* the key light's falloff (1: directional) */
+  float hair[3];
+  direction view;
+  direction light[SATF_SCENE_MAX_LIGHTS];
+  float fall[SATF_SCENE_MAX_LIGHTS]; /* falloff (1: directional) */
+  satf_db_cell key; /* the key light's look-up's, for it and its prefetch */
 } sector_look;
 
 /* Light l from sector frame fr: its direction and falloff. */
@@ -174,15 +195,33 @@ static direction light_direction(const float *fr, const float hair[3],
   return sector_direction(fr, hair, ld);
 }
 
-static void look_at(const satf_shell_geom *g, size_t q, const float eye[3],
-                    const satf_fiber_light *lights, sector_look *s) {
+static void look_at(const satf_maps_fiber *f, const satf_shell_geom *g,
+                    size_t q, const float eye[3],
+                    const satf_fiber_light *lights, int n_lights,
+                    column_entry *c, sector_look *s) {
   const float *fr = g->frames + 9 * q;
   s->q = q;
-  satf_cross3f(fr + 3, fr + 6, s->hair);
-  satf_normalize3f(s->hair);
+  if (!c->ready || memcmp(c->axes, fr + 3, sizeof c->axes)) {
+    memcpy(c->axes, fr + 3, sizeof c->axes);
+    satf_cross3f(fr + 3, fr + 6, c->hair);
+    satf_normalize3f(c->hair);
+    for (int l = 0; l < n_lights; l++) {
+      float fall;
+      if (lights[l].local[3] == 0.0f)
+        c->light[l] = light_direction(fr, c->hair, &lights[l], &fall);
+    }
+    c->ready = 1;
+  }
+  memcpy(s->hair, c->hair, sizeof s->hair);
   float vd[3] = {eye[0] - fr[0], eye[1] - fr[1], eye[2] - fr[2]};
   s->view = sector_direction(fr, s->hair, vd);
-  s->key = light_direction(fr, s->hair, &lights[0], &s->key_fall);
+  for (int l = 0; l < n_lights; l++) {
+    s->fall[l] = 1.0f;
+    s->light[l] = lights[l].local[3] == 0.0f
+                      ? c->light[l]
+                      : light_direction(fr, s->hair, &lights[l], &s->fall[l]);
+  }
+  satf_db_cell_find(f->db, s->view.azimuth, s->light[0].azimuth, &s->key);
 }
 
 /* The record of a boundary sector for every light, summed into key (the
@@ -192,58 +231,67 @@ static void look_at(const satf_shell_geom *g, size_t q, const float eye[3],
  * still premultiplied by coverage. Both hold 4 floats a sample, the
  * colour in 0-2 (interleaved as the texels, for lay_fiber_row); key has
  * the alpha in 3, fill 0. */
-static void sector_radiance(const satf_shell_geom *g, const satf_maps_fiber *f,
-                            const sector_look *s, const satf_db_neighbors *nb,
+static void sector_radiance(const satf_maps_fiber *f, const sector_look *s,
+                            const satf_db_neighbors *nb,
                             const satf_fiber_light *lights, int n_lights,
                             int trt, int w, float *restrict key,
                             float *restrict fill) {
-  const float *fr = g->frames + 9 * s->q;
   int n = f->levels;
   /* alpha and the lobes (SATF_DB_CH_ALPHA on): the reflectance channel,
    * a total for Phong-style readers, is never read here */
   float rec[(2 + 3 * 3) * MAPS_MAX_WIDTH];
-  memset(key, 0, 4 * (size_t)w * sizeof(float));
-  memset(fill, 0, 4 * (size_t)w * sizeof(float));
+  if (n_lights < 2) /* no other light: none */
+    memset(fill, 0, 4 * (size_t)w * sizeof(float));
   for (int li = 0; li < n_lights; li++) {
-    float fall = s->key_fall;
-    direction i =
-        li == 0 ? s->key : light_direction(fr, s->hair, &lights[li], &fall);
-    float mp[4];
-    mp_lookup(f, i.sin_t, s->view.sin_t, mp);
+    const direction *i = &s->light[li];
+    v4f mp = mp_lookup(f, i->sin_t, s->view.sin_t);
     if (!trt)
       mp[2] = 0.0f;
     /* the other lights from the nearest sample alone: a quarter of the
      * blending for lights that neither shadow nor set the hair's look
-     * (the key light's records blend all k, SATF eq. 4) */
+     * (the key light's records blend all k, SATF eq. 4); and without
+     * alpha, which the key light's look-up gives (a range's values are
+     * those of the full look-up, satf_db_lookup_neighbors_range) */
     satf_db_neighbors nearest = {1, {nb->index[0]}, {1.0f}};
-    satf_db_lookup_neighbors_range(f->db, li == 0 ? nb : &nearest,
-                                   s->view.azimuth, i.azimuth, SATF_DB_CH_ALPHA,
-                                   f->channels - SATF_DB_CH_ALPHA, rec);
+    if (li == 0)
+      satf_db_lookup_cell_range(f->db, nb, &s->key, SATF_DB_CH_ALPHA,
+                                f->channels - SATF_DB_CH_ALPHA, rec);
+    else
+      satf_db_lookup_neighbors_range(
+          f->db, &nearest, s->view.azimuth, i->azimuth, SATF_DB_CH_R,
+          f->channels - SATF_DB_CH_R,
+          rec + (SATF_DB_CH_R - SATF_DB_CH_ALPHA) * w);
     float *dst = li == 0 ? key : fill;
     const float *r = rec + (SATF_DB_CH_R - SATF_DB_CH_ALPHA) * w, *tt[3],
                 *tr[3], *ms[3];
     v4f e = {0.0f, 0.0f, 0.0f, 0.0f};
     for (int c = 0; c < 3; c++) {
       int k = f->level_of[c];
-      e[c] = lights[li].rgb[c] * fall;
+      e[c] = lights[li].rgb[c] * s->fall[li];
       tt[c] = rec + (SATF_DB_CH_TT(k) - SATF_DB_CH_ALPHA) * w;
       tr[c] = rec + (SATF_DB_CH_TRT(k, n) - SATF_DB_CH_ALPHA) * w;
       ms[c] = rec + (SATF_DB_CH_MS(k, n) - SATF_DB_CH_ALPHA) * w;
     }
     /* a sample's three colours at once (each lane the scalar sum, in its
-     * order), texels as lay_fiber_row reads them */
+     * order), texels as lay_fiber_row reads them; the key light and the
+     * first other one store theirs where a cleared sum was loaded, added
+     * to and stored again (perf: build_column's hottest instruction), the
+     * further ones add */
+    int add = li > 1;
     for (int x = 0; x < w; x++) {
       v4f vt = {tt[0][x], tt[1][x], tt[2][x], 0.0f};
       v4f vr = {tr[0][x], tr[1][x], tr[2][x], 0.0f};
       v4f vm = {ms[0][x], ms[1][x], ms[2][x], 0.0f};
-      v4f d;
-      memcpy(&d, dst + 4 * x, sizeof d);
-      d += e * (mp[0] * r[x] + mp[1] * vt + mp[2] * vr + mp[3] * vm);
-      memcpy(dst + 4 * x, &d, sizeof d);
+      v4f v = e * (mp[0] * r[x] + mp[1] * vt + mp[2] * vr + mp[3] * vm);
+      if (li == 0)
+        v[3] = rec[x]; /* alpha */
+      if (add) {
+        v4f d;
+        memcpy(&d, dst + 4 * x, sizeof d);
+        v = d + v;
+      }
+      memcpy(dst + 4 * x, &v, sizeof v);
     }
-    if (li == 0)
-      for (int x = 0; x < w; x++)
-        key[4 * x + 3] = rec[x];
   }
 }
 
@@ -287,21 +335,30 @@ static void prefetch_key(const satf_maps_fiber *f, const satf_shell_geom *g,
                          const sector_look *s, int k_nearest) {
   const satf_db_neighbors *nb = maps_sector_neighbors(g, s->q, k_nearest);
   if (nb)
-    satf_db_prefetch(f->db, nb, s->view.azimuth, s->key.azimuth,
-                     SATF_DB_CH_ALPHA, f->channels - SATF_DB_CH_ALPHA);
+    satf_db_prefetch_cell(f->db, nb, &s->key, SATF_DB_CH_ALPHA,
+                          f->channels - SATF_DB_CH_ALPHA);
 }
+
+/* The scratch of one build: a column's s-map sums, (st + 1) x width
+ * floats, then its st + 1 column entries (of floats and an int, so
+ * aligned as floats are). */
+_Static_assert(_Alignof(column_entry) <= _Alignof(float),
+               "column entries follow the sums' floats");
+#define ENTRY_FLOATS                                                           \
+  ((sizeof(column_entry) + sizeof(float) - 1) / sizeof(float))
 
 size_t satf_maps_fiber_scratch_floats(const satf_shell_geom *g, int width) {
-  return (size_t)(g->shell.st + 1) * (size_t)g->shell.su * (size_t)width;
+  return (size_t)(g->shell.st + 1) * ((size_t)width + ENTRY_FLOATS);
 }
 
-/* Layer k's two slices; sums holds the s-map sums of the layers outside
- * it per boundary, and gets this layer's alpha added. */
-static int build_layer(const satf_maps *m, const satf_maps_fiber *f,
-                       const satf_shell_geom *g, const float eye[3],
-                       const satf_fiber_light *lights, int n_lights, int trt,
-                       const satf_map_options *opt, int k, int j0, int j1,
-                       half_pack_fn pack, float *sums, uint16_t *texels) {
+/* Column j of layer k's two slices; sums holds the s-map sums of the
+ * layers outside it per boundary, and gets this layer's alpha added. */
+static int build_column(const satf_maps *m, const satf_maps_fiber *f,
+                        const satf_shell_geom *g, const float eye[3],
+                        const satf_fiber_light *lights, int n_lights, int trt,
+                        const satf_map_options *opt, int k, int j,
+                        half_pack_fn pack, float *sums, column_entry *column,
+                        uint16_t *texels) {
   const satf_shell_params *sh = &g->shell;
   int w = satf_maps_width(m), lookups = 0;
   size_t row_halfs = (size_t)sh->su * (size_t)w * 4;
@@ -310,40 +367,40 @@ static int build_layer(const satf_maps *m, const satf_maps_fiber *f,
   uint16_t *fill_slice = key_slice + slice;
   float key[4 * MAPS_MAX_WIDTH], fill[4 * MAPS_MAX_WIDTH];
   float row_key[4 * MAPS_MAX_WIDTH], row_fill[4 * MAPS_MAX_WIDTH];
-  for (int j = j0; j < j1; j++) {
-    /* the boundary records along t, each looked up once: HSV i shows
-     * boundary i in row 2i and boundary i + 1 in row 2i + 1 (SATF eq. 7) */
-    sector_look cur, next;
-    look_at(g, maps_sector_index(sh, 0, k, j), eye, lights, &cur);
-    for (int i = 0; i <= sh->st; i++) {
-      if (i < sh->st) { /* the next boundary's records load meanwhile */
-        look_at(g, maps_sector_index(sh, i + 1, k, j), eye, lights, &next);
-        prefetch_key(f, g, &next, opt->k_nearest);
-      }
-      satf_db_neighbors found;
-      const satf_db_neighbors *nb =
-          maps_sector_neighbors(g, cur.q, opt->k_nearest);
-      if (!nb) {
-        satf_db_neighbors_find(maps_db(m), g->features + 3 * cur.q,
-                               opt->k_nearest, &found);
-        nb = &found;
-      }
-      sector_radiance(g, f, &cur, nb, lights, n_lights, trt, w, key, fill);
-      lookups += n_lights;
-      lay_fiber_row(m, key, fill, cur.view.azimuth,
-                    sums +
-                        ((size_t)i * (size_t)(j1 - j0) + (size_t)(j - j0)) * w,
-                    row_key, row_fill);
-      /* the top row of HSV i and the bottom row of HSV i - 1, the same
-       * texels */
-      size_t col = (size_t)j * w * 4;
-      for (int r = i > 0 ? 2 * i - 1 : 0; r <= 2 * i && r < 2 * sh->st; r++) {
-        pack(row_key, key_slice + (size_t)r * row_halfs + col, (size_t)w * 4);
-        pack(row_fill, fill_slice + (size_t)r * row_halfs + col, (size_t)w * 4);
-      }
-      if (i < sh->st)
-        cur = next;
+  /* the boundary records along t, each looked up once: HSV i shows
+   * boundary i in row 2i and boundary i + 1 in row 2i + 1 (SATF eq. 7);
+   * the current and next boundary's looks swap roles rather than copy */
+  sector_look looks[2], *cur = &looks[0], *next = &looks[1];
+  look_at(f, g, maps_sector_index(sh, 0, k, j), eye, lights, n_lights,
+          &column[0], cur);
+  for (int i = 0; i <= sh->st; i++) {
+    if (i < sh->st) { /* the next boundary's records load meanwhile */
+      look_at(f, g, maps_sector_index(sh, i + 1, k, j), eye, lights, n_lights,
+              &column[i + 1], next);
+      prefetch_key(f, g, next, opt->k_nearest);
     }
+    satf_db_neighbors found;
+    const satf_db_neighbors *nb =
+        maps_sector_neighbors(g, cur->q, opt->k_nearest);
+    if (!nb) {
+      satf_db_neighbors_find(maps_db(m), g->features + 3 * cur->q,
+                             opt->k_nearest, &found);
+      nb = &found;
+    }
+    sector_radiance(f, cur, nb, lights, n_lights, trt, w, key, fill);
+    lookups += n_lights;
+    lay_fiber_row(m, key, fill, cur->view.azimuth, sums + (size_t)i * w,
+                  row_key, row_fill);
+    /* the top row of HSV i and the bottom row of HSV i - 1, the same
+     * texels */
+    size_t col = (size_t)j * w * 4;
+    for (int r = i > 0 ? 2 * i - 1 : 0; r <= 2 * i && r < 2 * sh->st; r++) {
+      pack(row_key, key_slice + (size_t)r * row_halfs + col, (size_t)w * 4);
+      pack(row_fill, fill_slice + (size_t)r * row_halfs + col, (size_t)w * 4);
+    }
+    sector_look *t = cur;
+    cur = next;
+    next = t;
   }
   return lookups;
 }
@@ -353,21 +410,27 @@ int satf_maps_fiber_build(const satf_maps *m, const satf_maps_fiber *f,
                           const satf_fiber_light *lights, int n_lights, int trt,
                           const satf_map_options *opt, int part, int parts,
                           float *sums, uint16_t *texels) {
-  /* from the outer layer in, so that each layer's s-map sum (eq. 12) is
-   * the running sum of the alpha laid before it: the maps are written
-   * once, as halfs, where a float copy, a pass for the sums and one to
-   * pack would write and read them three times more */
-  int su = g->shell.su;
+  /* a column of HSVs at a time, from the outer layer in, so that each
+   * layer's s-map sum (eq. 12) is the running sum of the alpha laid before
+   * it: the maps are written once, as halfs, where a float copy, a pass
+   * for the sums and one to pack would write and read them three times
+   * more; and the column's layers share its lights' directions
+   * (column_entry) */
+  int su = g->shell.su, w = satf_maps_width(m);
   int j0 = (int)((long)su * part / parts),
       j1 = (int)((long)su * (part + 1) / parts);
-  memset(sums, 0,
-         (size_t)(g->shell.st + 1) * (size_t)(j1 - j0) *
-             (size_t)satf_maps_width(m) * sizeof(float));
+  size_t nsums = (size_t)(g->shell.st + 1) * (size_t)w;
+  column_entry *column = (column_entry *)(sums + nsums);
   half_pack_fn pack = half_stream_packer();
   int lookups = 0;
-  for (int k = g->shell.layers - 1; k >= 0; k--)
-    lookups += build_layer(m, f, g, eye, lights, n_lights, trt, opt, k, j0, j1,
-                           pack, sums, texels);
+  for (int j = j0; j < j1; j++) {
+    memset(sums, 0, nsums * sizeof(float));
+    for (int i = 0; i <= g->shell.st; i++)
+      column[i].ready = 0;
+    for (int k = g->shell.layers - 1; k >= 0; k--)
+      lookups += build_column(m, f, g, eye, lights, n_lights, trt, opt, k, j,
+                              pack, sums, column, texels);
+  }
   half_stream_end();
   return lookups;
 }

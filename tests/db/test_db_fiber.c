@@ -151,8 +151,14 @@ static void lookup_range_is_a_slice_of_eq4(void **state) {
   satf_db_neighbors_find(g_db, feature, 4, &nb);
   assert_true(nb.count >= 2);
   /* between stored azimuths, and across the periodic seam */
-  const float angles[3][2] = {{0.7f, 2.9f}, {6.2f, 0.05f}, {-0.3f, 7.5f}};
-  for (int a = 0; a < 3; a++) {
+  /* and the floats around 2 pi (below it, and above: 6.2831855f is 2 pi
+   * rounded up), where the grid's periodic wrap and the snap meet */
+  const float angles[5][2] = {{0.7f, 2.9f},
+                              {6.2f, 0.05f},
+                              {-0.3f, 7.5f},
+                              {6.2831850f, 6.2831855f},
+                              {6.2831855f, -1e-7f}};
+  for (int a = 0; a < 5; a++) {
     float tv = angles[a][0], tl = angles[a][1];
     satf_db_lookup_neighbors_channels(g_db, &nb, tv, tl, all);
     double fv = fmod(fmod(tv / SATF_TWO_PI * p->n_view, p->n_view) + p->n_view,
@@ -190,6 +196,14 @@ static void lookup_range_is_a_slice_of_eq4(void **state) {
     satf_db_prefetch(g_db, &nb, tv, tl, 1, nc - 1);
     satf_db_lookup_neighbors_range(g_db, &nb, tv, tl, 0, nc, part);
     assert_memory_equal(part, all, (size_t)nc * (size_t)w * sizeof(float));
+    /* nor does the look-up in its two steps (satf_db_cell), for a range */
+    satf_db_cell cell;
+    satf_db_cell_find(g_db, tv, tl, &cell);
+    satf_db_prefetch_cell(g_db, &nb, &cell, 1, nc - 1);
+    memset(part, 0, (size_t)nc * (size_t)w * sizeof(float));
+    satf_db_lookup_cell_range(g_db, &nb, &cell, 1, nc - 1, part);
+    assert_memory_equal(part, all + w,
+                        (size_t)(nc - 1) * (size_t)w * sizeof(float));
   }
   free(all);
   free(part);

@@ -358,6 +358,82 @@ static void test_layout_sums(void **state) {
   satf_scene_destroy(s);
 }
 
+/* The maps of three lights, a directional key, a directional and a point
+ * fill (maps_fiber.c: the first fill light stores its radiance, further
+ * ones add theirs; directional lights' directions are found once per
+ * column of layers, a point light's per sector): the key slices are those
+ * of the key light alone, bit for bit, and each fill slice's colour is
+ * the sum of the two fills' (within the halfs' rounding), the point
+ * light's share not zero. */
+static const inst *maps_of(const char *lights, satf_scene **s,
+                           satf_renderer **r) {
+  char json[2048];
+  scene_json(json, sizeof json, "", lights, 1);
+  *s = fixture_scene(json);
+  assert_non_null(*s);
+  satf_error err;
+  assert_int_equal(satf_renderer_create(*s, fiber_db, W, H, 1, r, &err),
+                   SATF_OK);
+  satf_image *img = NULL;
+  satf_frame_timing t;
+  assert_int_equal(satf_renderer_render_image(*r, 0, &img, &t, &err), SATF_OK);
+  satf_image_destroy(img);
+  return &(*r)->insts[0];
+}
+
+static void test_fill_lights_sum(void **state) {
+  (void)state;
+  const char *dir = "{\"direction\": [0.7, 0.1, -0.7], \"intensity\": 1}";
+  const char *point = "{\"type\": \"point\", \"position\": [-3, 1, 4],"
+                      " \"intensity\": 20, \"color\": [1, 0.7, 0.5]}";
+  char l_dir[512], l_point[512], l_all[1024];
+  snprintf(l_dir, sizeof l_dir, "%s, %s", FRONT, dir);
+  snprintf(l_point, sizeof l_point, "%s, %s", FRONT, point);
+  snprintf(l_all, sizeof l_all, "%s, %s, %s", FRONT, dir, point);
+  satf_scene *sa, *sb, *sc;
+  satf_renderer *ra, *rb, *rc;
+  const inst *a = maps_of(l_dir, &sa, &ra), *b = maps_of(l_point, &sb, &rb);
+  const inst *c = maps_of(l_all, &sc, &rc);
+  const satf_shell_params *sh = &a->geom.shell;
+  size_t slice = 4 * satf_maps_layer_texels(&a->geom, ra->w);
+  size_t all = slice * 2 * (size_t)sh->layers;
+  float *va = malloc(3 * all * sizeof *va), *vb = va + all, *vc = vb + all;
+  assert_non_null(va);
+  half_unpack(a->texels, va, all);
+  half_unpack(b->texels, vb, all);
+  half_unpack(c->texels, vc, all);
+  double worst = 0.0, point_share = 0.0, fill_peak = 0.0;
+  for (int k = 0; k < sh->layers; k++) {
+    size_t key = (size_t)(2 * k) * slice, fill = key + slice;
+    assert_memory_equal(a->texels + key, c->texels + key,
+                        slice * sizeof(uint16_t));
+    assert_memory_equal(b->texels + key, c->texels + key,
+                        slice * sizeof(uint16_t));
+    for (size_t x = 0; x < slice; x++) {
+      if (x % 4 == 3) /* the s-map sums: of the key light's alpha */
+        continue;
+      double fa = va[fill + x], fb = vb[fill + x], fc = vc[fill + x];
+      double err = fabs(fc - fa - fb) /
+                   (ldexp(fabs(fa) + fabs(fb), -10) + ldexp(1.5, -24));
+      worst = fmax(worst, err);
+      point_share = fmax(point_share, fb);
+      fill_peak = fmax(fill_peak, fc);
+    }
+  }
+  printf("three lights: fill slices within %.2f of the halfs' rounding of "
+         "the fills' sum; point fill up to %.4f of %.4f\n",
+         worst, point_share, fill_peak);
+  assert_true(worst <= 1.0);
+  assert_true(point_share > 0.05 * fill_peak);
+  free(va);
+  satf_renderer_destroy(ra);
+  satf_renderer_destroy(rb);
+  satf_renderer_destroy(rc);
+  satf_scene_destroy(sa);
+  satf_scene_destroy(sb);
+  satf_scene_destroy(sc);
+}
+
 /* A physical scene with a Phong database: refused with a message that
  * says what is needed. */
 static void test_phong_database_refused(void **state) {
@@ -384,6 +460,7 @@ int main(void) {
       cmocka_unit_test(test_still_frames),
       cmocka_unit_test(test_phong_database_refused),
       cmocka_unit_test(test_layout_sums),
+      cmocka_unit_test(test_fill_lights_sum),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
