@@ -464,9 +464,41 @@ static float distance2(const float a[3], const float b[3]) {
   return satf_dot3f(d, d);
 }
 
+/* The diameter of the hair the deep opacity map counts: the strands' median
+ * width where strands are drawn (the strand reference, else the sparse
+ * clusters' strands), else the clusters' density strand diameter
+ * (strand_width x radius, their mean); 0 if none says. */
+static float hair_diameter(const satf_renderer *r) {
+  const strands_gpu *s = r->strands ? r->strands : r->sparse;
+  if (s && strands_gpu_width(s) > 0.0f)
+    return strands_gpu_width(s);
+  double sum = 0.0;
+  int n = 0;
+  for (int m = 0; m < r->nprotos; m++) {
+    const satf_scene_cluster *c = &r->scene->macro_clusters[m].prototype;
+    if (c->density.type != SATF_SCENE_DENSITY_PROCEDURAL ||
+        !(c->density.strand_width > 0.0f))
+      continue;
+    sum += (double)c->density.strand_width * c->a.values[0];
+    n++;
+  }
+  return n > 0 ? (float)(sum / n) : 0.0f;
+}
+
 /* An orthographic view along the key light's direction (a point light is
  * treated as directional from its position towards the scene centre), and
- * slabs a third of a typical cluster's radius deep, in depth units. */
+ * slabs a third of a typical cluster's radius deep, in depth units, but
+ * never thinner than one hair. The map (Yuksel & Keyser 2008) counts the
+ * hair in four slabs behind the first hair and lumps all that lies beyond
+ * into the fourth; the physical mode looks it up one slab nearer the light
+ * so a strand does not count itself (strand_fs.glsl). A hair is an
+ * occluder one diameter deep: slabs thinner than that put the four inside
+ * the first hair, so every point past it counts the whole column (its own
+ * strand and the hair beyond it) and its direct light e^-n loses at least
+ * e^-1. Clusters split into single strands (import_refine.c) have a
+ * strand's radius, which made the slabs a sixth of a strand (the ponytail
+ * back-lit: direct light through the map 0.70 of Cycles' unblocked
+ * fraction, the frame 0.60 of Cycles' luminance; at one diameter 0.93). */
 void frame_light_view(satf_renderer *r) {
   float c[3], rad = scene_radius(r, c), lv[4], dir[3];
   frame_light_vector(&r->lights[0], lv);
@@ -491,7 +523,8 @@ void frame_light_view(satf_renderer *r) {
   for (int m = 0; m < r->nprotos; m++)
     cluster_r += r->scene->macro_clusters[m].prototype.a.values[0];
   cluster_r /= (float)(r->nprotos > 0 ? r->nprotos : 1);
-  r->dom_slab = 0.66f * cluster_r / (2.0f * rad) * 0.5f;
+  float slab = 0.66f * cluster_r * 0.5f, hair = hair_diameter(r);
+  r->dom_slab = (slab > hair ? slab : hair) / (2.0f * rad);
 }
 
 /* The camera's view-projection; without explicit clip planes they hug the

@@ -345,6 +345,8 @@ void strands_gpu_destroy(strands_gpu *s);
  * need no order. */
 void strands_gpu_in_order(strands_gpu *s);
 size_t strands_gpu_segments(const strands_gpu *s);
+/* The strands' median width (diameter, scene units); 0 for NULL. */
+float strands_gpu_width(const strands_gpu *s);
 /* The shading program, every fragment (whole or partly covered) blended
  * "over" (list_mode -1) or into the per-pixel arrays in that mode of
  * passes_lists, bound with the frame's material, lights and view. */

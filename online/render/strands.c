@@ -48,6 +48,7 @@ struct strands_gpu {
   GLuint prog_list;   /* into the per-pixel arrays (sparse.c), or 0 */
   GLuint prog_depth;  /* their whole fragments' depth (sparse.c), or 0 */
   float lo[3], hi[3]; /* bounds of the ribbons */
+  float width;        /* the points' median width */
   fiber_gpu fiber;    /* the physical material's uniforms and tables */
 };
 
@@ -231,6 +232,29 @@ static void grow_bounds(satf_renderer *r, const strands_gpu *s) {
   }
 }
 
+static int float_less(const void *a, const void *b) {
+  float x = *(const float *)a, y = *(const float *)b;
+  return (x > y) - (x < y);
+}
+
+/* The median of the n points' widths (points: x, y, z, width each); 0 if
+ * out of memory. */
+static float median_width(const float *points, size_t n) {
+  float *w = malloc((n > 0 ? n : 1) * sizeof *w);
+  if (!w || n == 0) {
+    free(w);
+    return 0.0f;
+  }
+  for (size_t k = 0; k < n; k++)
+    w[k] = points[4 * k + 3];
+  qsort(w, n, sizeof *w, float_less);
+  float m = w[n / 2];
+  free(w);
+  return m;
+}
+
+float strands_gpu_width(const strands_gpu *s) { return s ? s->width : 0.0f; }
+
 satf_status strands_gpu_create(int n_strands, const int *counts,
                                const float *xyz, const float *thickness,
                                float default_width, int list, strands_gpu **out,
@@ -264,6 +288,7 @@ satf_status strands_gpu_create(int n_strands, const int *counts,
     memcpy(s->points + 4 * k, xyz + 3 * k, 3 * sizeof(float));
     s->points[4 * k + 3] = thickness ? thickness[k] : default_width;
   }
+  s->width = median_width(s->points, total);
   st = upload(s, counts, err);
   if (st == SATF_OK)
     st = build_strand_programs(s, list, err);
