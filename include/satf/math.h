@@ -67,6 +67,26 @@ static inline float satf_normalize3f(float v[3]) {
   return len;
 }
 
+/* Squared distance from p to the segment a-b (its nearest point clamped to
+ * the ends; a degenerate segment is the point a). */
+static inline float satf_segment_dist2f(const float p[3], const float a[3],
+                                        const float b[3]) {
+  float ab[3], ap[3], d2 = 0.0f, f = 0.0f;
+  for (int c = 0; c < 3; c++) {
+    ab[c] = b[c] - a[c];
+    ap[c] = p[c] - a[c];
+    d2 += ab[c] * ab[c];
+    f += ap[c] * ab[c];
+  }
+  f = d2 > 0.0f ? fminf(fmaxf(f / d2, 0.0f), 1.0f) : 0.0f;
+  float e2 = 0.0f;
+  for (int c = 0; c < 3; c++) {
+    float e = ap[c] - f * ab[c];
+    e2 += e * e;
+  }
+  return e2;
+}
+
 #ifdef __cplusplus
 }
 #endif

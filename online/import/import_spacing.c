@@ -14,6 +14,7 @@
 
 #include "satf/common.h"
 #include "satf/import.h"
+#include "satf/math.h"
 
 /* Cells of the segment grid: a cell is a segment's median length, so a
  * segment touches a few cells and a point's 27 neighbouring cells hold
@@ -65,26 +66,6 @@ static float median_of(float *v, int n) {
   return v[n / 2];
 }
 
-/* Squared distance from p to the segment a-b. */
-static float segment_dist2(const float p[3], const float a[3],
-                           const float b[3]) {
-  float d[3], w[3], dd = 0.0f, wd = 0.0f;
-  for (int c = 0; c < 3; c++) {
-    d[c] = b[c] - a[c];
-    w[c] = p[c] - a[c];
-    dd += d[c] * d[c];
-    wd += w[c] * d[c];
-  }
-  float t = dd > 0.0f ? wd / dd : 0.0f;
-  t = t < 0.0f ? 0.0f : t > 1.0f ? 1.0f : t;
-  float r = 0.0f;
-  for (int c = 0; c < 3; c++) {
-    float e = w[c] - t * d[c];
-    r += e * e;
-  }
-  return r;
-}
-
 /* The first entry of a cell (or n_cells). */
 static size_t find_cell(const grid *g, uint64_t key) {
   size_t lo = 0, hi = g->n_cells;
@@ -118,8 +99,8 @@ static float nearest_other(const grid *g, const float p[3], int strand) {
           int sg = g->cells[i].segment;
           if (g->owner[sg] == strand)
             continue;
-          float d2 =
-              segment_dist2(p, g->a + 3 * (size_t)sg, g->b + 3 * (size_t)sg);
+          float d2 = satf_segment_dist2f(p, g->a + 3 * (size_t)sg,
+                                         g->b + 3 * (size_t)sg);
           if (d2 < best)
             best = d2;
         }

@@ -177,14 +177,8 @@ static void release_geometry(proto *p) {
   p->cluster = NULL;
 }
 
-/* The generalized cylinder of a scene cluster, its shell geometry (sector
- * frames; features are kept when `keep` holds them), layer meshes and
- * frames on the GPU. Used at creation and when an animation moves it. */
-static satf_status build_geometry(satf_renderer *r, int index,
-                                  const satf_scene_cluster *c,
-                                  const float *keep, satf_error *err) {
-  proto *p = &r->protos[index];
-  const char *name = scene_name(r->scene);
+satf_status hierarchy_cluster_create(const satf_scene_cluster *c,
+                                     satf_cluster **out, satf_error *err) {
   int n = c->a.count;
   if (c->b.count > n)
     n = c->b.count;
@@ -198,9 +192,21 @@ static satf_status build_geometry(satf_renderer *r, int index,
   hierarchy_resample_curve(&c->twist, n, radii + 2 * n);
   satf_cluster_desc desc = {c->n_points, c->trajectory, n,
                             radii,       radii + n,     radii + 2 * n};
-  satf_error cerr;
-  satf_status st = satf_cluster_create(&desc, &p->cluster, &cerr);
+  satf_status st = satf_cluster_create(&desc, out, err);
   free(radii);
+  return st;
+}
+
+/* The generalized cylinder of a scene cluster, its shell geometry (sector
+ * frames; features are kept when `keep` holds them), layer meshes and
+ * frames on the GPU. Used at creation and when an animation moves it. */
+static satf_status build_geometry(satf_renderer *r, int index,
+                                  const satf_scene_cluster *c,
+                                  const float *keep, satf_error *err) {
+  proto *p = &r->protos[index];
+  const char *name = scene_name(r->scene);
+  satf_error cerr;
+  satf_status st = hierarchy_cluster_create(c, &p->cluster, &cerr);
   if (st != SATF_OK)
     return satf_error_set(err, st, "%s: macro_clusters[%d].prototype: %s", name,
                           index, cerr.message);

@@ -190,6 +190,11 @@ static inline const char *scene_name(const satf_scene *scene) {
  * control polygon for the three, so shorter ones are resampled linearly
  * to n values. */
 void hierarchy_resample_curve(const satf_scene_curve *c, int n, float *out);
+/* The generalized cylinder of a scene cluster, its A, B and twist resampled
+ * to one control count (what the renderer draws; tools that place points
+ * as the renderer does build it the same way). */
+satf_status hierarchy_cluster_create(const satf_scene_cluster *c,
+                                     satf_cluster **out, satf_error *err);
 /* Builds every prototype and instance of r->scene. */
 satf_status hierarchy_build(satf_renderer *r, satf_progress_fn progress,
                             void *progress_ctx, satf_error *err);

@@ -158,23 +158,6 @@ int sparse_place(const satf_cluster *cluster, const satf_scene_cluster *c,
   return n;
 }
 
-static float segment_distance(const float *p, const float *a, const float *b) {
-  float ab[3], ap[3], d2 = 0.0f, f = 0.0f;
-  for (int c = 0; c < 3; c++) {
-    ab[c] = b[c] - a[c];
-    ap[c] = p[c] - a[c];
-    d2 += ab[c] * ab[c];
-    f += ap[c] * ab[c];
-  }
-  f = d2 > 0.0f ? fminf(fmaxf(f / d2, 0.0f), 1.0f) : 0.0f;
-  float e2 = 0.0f;
-  for (int c = 0; c < 3; c++) {
-    float e = ap[c] - f * ab[c];
-    e2 += e * e;
-  }
-  return sqrtf(e2);
-}
-
 /* The strand's points (count, xyz and width) thinned in place to those a
  * polyline needs to stay within tol of all of them (Douglas-Peucker);
  * returns the points kept. A strand is drawn a quad a segment, and on
@@ -195,7 +178,8 @@ static int thin_strand(float *xyz, float *width, int count, float tol) {
     int b = stack[--top], a = stack[--top], far = -1;
     float worst = tol;
     for (int i = a + 1; i < b; i++) {
-      float d = segment_distance(xyz + 3 * i, xyz + 3 * a, xyz + 3 * b);
+      float d =
+          sqrtf(satf_segment_dist2f(xyz + 3 * i, xyz + 3 * a, xyz + 3 * b));
       if (d > worst) {
         worst = d;
         far = i;

@@ -217,18 +217,8 @@ static int maps_bench(const satf_db *db, const char *path, int frames) {
     }
     bproto *b = &bp[np++];
     b->mc = &scene->macro_clusters[m];
-    int n = c->a.count > c->b.count ? c->a.count : c->b.count;
-    if (c->twist.count > n)
-      n = c->twist.count;
-    float *radii = malloc(3 * (size_t)n * sizeof(float));
-    hierarchy_resample_curve(&c->a, n, radii);
-    hierarchy_resample_curve(&c->b, n, radii + n);
-    hierarchy_resample_curve(&c->twist, n, radii + 2 * n);
-    satf_cluster_desc desc = {c->n_points, c->trajectory, n,
-                              radii,       radii + n,     radii + 2 * n};
-    if (satf_cluster_create(&desc, &b->cluster, &err) != SATF_OK)
+    if (hierarchy_cluster_create(c, &b->cluster, &err) != SATF_OK)
       die("cluster", &err);
-    free(radii);
     if (satf_strands_create(&c->density, &b->strands, &err) != SATF_OK)
       die("strands", &err);
     satf_shell_params sh = {c->shell.layers, c->shell.st, c->shell.su,

@@ -27,6 +27,7 @@
 #include "renderer_internal.h"
 #include "satf/geometry.h"
 #include "satf/import.h"
+#include "satf/math.h"
 #include "satf/scene.h"
 
 typedef struct {
@@ -64,25 +65,10 @@ static void report(const char *name, samples *s) {
   s->n = 0;
 }
 
-static float seg_dist(const float *p, const float *a, const float *b) {
-  float ab[3], ap[3], d2 = 0.0f, f = 0.0f;
-  for (int c = 0; c < 3; c++) {
-    ab[c] = b[c] - a[c];
-    ap[c] = p[c] - a[c];
-    d2 += ab[c] * ab[c];
-    f += ap[c] * ab[c];
-  }
-  f = d2 > 0.0f ? fminf(fmaxf(f / d2, 0.0f), 1.0f) : 0.0f;
-  float e2 = 0.0f;
-  for (int c = 0; c < 3; c++)
-    e2 += (ap[c] - f * ab[c]) * (ap[c] - f * ab[c]);
-  return sqrtf(e2);
-}
-
 static float poly_dist(const float *p, const float *q, int n) {
   float best = FLT_MAX;
   for (int k = 0; k + 1 < n; k++)
-    best = fminf(best, seg_dist(p, q + 3 * k, q + 3 * k + 3));
+    best = fminf(best, sqrtf(satf_segment_dist2f(p, q + 3 * k, q + 3 * k + 3)));
   return n == 1 ? sqrtf((p[0] - q[0]) * (p[0] - q[0]) +
                         (p[1] - q[1]) * (p[1] - q[1]) +
                         (p[2] - q[2]) * (p[2] - q[2]))
@@ -203,21 +189,12 @@ int main(int argc, char **argv) {
     const satf_scene_density *d = &c->density;
     if (d->type != SATF_SCENE_DENSITY_TRACKS)
       continue;
-    /* the cluster as hierarchy.c builds it */
-    int n = c->a.count > c->b.count ? c->a.count : c->b.count;
-    n = c->twist.count > n ? c->twist.count : n;
-    float *radii = malloc(3 * (size_t)n * sizeof(float));
-    hierarchy_resample_curve(&c->a, n, radii);
-    hierarchy_resample_curve(&c->b, n, radii + n);
-    hierarchy_resample_curve(&c->twist, n, radii + 2 * n);
-    satf_cluster_desc desc = {c->n_points, c->trajectory, n,
-                              radii,       radii + n,     radii + 2 * n};
+    /* the cluster as the renderer builds it */
     satf_cluster *cl = NULL;
-    if (satf_cluster_create(&desc, &cl, &err) != SATF_OK) {
+    if (hierarchy_cluster_create(c, &cl, &err) != SATF_OK) {
       fprintf(stderr, "cluster %d: %s\n", m, err.message);
       return 1;
     }
-    free(radii);
     int multi = d->n_tracks >= 2;
     clusters += multi;
     instanced += mc->n_instances > 1 ? mc->n_instances - 1 : 0;
