@@ -481,33 +481,49 @@ static void orbit(satf_scene_camera *cam, const satf_scene_camera *start,
         start->target[a] + v[a] * c + kx[a] * s + start->up[a] * kv * (1 - c);
 }
 
-/* Shows frame f of the bench: an animation frame (kept in *snap until the
- * next) or a step of the orbit. */
-static satf_status bench_step(satf_renderer *r, const satf_scene *scene,
-                              const satf_scene_camera *start, long f,
-                              long frames, const int range[3],
-                              satf_scene **snap, satf_error *err) {
-  if (!range[0]) {
-    orbit(satf_renderer_camera(r), start,
-          SATF_TWO_PI_F * (float)f / (float)frames);
+void satf_frontend_walk_begin(satf_frontend_walk *w, satf_renderer *r,
+                              const satf_scene *scene, long frames) {
+  memset(w, 0, sizeof *w);
+  w->r = r;
+  w->scene = scene;
+  w->start = *satf_renderer_camera(r);
+  w->frames = frames > 0 ? frames : 1;
+  w->animated = satf_scene_frame_range(scene, &w->first, &w->last);
+}
+
+satf_status satf_frontend_walk_step(satf_frontend_walk *w, long f,
+                                    satf_error *err) {
+  if (!w->animated) {
+    orbit(satf_renderer_camera(w->r), &w->start,
+          SATF_TWO_PI_F * (float)f / (float)w->frames);
     return SATF_OK;
   }
   /* play the animation: moving clusters are rebuilt */
   satf_scene *next = NULL;
-  double frame = range[1] + (double)(f % (range[2] - range[1] + 1));
-  satf_status st = satf_scene_at_frame(scene, frame, &next, err);
+  double frame = w->first + (double)(f % (w->last - w->first + 1));
+  satf_status st = satf_scene_at_frame(w->scene, frame, &next, err);
   if (st == SATF_OK)
-    st = satf_renderer_set_scene(r, next, NULL, err);
-  satf_scene_destroy(*snap);
-  *snap = next;
+    st = satf_renderer_set_scene(w->r, next, NULL, err);
+  satf_scene_destroy(w->snap);
+  w->snap = next;
   return st;
+}
+
+void satf_frontend_walk_end(satf_frontend_walk *w, int ok) {
+  if (w->snap) {
+    satf_error ignore;
+    satf_renderer_set_scene(w->r, w->scene, NULL, &ignore);
+    satf_scene_destroy(w->snap);
+    w->snap = NULL;
+  }
+  if (ok)
+    *satf_renderer_camera(w->r) = w->start;
 }
 
 satf_status satf_frontend_bench(satf_renderer *r, const satf_scene *scene,
                                 long frames, satf_frontend_present_fn present,
                                 void *ctx, satf_frame_timing *mean, double *fps,
                                 satf_error *err) {
-  satf_scene_camera start = *satf_renderer_camera(r);
   satf_frame_timing t;
   memset(mean, 0, sizeof *mean);
   satf_status st = satf_renderer_render(r, SATF_AOV_BEAUTY, &t, err);
@@ -515,14 +531,12 @@ satf_status satf_frontend_bench(satf_renderer *r, const satf_scene *scene,
     st = present(ctx, err);
   if (st != SATF_OK)
     return st;
-  int range[3]; /* animated, first, last */
-  range[1] = range[2] = 0;
-  range[0] = satf_scene_frame_range(scene, &range[1], &range[2]);
-  satf_scene *snap = NULL;
+  satf_frontend_walk w;
+  satf_frontend_walk_begin(&w, r, scene, frames);
   double b0 = satf_now_seconds(), n = (double)frames;
   for (long f = 0; f < frames && st == SATF_OK; f++) {
     double s0 = satf_now_seconds();
-    st = bench_step(r, scene, &start, f, frames, range, &snap, err);
+    st = satf_frontend_walk_step(&w, f, err);
     double s1 = satf_now_seconds();
     if (st == SATF_OK)
       st = satf_renderer_render(r, SATF_AOV_BEAUTY, &t, err);
@@ -540,12 +554,6 @@ satf_status satf_frontend_bench(satf_renderer *r, const satf_scene *scene,
     mean->shadow_ms += t.shadow_ms / n;
   }
   *fps = n / (satf_now_seconds() - b0);
-  if (snap) {
-    satf_error ignore;
-    satf_renderer_set_scene(r, scene, NULL, &ignore);
-    satf_scene_destroy(snap);
-  }
-  if (st == SATF_OK)
-    *satf_renderer_camera(r) = start;
+  satf_frontend_walk_end(&w, st == SATF_OK);
   return st;
 }

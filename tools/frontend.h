@@ -106,6 +106,27 @@ satf_status satf_frontend_frame_range(const satf_scene *scene, const char *text,
  * window (satf-view); its time counts in the frame rate. */
 typedef satf_status (*satf_frontend_present_fn)(void *ctx, satf_error *err);
 
+/* The frames of Table 1's measurement, one at a time: frame f of n shows
+ * the scene's animation frame (looping over its range) or, for a static
+ * scene, the camera a fraction f / n of the way round its target. Begin
+ * keeps the renderer's camera; end shows `scene` from it again. Two walks
+ * over two renderers, stepped in turn, time both under the same load
+ * (tests/render/bench_shading). */
+typedef struct satf_frontend_walk {
+  satf_renderer *r;
+  const satf_scene *scene;
+  satf_scene_camera start;
+  long frames;
+  int animated, first, last;
+  satf_scene *snap; /* the animation frame shown (owned) */
+} satf_frontend_walk;
+void satf_frontend_walk_begin(satf_frontend_walk *w, satf_renderer *r,
+                              const satf_scene *scene, long frames);
+satf_status satf_frontend_walk_step(satf_frontend_walk *w, long f,
+                                    satf_error *err);
+/* ok: restores the camera too (not after a failed frame) */
+void satf_frontend_walk_end(satf_frontend_walk *w, int ok);
+
 /* Table 1's measurement: one warm-up frame, then `frames` timed frames of
  * the scene's animation, or, for a static scene, of the camera orbiting its
  * target once, each followed by present(ctx) when present is not NULL.

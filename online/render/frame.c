@@ -2,6 +2,9 @@
  * M): the lights and eye in each instance's frame, the sector angles, the
  * database look-ups that fill every layer's maps and their upload, and the
  * frame's transforms (camera, key light, screen box, depth order). */
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+#error "the physical maps' words (map_fetch.glsl) assume a little-endian host"
+#endif
 #include "renderer_internal.h"
 
 #include <stdlib.h>
@@ -183,7 +186,7 @@ static int kk_layer(const satf_renderer *r, inst *in, int k, float *texels) {
 /* Floats of an instance's maps (every texture layer). */
 static size_t inst_floats(const satf_renderer *r, const inst *in) {
   return satf_maps_layer_texels(&in->geom, r->w) * 4 *
-         (size_t)in->geom.shell.layers * (size_t)r->slices;
+         (size_t)in->geom.shell.layers * (size_t)r->quads;
 }
 
 static int inst_job(void *ctx, size_t i, int thread) {
@@ -221,7 +224,7 @@ static int inst_job(void *ctx, size_t i, int thread) {
  * instance's layers are spread over them (its layers' look-ups are
  * independent, kk_layer), each instance in a scratch buffer of its own,
  * and the s-map sums and packing follow per instance. Job i is layer
- * i % layers of instance i / layers; the instances have r->slices 1. */
+ * i % layers of instance i / layers; the paper's mode only. */
 typedef struct layer_jobs {
   satf_renderer *r;
   const int *inst_of;
@@ -354,8 +357,7 @@ static satf_status build_maps(satf_renderer *r, long *lookups,
   for (int i = 0; i < r->ninsts; i++)
     if (!r->insts[i].still)
       ij.inst_of[q++] = i;
-  if (!r->fiber && r->slices == 1 && (int)jobs < r->threads &&
-      jobs <= LAYER_SPLIT_MAX) {
+  if (!r->fiber && (int)jobs < r->threads && jobs <= LAYER_SPLIT_MAX) {
     st = build_maps_by_layer(r, ij.inst_of, jobs, lookups, err);
     free(ij.inst_of);
     free(ij.lookups);
@@ -391,9 +393,12 @@ satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
       continue;
     const satf_shell_params *sh = &in->geom.shell;
     glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, in->layer0, sh->su * r->w,
-                    2 * sh->st, sh->layers * r->slices, GL_RGBA, GL_HALF_FLOAT,
-                    in->texels);
+    /* a physical texel's 8 halfs are 4 words, low half first on this
+     * little-endian host, as the shader unpacks them (map_fetch.glsl) */
+    glTexSubImage3D(
+        GL_TEXTURE_2D_ARRAY, 0, 0, 0, in->layer0, sh->su * r->w, 2 * sh->st,
+        sh->layers, r->quads == 2 ? GL_RGBA_INTEGER : GL_RGBA,
+        r->quads == 2 ? GL_UNSIGNED_INT : GL_HALF_FLOAT, in->texels);
     in->stale_upload = 0;
     r->maps_changed++;
   }

@@ -312,15 +312,16 @@ static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
 }
 
 /* A prototype's map textures: each instance has one layer per shell, su * w
- * texels around and two rows per HSV (maps.h; r->slices texture layers
- * per shell; half floats, half.h), in texture arrays shared by
+ * texels around and two rows per HSV (maps.h; half floats, half.h: RGBA16F,
+ * or in the physical mode RGBA32UI holding a key and a fill quad of halfs,
+ * maps_fiber.h, so one fetch reads both), in texture arrays shared by
  * up to chunk_insts instances, so one draw call shades them all (passes.c;
  * the layer count of an array is capped by GL_MAX_ARRAY_TEXTURE_LAYERS). */
 static satf_status create_map_textures(const satf_renderer *r, proto *p,
                                        satf_error *err) {
   GLint most = 256;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &most);
-  int per_inst = p->layers * r->slices; /* texture layers of an instance */
+  int per_inst = p->layers; /* texture layers of an instance */
   p->chunk_insts = most / per_inst > 0 ? most / per_inst : 1;
   if (p->chunk_insts > p->ninsts)
     p->chunk_insts = p->ninsts > 0 ? p->ninsts : 1;
@@ -334,10 +335,13 @@ static satf_status create_map_textures(const satf_renderer *r, proto *p,
     int n = p->ninsts - c * p->chunk_insts;
     n = n < p->chunk_insts ? n : p->chunk_insts;
     glBindTexture(GL_TEXTURE_2D_ARRAY, p->map_tex[c]);
-    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA16F, p->geom.shell.su * r->w,
-                   2 * p->geom.shell.st, n * per_inst);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1,
+                   r->quads == 2 ? GL_RGBA32UI : GL_RGBA16F,
+                   p->geom.shell.su * r->w, 2 * p->geom.shell.st, n * per_inst);
+    /* the shaders read texels (texelFetch); an integer texture with a
+     * linear filter would be incomplete */
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   }
@@ -365,7 +369,7 @@ static satf_status build_inst(satf_renderer *r, inst *in, int pi,
   if (st != SATF_OK)
     return st;
   size_t texels =
-      satf_maps_layer_texels(&p->geom, r->w) * (size_t)(p->layers * r->slices);
+      satf_maps_layer_texels(&p->geom, r->w) * (size_t)(p->layers * r->quads);
   in->angles = malloc(sectors * 2 * sizeof(float));
   in->looked_up = malloc(sectors * 2 * sizeof(float));
   in->texels = calloc(texels * 4, sizeof *in->texels);

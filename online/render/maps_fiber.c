@@ -296,15 +296,15 @@ static void sector_radiance(const satf_maps_fiber *f, const sector_look *s,
 }
 
 /* Lays one boundary's radiance (sector_radiance's key and fill) across an
- * HSV row of both slices (see maps_fiber.h), resampled to the layer's
+ * HSV row, each texel the key's quad then the fill's (see maps_fiber.h),
+ * resampled to the layer's
  * columns as lay_row does, and divided by alpha (eq. 14 multiplies by
  * alpha again); the fill's channel 3 is the s-map sum `sum` of the outer
  * layers (eq. 12), to which this layer's alpha is then added for the next
  * layer in. */
 static void lay_fiber_row(const satf_maps *m, const float *restrict key,
                           const float *restrict fill, float view,
-                          float *restrict sum, float *restrict row_key,
-                          float *restrict row_fill) {
+                          float *restrict sum, float *restrict row) {
   int w = satf_maps_width(m);
   const uint16_t *idx;
   const float *fr;
@@ -324,8 +324,8 @@ static void lay_fiber_row(const satf_maps *m, const float *restrict key,
     tf *= sf;
     tf[3] = sum[x];
     sum[x] += a;
-    memcpy(row_key + 4 * x, &tk, sizeof tk);
-    memcpy(row_fill + 4 * x, &tf, sizeof tf);
+    memcpy(row + 8 * x, &tk, sizeof tk);
+    memcpy(row + 8 * x + 4, &tf, sizeof tf);
   }
 }
 
@@ -351,7 +351,7 @@ size_t satf_maps_fiber_scratch_floats(const satf_shell_geom *g, int width) {
   return (size_t)(g->shell.st + 1) * ((size_t)width + ENTRY_FLOATS);
 }
 
-/* Column j of layer k's two slices; sums holds the s-map sums of the
+/* Column j of layer k; sums holds the s-map sums of the
  * layers outside it per boundary, and gets this layer's alpha added. */
 static int build_column(const satf_maps *m, const satf_maps_fiber *f,
                         const satf_shell_geom *g, const float eye[3],
@@ -361,12 +361,10 @@ static int build_column(const satf_maps *m, const satf_maps_fiber *f,
                         uint16_t *texels) {
   const satf_shell_params *sh = &g->shell;
   int w = satf_maps_width(m), lookups = 0;
-  size_t row_halfs = (size_t)sh->su * (size_t)w * 4;
-  size_t slice = satf_maps_layer_texels(g, w) * 4;
-  uint16_t *key_slice = texels + (size_t)(2 * k) * slice;
-  uint16_t *fill_slice = key_slice + slice;
+  size_t row_halfs = (size_t)sh->su * (size_t)w * 8;
+  uint16_t *layer = texels + (size_t)k * satf_maps_layer_texels(g, w) * 8;
   float key[4 * MAPS_MAX_WIDTH], fill[4 * MAPS_MAX_WIDTH];
-  float row_key[4 * MAPS_MAX_WIDTH], row_fill[4 * MAPS_MAX_WIDTH];
+  float row[8 * MAPS_MAX_WIDTH];
   /* the boundary records along t, each looked up once: HSV i shows
    * boundary i in row 2i and boundary i + 1 in row 2i + 1 (SATF eq. 7);
    * the current and next boundary's looks swap roles rather than copy */
@@ -389,15 +387,12 @@ static int build_column(const satf_maps *m, const satf_maps_fiber *f,
     }
     sector_radiance(f, cur, nb, lights, n_lights, trt, w, key, fill);
     lookups += n_lights;
-    lay_fiber_row(m, key, fill, cur->view.azimuth, sums + (size_t)i * w,
-                  row_key, row_fill);
+    lay_fiber_row(m, key, fill, cur->view.azimuth, sums + (size_t)i * w, row);
     /* the top row of HSV i and the bottom row of HSV i - 1, the same
      * texels */
-    size_t col = (size_t)j * w * 4;
-    for (int r = i > 0 ? 2 * i - 1 : 0; r <= 2 * i && r < 2 * sh->st; r++) {
-      pack(row_key, key_slice + (size_t)r * row_halfs + col, (size_t)w * 4);
-      pack(row_fill, fill_slice + (size_t)r * row_halfs + col, (size_t)w * 4);
-    }
+    size_t col = (size_t)j * w * 8;
+    for (int r = i > 0 ? 2 * i - 1 : 0; r <= 2 * i && r < 2 * sh->st; r++)
+      pack(row, layer + (size_t)r * row_halfs + col, (size_t)w * 8);
     sector_look *t = cur;
     cur = next;
     next = t;

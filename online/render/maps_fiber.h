@@ -4,12 +4,14 @@
  * 2011 eq. 7, satf/fiber.h) at the HSV's view and light angles, for every
  * light of the scene, in the hair's colour.
  *
- * Texture layout. As maps.h, but two slices per layer: slice 2k holds
- * (R, G, B) of the key light's radiance per unit coverage and alpha;
- * slice 2k + 1 the other lights' radiance summed, and the s-map sum of
- * eq. 12 (the key light alone is shadowed by the deep opacity map and the
- * s-map, as in the paper's mode). HSV i's rows 2i and 2i + 1 hold the
- * records of its boundary sectors i and i + 1 (SATF eq. 7).
+ * Texture layout. As maps.h, but a texel holds two quads of halfs, 8 in
+ * all (a GL_RGBA32UI texel, so the shading pass reads both in one fetch):
+ * the key quad, (R, G, B) of the key light's radiance per unit coverage
+ * and alpha, then the fill quad, the other lights' radiance summed and
+ * the s-map sum of eq. 12 (the key light alone is shadowed by the deep
+ * opacity map and the s-map, as in the paper's mode). HSV i's rows 2i and
+ * 2i + 1 hold the records of its boundary sectors i and i + 1 (SATF
+ * eq. 7).
  *
  * Choices (measured in the README): the records are traced with the light
  * in the fibres' normal plane, so absorption is taken at normal incidence
@@ -40,9 +42,9 @@ satf_status satf_maps_fiber_create(const satf_db *db,
                                    satf_error *err);
 void satf_maps_fiber_destroy(satf_maps_fiber *fiber);
 
-/* Writes every layer's two slices of a cluster's maps (2 * layers slices
- * of satf_maps_layer_texels * 4 halfs, the s-map sums of eq. 12 in
- * channel 3 of the odd slices) as half floats (half.h); lights[0] is the
+/* Writes every layer of a cluster's maps (layers slices of
+ * satf_maps_layer_texels * 8 halfs, the s-map sums of eq. 12 in the
+ * eighth half of a texel) as half floats (half.h); lights[0] is the
  * key light. trt 0 leaves out the TRT lobe, the physical secondary
  * highlight (the Fig. 4b switch in this mode). Only part `part` of
  * `parts` (0 <= part < parts) is written: that share of the su columns of

@@ -84,7 +84,7 @@ static void draw_run(const satf_renderer *r, int first, int count,
   glUniform1f(loc[LOC_CORE], sh->core);
   glUniform1i(loc[LOC_FIRST], first);
   glUniform1i(loc[LOC_FIRST_LAYER], in->layer0);
-  glUniform1i(loc[LOC_INST_LAYERS], sh->layers * r->slices);
+  glUniform1i(loc[LOC_INST_LAYERS], sh->layers);
   glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
   /* the proxy's outward faces wind counter-clockwise, clockwise once a
    * mirror has turned them (culling keeps the outward ones) */

@@ -83,11 +83,11 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
     return st;
   }
   r->w = satf_maps_width(r->maps);
-  r->slices = 1;
+  r->quads = 1;
   if (scene->material.model == SATF_MATERIAL_PHYSICAL && scene->effects.satf) {
     st = satf_maps_fiber_create(db, &scene->material, r->threads, &r->fiber,
                                 err);
-    r->slices = 2;
+    r->quads = 2;
     if (st == SATF_OK && !(r->fgpu = calloc(1, sizeof *r->fgpu)))
       st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }

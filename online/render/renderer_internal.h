@@ -59,8 +59,8 @@ typedef struct inst {
   int own_features;
   satf_neighbor_cache *own_neighbors; /* with own (VDB) features */
   float *angles;
-  /* its maps (maps.h layout, r->slices texture layers per shell) as half
-   * floats (half.h), what its GL_RGBA16F texture holds */
+  /* its maps (maps.h layout, one texture layer per shell, r->quads RGBA
+   * halfs a texel) as half floats (half.h), what its texture holds */
   uint16_t *texels;
   float eye[3], light[4];
   GLuint tex; /* its prototype's texture array holding its maps */
@@ -93,9 +93,10 @@ struct satf_renderer {
   const satf_db *db;
   satf_maps *maps;
   /* the physical mode's maps (maps_fiber.h), NULL in the paper's mode, and
-   * the map texture's slices per shell layer: 2 with them, else 1 */
+   * the RGBA half quads of a map texel: 2 with them (key and fill, one
+   * GL_RGBA32UI texel), else 1 (GL_RGBA16F) */
   satf_maps_fiber *fiber;
-  int slices;
+  int quads;
   fiber_gpu *fgpu; /* its fibre's uniforms and tables (with fiber) */
   satf_map_options map_opt;
   satf_scene_camera camera;

@@ -331,7 +331,7 @@ static void dump_texels(const satf_renderer *r, const char *path) {
   for (int i = 0; i < r->ninsts; i++) {
     const satf_shell_geom *g = &r->insts[i].geom;
     size_t n = satf_maps_layer_texels(g, r->w) * 4 * (size_t)g->shell.layers *
-               (size_t)r->slices;
+               (size_t)r->quads;
     float *v = malloc(n * sizeof *v);
     if (!v)
       die("out of memory", NULL);

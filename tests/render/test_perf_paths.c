@@ -95,7 +95,7 @@ static void test_instanced_same_image(void **state) {
   /* the runs: the mirrored instance splits the first prototype's */
   assert_int_equal(r->protos[0].ninsts, 6);
   assert_int_equal(r->insts[2].mirrored, 1);
-  assert_int_equal(r->insts[3].layer0, 3 * 3 * r->slices);
+  assert_int_equal(r->insts[3].layer0, 3 * 3);
   assert_true(r->insts[0].tex == r->insts[5].tex);
   for (int mode = 0; mode < 2; mode++) {
     satf_renderer_set_composite(r, mode ? SATF_COMPOSITE_ORDERED
@@ -115,13 +115,13 @@ static uint16_t *all_texels(const satf_renderer *r, size_t *count) {
   for (int i = 0; i < r->ninsts; i++) {
     const inst *in = &r->insts[i];
     n += satf_maps_layer_texels(&in->geom, r->w) * 4 *
-         (size_t)(in->geom.shell.layers * r->slices);
+         (size_t)(in->geom.shell.layers * r->quads);
   }
   uint16_t *out = malloc(n * sizeof *out), *p = out;
   for (int i = 0; out && i < r->ninsts; i++) {
     const inst *in = &r->insts[i];
     size_t k = satf_maps_layer_texels(&in->geom, r->w) * 4 *
-               (size_t)(in->geom.shell.layers * r->slices);
+               (size_t)(in->geom.shell.layers * r->quads);
     memcpy(p, in->texels, k * sizeof *p);
     p += k;
   }

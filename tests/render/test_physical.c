@@ -294,12 +294,12 @@ static void test_still_frames(void **state) {
 }
 
 /* The physical maps' layout (maps_fiber.h), built as halfs in one pass
- * from the outer layer in: channel 3 of the fill slice 2k + 1 is the sum
- * of the key slices' alpha over the layers outside k (eq. 12), 0 for the
- * outer one; HSV i's top row and HSV i - 1's bottom row, one boundary, are
- * the same texels in every slice. Three threads: the one cluster is built
- * in three parts (frame.c), of 3, 3 and 4 columns of HSVs, the same maps
- * as one thread's. */
+ * from the outer layer in: a texel is a key quad and a fill quad, the
+ * fill's channel 3 the sum of the key quads' alpha over the layers outside
+ * k (eq. 12), 0 for the outer one; HSV i's top row and HSV i - 1's bottom
+ * row, one boundary, are the same texels in every layer. Three threads: the one
+ * cluster is built in three parts (frame.c), of 3, 3 and 4 columns of HSVs, the
+ * same maps as one thread's. */
 static void test_layout_sums(void **state) {
   (void)state;
   char json[2048], lights[512];
@@ -321,31 +321,32 @@ static void test_layout_sums(void **state) {
                    SATF_OK);
   const inst *in = &r->insts[0];
   const satf_shell_params *sh = &in->geom.shell;
-  size_t n = satf_maps_layer_texels(&in->geom, r->w), slice = 4 * n;
-  size_t all = slice * 2 * (size_t)sh->layers;
-  size_t row = (size_t)sh->su * (size_t)r->w * 4;
+  assert_int_equal(r->quads, 2);
+  size_t n = satf_maps_layer_texels(&in->geom, r->w), slice = 8 * n;
+  size_t all = slice * (size_t)sh->layers;
+  size_t row = (size_t)sh->su * (size_t)r->w * 8;
   float *v = malloc(all * sizeof *v);
   assert_non_null(v);
   half_unpack(in->texels, v, all);
   double deepest = 0.0;
   for (int k = 0; k < sh->layers; k++) {
-    const float *fill = v + (size_t)(2 * k + 1) * slice;
+    const float *texel = v + (size_t)k * slice;
     for (size_t x = 0; x < n; x++) {
       double sum = 0.0; /* of halfs, which the float sums were rounded to */
       for (int m = k + 1; m < sh->layers; m++)
-        sum += v[(size_t)(2 * m) * slice + 4 * x + 3];
-      if (fabs(fill[4 * x + 3] - sum) > ldexp(sum, -9) + ldexp(1.0, -20))
+        sum += v[(size_t)m * slice + 8 * x + 3];
+      if (fabs(texel[8 * x + 7] - sum) > ldexp(sum, -9) + ldexp(1.0, -20))
         fail_msg("layer %d texel %zu: s-map sum %.6g, outer alphas %.6g", k, x,
-                 (double)fill[4 * x + 3], sum);
+                 (double)texel[8 * x + 7], sum);
       deepest = fmax(deepest, sum);
     }
   }
-  for (int sl = 0; sl < 2 * sh->layers; sl++)
+  for (int k = 0; k < sh->layers; k++)
     for (int i = 1; i < sh->st; i++) {
-      const uint16_t *a = in->texels + (size_t)sl * slice;
+      const uint16_t *a = in->texels + (size_t)k * slice;
       if (memcmp(a + (size_t)(2 * i - 1) * row, a + (size_t)(2 * i) * row,
                  row * sizeof *a) != 0)
-        fail_msg("slice %d: rows %d and %d differ", sl, 2 * i - 1, 2 * i);
+        fail_msg("layer %d: rows %d and %d differ", k, 2 * i - 1, 2 * i);
     }
   printf("s-map sums up to %.3f over %d layers\n", deepest, sh->layers);
   assert_true(deepest > 0.5);
@@ -361,10 +362,10 @@ static void test_layout_sums(void **state) {
 /* The maps of three lights, a directional key, a directional and a point
  * fill (maps_fiber.c: the first fill light stores its radiance, further
  * ones add theirs; directional lights' directions are found once per
- * column of layers, a point light's per sector): the key slices are those
- * of the key light alone, bit for bit, and each fill slice's colour is
- * the sum of the two fills' (within the halfs' rounding), the point
- * light's share not zero. */
+ * column of layers, a point light's per sector): the key quads are those
+ * of the key light alone, bit for bit, and each fill quad's colour is the
+ * sum of the two fills' (within the halfs' rounding), the point light's
+ * share not zero. */
 static const inst *maps_of(const char *lights, satf_scene **s,
                            satf_renderer **r) {
   char json[2048];
@@ -395,23 +396,19 @@ static void test_fill_lights_sum(void **state) {
   const inst *a = maps_of(l_dir, &sa, &ra), *b = maps_of(l_point, &sb, &rb);
   const inst *c = maps_of(l_all, &sc, &rc);
   const satf_shell_params *sh = &a->geom.shell;
-  size_t slice = 4 * satf_maps_layer_texels(&a->geom, ra->w);
-  size_t all = slice * 2 * (size_t)sh->layers;
+  size_t n = satf_maps_layer_texels(&a->geom, ra->w) * (size_t)sh->layers;
+  size_t all = 8 * n;
   float *va = malloc(3 * all * sizeof *va), *vb = va + all, *vc = vb + all;
   assert_non_null(va);
   half_unpack(a->texels, va, all);
   half_unpack(b->texels, vb, all);
   half_unpack(c->texels, vc, all);
   double worst = 0.0, point_share = 0.0, fill_peak = 0.0;
-  for (int k = 0; k < sh->layers; k++) {
-    size_t key = (size_t)(2 * k) * slice, fill = key + slice;
-    assert_memory_equal(a->texels + key, c->texels + key,
-                        slice * sizeof(uint16_t));
-    assert_memory_equal(b->texels + key, c->texels + key,
-                        slice * sizeof(uint16_t));
-    for (size_t x = 0; x < slice; x++) {
-      if (x % 4 == 3) /* the s-map sums: of the key light's alpha */
-        continue;
+  for (size_t t = 0; t < n; t++) {
+    size_t key = 8 * t, fill = key + 4;
+    assert_memory_equal(a->texels + key, c->texels + key, 4 * sizeof(uint16_t));
+    assert_memory_equal(b->texels + key, c->texels + key, 4 * sizeof(uint16_t));
+    for (size_t x = 0; x < 3; x++) { /* 3: the s-map sum, of the key's alpha */
       double fa = va[fill + x], fb = vb[fill + x], fc = vc[fill + x];
       double err = fabs(fc - fa - fb) /
                    (ldexp(fabs(fa) + fabs(fb), -10) + ldexp(1.5, -24));
@@ -420,7 +417,7 @@ static void test_fill_lights_sum(void **state) {
       fill_peak = fmax(fill_peak, fc);
     }
   }
-  printf("three lights: fill slices within %.2f of the halfs' rounding of "
+  printf("three lights: fill quads within %.2f of the halfs' rounding of "
          "the fills' sum; point fill up to %.4f of %.4f\n",
          worst, point_share, fill_peak);
   assert_true(worst <= 1.0);

@@ -12,8 +12,10 @@ out vec4 o_opacity;
 void main() {
   /* drawn for the outermost shell only: the innermost layer's s-map sum
    * plus its own alpha is the alpha of every layer at this (u, t) */
-#if PHYSICAL /* alpha and the s-map sum in two slices (maps_fiber.h) */
-  float a = fetch_map(v_uv.x, v_uv.y, 0).a + fetch_map(v_uv.x, v_uv.y, 1).a;
+#if PHYSICAL /* alpha and the s-map sum, key and fill (maps_fiber.h) */
+  vec4 key, fill;
+  fetch_maps(v_uv.x, v_uv.y, 0, key, fill);
+  float a = key.a + fill.a;
 #else
   vec4 m = fetch_map(v_uv.x, v_uv.y, 0);
   float a = m.b + m.g;

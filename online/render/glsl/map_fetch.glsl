@@ -1,20 +1,56 @@
 /* map_fetch.glsl - the maps of a cluster: rows 2i and 2i+1 hold HSV i's
  * two boundary records (maps.h); mixing them by the position along the
- * HSV is SATF eq. 7. Included by the layer programs' fragment shaders. */
+ * HSV is SATF eq. 7. Included by the layer programs' fragment shaders,
+ * after PHYSICAL is defined. */
+#if PHYSICAL
+/* a texel holds the key light's quad and the fill's (maps_fiber.h) as 8
+ * halfs in 4 words, low half first: one fetch reads both, where two
+ * RGBA16F slices cost the shading pass a second fetch per point (anim_8:
+ * L 82 -> 66 ms without it, bench_shading) */
+uniform usampler2DArray u_maps;
+#else
 uniform sampler2DArray u_maps;
+#endif
 /* the instance's first layer in u_maps, which holds the maps of several
  * instances (cluster_vs.glsl, layer_vs.glsl) */
 flat in int v_layer0;
 uniform int u_st;
 uniform int u_map_width;  /* texels around the cluster */
-vec4 fetch_map(float u_turns, float t, int layer) {
+/* the texels of (u, t) in layer `layer`: x and row 2i; the HSV's mix */
+ivec3 map_texel(float u_turns, float t, int layer, out float f) {
   float ts = clamp(t, 0.0, 1.0) * float(u_st);
   int i = min(int(ts), u_st - 1);
   int x = min(int(fract(u_turns) * float(u_map_width)), u_map_width - 1);
-  vec4 a = texelFetch(u_maps, ivec3(x, 2 * i, v_layer0 + layer), 0);
-  vec4 b = texelFetch(u_maps, ivec3(x, 2 * i + 1, v_layer0 + layer), 0);
-  return mix(a, b, ts - float(i));
+  f = ts - float(i);
+  return ivec3(x, 2 * i, v_layer0 + layer);
+}
+#if PHYSICAL
+vec4 unpack_key(uvec4 w) {
+  return vec4(unpackHalf2x16(w.x), unpackHalf2x16(w.y));
+}
+vec4 unpack_fill(uvec4 w) {
+  return vec4(unpackHalf2x16(w.z), unpackHalf2x16(w.w));
+}
+/* the key light's quad (radiance, alpha) and the fill's (radiance, s-map
+ * sum) */
+void fetch_maps(float u_turns, float t, int layer, out vec4 key,
+                out vec4 fill) {
+  float f;
+  ivec3 p = map_texel(u_turns, t, layer, f);
+  uvec4 a = texelFetch(u_maps, p, 0);
+  uvec4 b = texelFetch(u_maps, p + ivec3(0, 1, 0), 0);
+  key = mix(unpack_key(a), unpack_key(b), f);
+  fill = mix(unpack_fill(a), unpack_fill(b), f);
+}
+#else
+vec4 fetch_map(float u_turns, float t, int layer) {
+  float f;
+  ivec3 p = map_texel(u_turns, t, layer, f);
+  vec4 a = texelFetch(u_maps, p, 0);
+  vec4 b = texelFetch(u_maps, p + ivec3(0, 1, 0), 0);
+  return mix(a, b, f);
 }
 /* SATF maps give reflectance and alpha (the --no-satf baseline has its
  * own shaders: baseline_fs.glsl) */
 vec2 reflectance_alpha(vec4 m) { return m.rg; }
+#endif

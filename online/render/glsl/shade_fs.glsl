@@ -280,8 +280,8 @@ void main() {
 #if PHYSICAL
       /* the key light's radiance and alpha; the other lights' and the
        * s-map sum (maps_fiber.h) */
-      vec4 mk = fetch_map(u_turns, t, 2 * k);
-      vec4 mf = fetch_map(u_turns, t, 2 * k + 1);
+      vec4 mk, mf;
+      fetch_maps(u_turns, t, k, mk, mf);
       vec2 ra = vec2(1.0, lod_alpha(k, mk.a));
       if (ra.y < 1.0 / 1024.0) continue;
       /* the direct light crosses the outer layers' hairs as a Poisson
