@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stddef.h>
 
+#include "satf/common.h"
 #include "satf/fiber.h"
 #include "satf/math.h"
 
@@ -170,11 +171,9 @@ float satf_fiber_dual_back(const float *tables, int n, int c, const float wo[3],
   return Ab * mp / SATF_PI_F;
 }
 
-void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
-                           const float wo[3], const float wi[3], float h,
-                           float n_hairs, float out[3]) {
-  float single[SATF_FIBER_LOBES][3];
-  satf_fiber_eval_lobes(f, wo, wi, h, single);
+void satf_fiber_dual_global(const satf_fiber *f, const float *tables, int n,
+                            const float wo[3], const float wi[3], float h,
+                            float n_hairs, float global[3], float back[3]) {
   h = fminf(fmaxf(h, -1.0f), 1.0f);
   float sin_o = fminf(fmaxf(wo[0], -1.0f), 1.0f);
   float cos_o = sqrtf(fmaxf(1.0f - sin_o * sin_o, 0.0f));
@@ -186,7 +185,6 @@ void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
   float gamma_t =
       asinf(fminf(fmaxf(h / satf_fiber_eta_prime(f->eta, sin_o), -1.0f), 1.0f));
   float nh = fmaxf(n_hairs, 0.0f);
-  float direct = expf(-nh);
   float dphi = fabsf(remainderf(phi_i - phi_o, SATF_TWO_PI_F));
   float theta_d = 0.5f * (theta_o - theta_i);
   float ng[SATF_FIBER_LOBES];
@@ -197,11 +195,8 @@ void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
                         SATF_PI_F
                   : 0.5f / SATF_PI_F;
   for (int c = 0; c < 3; c++) {
-    float af =
-        satf_fiber_dual_lookup(tables, n, SATF_FIBER_DUAL_AF, c, theta_i);
     float bf2 =
         satf_fiber_dual_lookup(tables, n, SATF_FIBER_DUAL_BETA_F2, c, theta_i);
-    float scattered = fmaxf(expf(-nh * (1.0f - af)) - direct, 0.0f);
     float sf2 = fmaxf(nh, 1.0f) * bf2;
     float ab =
         satf_fiber_dual_lookup(tables, n, SATF_FIBER_DUAL_A_B, c, theta_d);
@@ -211,7 +206,7 @@ void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
         satf_fiber_dual_lookup(tables, n, SATF_FIBER_DUAL_SIGMA_B2, c, theta_d),
         1e-4f);
     float tc = theta_o - delta;
-    float back =
+    back[c] =
         dphi < 0.5f * SATF_PI_F
             ? ab * satf_fiber_mp(cos_i, fabsf(cosf(tc)), sin_i, sinf(tc), v) /
                   SATF_PI_F
@@ -219,7 +214,7 @@ void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
     float back_g =
         ab * satf_fiber_mp(cos_i, fabsf(cosf(tc)), sin_i, sinf(tc), v + sf2) *
         (SATF_PI_F - dphi) / (SATF_PI_F * SATF_PI_F);
-    float s = 0.0f, sg = 0.0f;
+    float sg = 0.0f;
     float ap[SATF_FIBER_LOBES];
     satf_fiber_ap(cos_o, f->eta, h,
                   satf_fiber_transmittance(f->sigma_a[c], h, f->eta, sin_o),
@@ -227,11 +222,96 @@ void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
     for (int p = 0; p < SATF_FIBER_LOBES; p++) {
       float sp, cp;
       satf_fiber_tilt(f, p, sin_o, cos_o, &sp, &cp);
-      s += single[p][c];
       sg += satf_fiber_mp(cos_i, cp, sin_i, sp, f->v[p] + sf2) * ng[p] * ap[p];
     }
-    out[c] = direct * (s + SATF_FIBER_DUAL_DENSITY * back) +
-             SATF_FIBER_DUAL_DENSITY * scattered *
-                 (sg + SATF_FIBER_DUAL_DENSITY * back_g);
+    global[c] =
+        SATF_FIBER_DUAL_DENSITY * (sg + SATF_FIBER_DUAL_DENSITY * back_g);
   }
+}
+
+void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
+                           const float wo[3], const float wi[3], float h,
+                           float n_hairs, float out[3]) {
+  float single[SATF_FIBER_LOBES][3], global[3], back[3];
+  satf_fiber_eval_lobes(f, wo, wi, h, single);
+  satf_fiber_dual_global(f, tables, n, wo, wi, h, n_hairs, global, back);
+  float nh = fmaxf(n_hairs, 0.0f), direct = expf(-nh);
+  float theta_i = asinf(fminf(fmaxf(wi[0], -1.0f), 1.0f));
+  for (int c = 0; c < 3; c++) {
+    float af =
+        satf_fiber_dual_lookup(tables, n, SATF_FIBER_DUAL_AF, c, theta_i);
+    float scattered = fmaxf(expf(-nh * (1.0f - af)) - direct, 0.0f);
+    float s = 0.0f;
+    for (int p = 0; p < SATF_FIBER_LOBES; p++)
+      s += single[p][c];
+    out[c] = direct * (s + SATF_FIBER_DUAL_DENSITY * back[c]) +
+             scattered * global[c];
+  }
+}
+
+/* The warp of satf_fiber_global_coords: x in [-range, range] to
+ * 1/2 + asinh(x / w) / (2 asinh(range / w)), and its inverse from such a
+ * coordinate. */
+static float warp(float x, float w, float range) {
+  return 0.5f + 0.5f * asinhf(x / w) / asinhf(range / w);
+}
+static float unwarp(float u, float w, float range) {
+  return w * sinhf((2.0f * u - 1.0f) * asinhf(range / w));
+}
+
+/* The warps' scales: TT's longitudinal deviation in theta_h (half that in
+ * theta_i + theta_o), the narrowest lobe's; twice the logistic scale. */
+static float scale_h(const satf_fiber *f) {
+  return fmaxf(0.5f * sqrtf(f->v[1]), 0.02f);
+}
+
+void satf_fiber_global_coords(const satf_fiber *f, float theta_o, float theta_i,
+                              float phi, float out[3]) {
+  const float half_pi = 0.5f * SATF_PI_F;
+  out[0] = warp(0.5f * (theta_o + theta_i), scale_h(f), half_pi);
+  out[1] = 0.5f + (theta_o - theta_i) / (2.0f * SATF_PI_F);
+  out[2] = warp(fabsf(phi) - half_pi, 2.0f * f->s, half_pi);
+}
+
+typedef struct global_job {
+  const satf_fiber *f;
+  const float *tables;
+  int n;
+  float *global, *back;
+} global_job;
+
+/* One phi bin of the table: NH x ND entries. */
+static int global_slice(void *ctx, size_t kp, int thread) {
+  (void)thread;
+  const global_job *j = ctx;
+  const satf_fiber *f = j->f;
+  const float half_pi = 0.5f * SATF_PI_F;
+  const int nh = SATF_FIBER_GLOBAL_NH, nd = SATF_FIBER_GLOBAL_ND;
+  /* the bins' centres, unwarped */
+  float phi = half_pi + unwarp(((float)kp + 0.5f) / SATF_FIBER_GLOBAL_NPHI,
+                               2.0f * f->s, half_pi);
+  size_t at = kp * (size_t)nh * (size_t)nd * 3;
+  for (int kd = 0; kd < nd; kd++) {
+    float td = SATF_PI_F * (((float)kd + 0.5f) / (float)nd - 0.5f);
+    for (int kh = 0; kh < nh; kh++, at += 3) {
+      float th = unwarp(((float)kh + 0.5f) / (float)nh, scale_h(f), half_pi);
+      /* cells past the sphere's angles (|theta| > pi / 2) take its edge:
+       * only filtering next to it reads them */
+      float to = fminf(fmaxf(th + td, -half_pi), half_pi);
+      float ti = fminf(fmaxf(th - td, -half_pi), half_pi);
+      float wo[3] = {sinf(to), cosf(to), 0.0f};
+      float wi[3] = {sinf(ti), cosf(ti) * cosf(phi), cosf(ti) * sinf(phi)};
+      satf_fiber_dual_global(f, j->tables, j->n, wo, wi, 0.0f, 1.0f,
+                             j->global + at, j->back + at);
+    }
+  }
+  return 0;
+}
+
+void satf_fiber_dual_global_table(const satf_fiber *f, const float *tables,
+                                  int n, int threads, float *global,
+                                  float *back) {
+  global_job j = {f, tables, n, global, back};
+  satf_parallel_for(SATF_FIBER_GLOBAL_NPHI, threads, global_slice, &j, NULL,
+                    NULL);
 }

@@ -10,7 +10,7 @@
 #include "satf/scene.h"
 
 /* Rows (|theta| bins) of the dual-scattering tables, and the texture unit
- * they are bound to. */
+ * they are bound to; the global term's tables take the next two. */
 #define FIBER_TABLE_ROWS 32
 #define FIBER_TABLE_UNIT 6
 
@@ -18,6 +18,13 @@ typedef struct fiber_gpu {
   GLuint tables; /* RGB32F, SATF_FIBER_DUAL_FIELDS x FIBER_TABLE_ROWS */
   int has_tables;
   satf_fiber fiber; /* what the tables were computed for */
+  /* set by the owner before the first bind: also the global term per
+   * vertex of the cluster path (satf_fiber_dual_global_table), two RGB32F
+   * 3-D textures (global, back) that glsl/fiber_cluster.glsl filters,
+   * where evaluating it per vertex cost anim_8's physical shading pass 9
+   * of its 71 ms (llvmpipe runs vertices on one thread) */
+  int with_global, threads; /* threads: for computing them (0: all) */
+  GLuint global_tabs[2];
 } fiber_gpu;
 
 /* The material's fibre: its absorption from melanin and redness or given

@@ -90,6 +90,10 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
     r->quads = 2;
     if (st == SATF_OK && !(r->fgpu = calloc(1, sizeof *r->fgpu)))
       st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+    if (st == SATF_OK) {
+      r->fgpu->with_global = 1;
+      r->fgpu->threads = r->threads;
+    }
   }
   if (st == SATF_OK)
     st = hierarchy_build(r, progress, progress_ctx, err);

@@ -39,6 +39,10 @@ extern const char *const satf_glsl_strand_dom_fs; /* strands in the DOM */
  * float h); vec3 fiber_dual_shade(Fiber f, sampler2D tables, vec3 wo,
  * vec3 wi, float h, float n_hairs); float fiber_mp(...), fiber_np(...). */
 extern const char *const satf_glsl_fiber;
+/* fiber.glsl with the cluster path's part (fiber_cluster.glsl): vec3
+ * key_global(vec3 hair, vec3 v, vec3 l, out vec3 back) from the tables
+ * fiber_gpu_bind uploads. */
+extern const char *const satf_glsl_fiber_cluster;
 
 /* Fragments (one per cluster a pixel's ray meets) kept by the resolve. */
 #define SATF_MAX_FRAGMENTS 64

@@ -4,7 +4,9 @@
  * the single-scattering BCSDF (fiber_single against satf_fiber_eval) and
  * the dual-scattering shading (fiber_dual_shade against
  * satf_fiber_dual_shade, the tables uploaded as the renderer does), over
- * a sweep of directions, offsets, materials and hair counts.
+ * a sweep of directions, offsets, materials and hair counts; and the
+ * cluster path's per-vertex global term (fiber_cluster.glsl's key_global,
+ * from the tables fiber_gpu_bind uploads) against satf_fiber_dual_global.
  *
  * Pixel x reads wo, h from texel (x, 0) and wi, n_hairs from (x, 1) and
  * writes fiber_single to target 0 and fiber_dual_shade to target 1
@@ -21,6 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fiber_gpu.h"
 #include "glsl_harness.h"
 #include "satf/fiber.h"
 #include "satf/gl.h"
@@ -208,6 +211,137 @@ static void run_material(float melanin, float redness, float beta_m,
   free(dual);
 }
 
+/* key_global's look-up (fiber_cluster.glsl) against the term it tabulates,
+ * satf_fiber_dual_global at h = 0 and one hair, in the fibre frame
+ * key_global builds (y the view across the hair): within 2.5% of the
+ * term's peak for directions within 66 degrees of the hair's normal
+ * plane, as the table's own test (test_fiber_dual: global_table) bounds
+ * its interpolation, so the GLSL reads the table as the C writes it. Pixel
+ * x: v from texel (x, 0), l from (x, 1); targets global, back. */
+static const char *fs_cluster =
+    "uniform sampler2D u_in;\n"
+    "layout(location = 0) out vec4 o_global;\n"
+    "layout(location = 1) out vec4 o_back;\n"
+    "void main() {\n"
+    "  int x = int(gl_FragCoord.x);\n"
+    "  vec3 v = texelFetch(u_in, ivec2(x, 0), 0).xyz;\n"
+    "  vec3 l = texelFetch(u_in, ivec2(x, 1), 0).xyz;\n"
+    "  vec3 back;\n"
+    "  o_global = vec4(key_global(vec3(0.0, 0.0, 1.0), v, l, back), 0.0);\n"
+    "  o_back = vec4(back, 0.0);\n"
+    "}\n";
+
+static void cluster_global_matches_c(void **state) {
+  (void)state;
+  GLuint prog;
+  satf_error err;
+  size_t len = strlen(fs_head) + strlen(satf_glsl_fiber_cluster) +
+               strlen(fs_cluster) + 1;
+  char *fs = malloc(len);
+  assert_non_null(fs);
+  snprintf(fs, len, "%s%s%s", fs_head, satf_glsl_fiber_cluster, fs_cluster);
+  if (satf_gl_program_build("cluster fibre", vs_src, fs, &prog, &err) !=
+      SATF_OK)
+    fail_msg("%s", err.message);
+  free(fs);
+  satf_scene_material m;
+  memset(&m, 0, sizeof m);
+  m.melanin = 0.6f;
+  m.redness = 0.0f;
+  m.roughness = 0.3f;
+  m.radial_roughness = 0.3f;
+  m.cuticle_tilt = 2.0f;
+  m.ior = 1.55f;
+  satf_fiber f;
+  fiber_from_material(&m, &f);
+  float tab[FIBER_TABLE_ROWS * SATF_FIBER_DUAL_FIELDS * 3];
+  satf_fiber_dual_tables(&f, FIBER_TABLE_ROWS, tab);
+  /* directions about the hair z: inclinations within 66 degrees of its
+   * normal plane, azimuths all round (a deterministic sweep) */
+  float *tex = calloc((size_t)N * 8, sizeof(float));
+  float *global = malloc((size_t)N * 4 * sizeof(float));
+  float *back = malloc((size_t)N * 4 * sizeof(float));
+  assert_true(tex && global && back);
+  const double lim = 66.0 * 3.14159265358979 / 180.0;
+  for (int x = 0; x < N; x++) {
+    double tv = -lim + 2 * lim * ((x * 37) % N) / N;
+    double tl = -lim + 2 * lim * ((x * 53 + 7) % N) / N;
+    double pv = 6.28 * ((x * 13) % 97) / 97.0;
+    double pl = 6.28 * ((x * 29 + 3) % 89) / 89.0;
+    float *v = tex + 4 * x, *l = tex + 4 * (N + x);
+    v[0] = (float)(cos(tv) * cos(pv));
+    v[1] = (float)(cos(tv) * sin(pv));
+    v[2] = (float)sin(tv);
+    l[0] = (float)(cos(tl) * cos(pl));
+    l[1] = (float)(cos(tl) * sin(pl));
+    l[2] = (float)sin(tl);
+  }
+  glActiveTexture(GL_TEXTURE0);
+  texture(g_input, GL_RGBA32F, N, 2, GL_RGBA, tex);
+  satf_gl_target *target = NULL;
+  assert_int_equal(satf_gl_target_create(N, 1, 2, NULL, &target, &err),
+                   SATF_OK);
+  satf_gl_target_bind(target);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glUseProgram(prog);
+  glUniform1i(glGetUniformLocation(prog, "u_in"), 0);
+  fiber_gpu gpu;
+  memset(&gpu, 0, sizeof gpu);
+  gpu.with_global = 1;
+  fiber_gpu_bind(&gpu, &m, prog);
+  glBindVertexArray(g_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  assert_int_equal(satf_gl_check("cluster fibre pass", &err), SATF_OK);
+  assert_int_equal(
+      satf_gl_target_read_bottom_up(target, 0, global, (size_t)N * 4, &err),
+      SATF_OK);
+  assert_int_equal(
+      satf_gl_target_read_bottom_up(target, 1, back, (size_t)N * 4, &err),
+      SATF_OK);
+  double peak_g = 0, peak_b = 0, err_g = 0, err_b = 0;
+  for (int x = 0; x < N; x++) {
+    const float *v = tex + 4 * x, *l = tex + 4 * (N + x);
+    /* key_global's frame: y the view across the hair (z), x = hair */
+    float yv[3] = {v[0], v[1], 0.0f};
+    float ny = sqrtf(yv[0] * yv[0] + yv[1] * yv[1]);
+    yv[0] /= ny;
+    yv[1] /= ny;
+    float zv[3] = {-yv[1], yv[0], 0.0f}; /* hair x y */
+    float wo[3] = {v[2], v[0] * yv[0] + v[1] * yv[1], 0.0f};
+    float wi[3] = {l[2], l[0] * yv[0] + l[1] * yv[1],
+                   l[0] * zv[0] + l[1] * zv[1]};
+    float cg[3], cb[3];
+    satf_fiber_dual_global(&f, tab, FIBER_TABLE_ROWS, wo, wi, 0.0f, 1.0f, cg,
+                           cb);
+    /* the back-scattering's step at |phi| = pi / 2 is left out within
+     * 3 degrees, where the texture blends the two sides */
+    float phi = fabsf(atan2f(wi[2], wi[1]));
+    int near_step = fabsf(phi - 1.5707963f) < 0.05f;
+    for (int c = 0; c < 3; c++) {
+      assert_true(isfinite(global[4 * x + c]) && global[4 * x + c] >= 0.0f);
+      assert_true(isfinite(back[4 * x + c]) && back[4 * x + c] >= 0.0f);
+      peak_g = fmax(peak_g, cg[c]);
+      peak_b = fmax(peak_b, cb[c]);
+      err_g = fmax(err_g, fabs(global[4 * x + c] - cg[c]));
+      if (!near_step)
+        err_b = fmax(err_b, fabs(back[4 * x + c] - cb[c]));
+    }
+  }
+  printf("key_global: global within %.4f of its peak %.4f, back %.4f of "
+         "%.4f\n",
+         err_g / peak_g, peak_g, err_b / peak_b, peak_b);
+  assert_true(peak_g > 1e-3 && peak_b > 1e-3);
+  assert_true(err_g <= 0.025 * peak_g);
+  assert_true(err_b <= 0.025 * peak_b);
+  fiber_gpu_release(&gpu);
+  satf_gl_target_destroy(target);
+  glDeleteProgram(prog);
+  free(tex);
+  free(global);
+  free(back);
+}
+
 static void glsl_matches_c_brown(void **state) {
   (void)state;
   run_material(0.6f, 0.0f, 0.3f, 0.3f, 2.0f);
@@ -228,6 +362,7 @@ int main(void) {
       cmocka_unit_test(glsl_matches_c_brown),
       cmocka_unit_test(glsl_matches_c_blond_smooth),
       cmocka_unit_test(glsl_matches_c_dark_rough),
+      cmocka_unit_test(cluster_global_matches_c),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

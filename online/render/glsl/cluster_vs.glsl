@@ -59,7 +59,7 @@ void main() {
     vec4 l = g_view[v_instance].light[0];
     v_global = key_global(normalize(a_tangent),
                           normalize(g_view[v_instance].eye.xyz - a_pos),
-                          normalize(l.xyz - l.w * a_pos), 1.0, v_back);
+                          normalize(l.xyz - l.w * a_pos), v_back);
   }
 #endif
   gl_Position = u_viewproj * w;
