@@ -8,6 +8,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
+/* Chunks encoded at once by satf_exr_write (write_chunks). */
+#define EXR_BATCH 32
+
 /* OpenEXRCore reports errors through a callback; keep the first message so
  * the satf_error can name the real cause rather than a bare code. */
 typedef struct exr_msg {
@@ -38,6 +41,101 @@ static void capture_error(exr_const_context_t ctxt, exr_result_t code,
 
 static const char *describe(const exr_msg *m, exr_result_t rc) {
   return m->text[0] ? m->text : exr_get_error_code_as_string(rc);
+}
+
+/* The chunks of one batch, encoded on the pool's threads: OpenEXRCore
+ * holds a write context's lock only while it packs a chunk and lets go
+ * while it compresses, so chunks compress side by side (ZIP took 2.3 of the
+ * fibre database build's 20 s on one thread: the build's serial tail); the
+ * compressed chunks are then written in order by the calling thread. */
+typedef struct chunk_batch {
+  exr_context_t ctx;
+  int part, width, height, lines, y0;
+  const satf_exr_channel *channels;
+  int nchannels;
+  exr_encode_pipeline_t enc[EXR_BATCH];
+  exr_result_t rc[EXR_BATCH];
+} chunk_batch;
+
+/* The pipeline's last steps, replaced: waiting for the chunks before it
+ * (by default an error unless this chunk is the next the file takes) and
+ * writing it; the chunk stays in its buffers for the calling thread to
+ * write in order. */
+static exr_result_t keep_chunk(exr_encode_pipeline_t *enc) {
+  (void)enc;
+  return EXR_ERR_SUCCESS;
+}
+
+static int encode_chunk(void *ctx, size_t i, int thread) {
+  (void)thread;
+  chunk_batch *b = ctx;
+  exr_encode_pipeline_t *enc = &b->enc[i];
+  exr_chunk_info_t cinfo;
+  int y = b->y0 + (int)i * b->lines;
+  exr_result_t rc = exr_write_scanline_chunk_info(b->ctx, b->part, y, &cinfo);
+  if (rc == EXR_ERR_SUCCESS)
+    rc = exr_encoding_initialize(b->ctx, b->part, &cinfo, enc);
+  for (int e = 0; rc == EXR_ERR_SUCCESS && e < enc->channel_count; e++) {
+    const float *src = NULL;
+    for (int c = 0; c < b->nchannels; c++)
+      if (strcmp(b->channels[c].name, enc->channels[e].channel_name) == 0)
+        src = b->channels[c].data;
+    enc->channels[e].user_bytes_per_element = 4;
+    enc->channels[e].user_data_type = EXR_PIXEL_FLOAT;
+    enc->channels[e].user_pixel_stride = 4;
+    enc->channels[e].user_line_stride = 4 * b->width;
+    enc->channels[e].encode_from_ptr =
+        (const uint8_t *)(src + (size_t)(cinfo.start_y) * (size_t)b->width);
+  }
+  if (rc == EXR_ERR_SUCCESS)
+    rc = exr_encoding_choose_default_routines(b->ctx, b->part, enc);
+  if (rc == EXR_ERR_SUCCESS) {
+    enc->yield_until_ready_fn = keep_chunk;
+    enc->write_fn = keep_chunk;
+    rc = exr_encoding_run(b->ctx, b->part, enc);
+  }
+  b->rc[i] = rc;
+  return 0;
+}
+
+/* Every chunk of the image, EXR_BATCH at a time. */
+static exr_result_t write_chunks(exr_context_t ctx, int part, int width,
+                                 int height, int lines,
+                                 const satf_exr_channel *channels,
+                                 int nchannels, int threads) {
+  chunk_batch *b = calloc(1, sizeof *b);
+  if (!b)
+    return EXR_ERR_OUT_OF_MEMORY;
+  *b = (chunk_batch){.ctx = ctx,
+                     .part = part,
+                     .width = width,
+                     .height = height,
+                     .lines = lines,
+                     .channels = channels,
+                     .nchannels = nchannels};
+  exr_result_t rc = EXR_ERR_SUCCESS;
+  for (int y0 = 0; y0 < height && rc == EXR_ERR_SUCCESS;
+       y0 += EXR_BATCH * lines) {
+    int n = (height - y0 + lines - 1) / lines;
+    n = n < EXR_BATCH ? n : EXR_BATCH;
+    b->y0 = y0;
+    for (int i = 0; i < n; i++)
+      b->enc[i] = (exr_encode_pipeline_t)EXR_ENCODE_PIPELINE_INITIALIZER;
+    satf_parallel_for((size_t)n, threads, encode_chunk, b, NULL, NULL);
+    for (int i = 0; i < n; i++) {
+      exr_encode_pipeline_t *enc = &b->enc[i];
+      if (rc == EXR_ERR_SUCCESS)
+        rc = b->rc[i];
+      if (rc == EXR_ERR_SUCCESS)
+        rc = exr_write_scanline_chunk(ctx, part, enc->chunk.start_y,
+                                      enc->compressed_buffer,
+                                      enc->compressed_bytes);
+      if (enc->context)
+        exr_encoding_destroy(ctx, enc);
+    }
+  }
+  free(b);
+  return rc;
 }
 
 static satf_status exr_write(const char *path, int width, int height,
@@ -77,35 +175,9 @@ static satf_status exr_write(const char *path, int width, int height,
   int32_t lines = 1;
   if (rc == EXR_ERR_SUCCESS && st == SATF_OK)
     rc = exr_get_scanlines_per_chunk(ctx, part, &lines);
-  const exr_attr_chlist_t *chlist = NULL;
   if (rc == EXR_ERR_SUCCESS && st == SATF_OK)
-    rc = exr_get_channels(ctx, part, &chlist);
-  for (int y = 0; y < height && rc == EXR_ERR_SUCCESS && st == SATF_OK;
-       y += lines) {
-    exr_chunk_info_t cinfo;
-    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
-    rc = exr_write_scanline_chunk_info(ctx, part, y, &cinfo);
-    if (rc == EXR_ERR_SUCCESS)
-      rc = exr_encoding_initialize(ctx, part, &cinfo, &enc);
-    if (rc != EXR_ERR_SUCCESS)
-      break;
-    for (int e = 0; e < enc.channel_count; e++) {
-      const float *src = NULL;
-      for (int c = 0; c < nchannels; c++)
-        if (strcmp(channels[c].name, enc.channels[e].channel_name) == 0)
-          src = channels[c].data;
-      enc.channels[e].user_bytes_per_element = 4;
-      enc.channels[e].user_data_type = EXR_PIXEL_FLOAT;
-      enc.channels[e].user_pixel_stride = 4;
-      enc.channels[e].user_line_stride = 4 * width;
-      enc.channels[e].encode_from_ptr =
-          (const uint8_t *)(src + (size_t)(cinfo.start_y) * (size_t)width);
-    }
-    rc = exr_encoding_choose_default_routines(ctx, part, &enc);
-    if (rc == EXR_ERR_SUCCESS)
-      rc = exr_encoding_run(ctx, part, &enc);
-    exr_encoding_destroy(ctx, &enc);
-  }
+    rc = write_chunks(ctx, part, width, height, lines, channels, nchannels,
+                      opts->threads);
   exr_result_t frc = exr_finish(&ctx);
   if (st == SATF_OK && rc == EXR_ERR_SUCCESS && frc != EXR_ERR_SUCCESS)
     rc = frc;

@@ -242,7 +242,7 @@ static void channels_copy(const satf_build_params *p, float *rec,
 }
 
 static satf_status write_image(const satf_db *db, const char *path, int rgba,
-                               satf_error *err) {
+                               int threads, satf_error *err) {
   if (!db->tree)
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "%s: database was not finalized before writing",
@@ -269,7 +269,7 @@ static satf_status write_image(const satf_db *db, const char *path, int rgba,
   satf_exr_channel atlas_ch[4] = {
       {"R", re}, {"G", re}, {"B", re}, {"A", alpha}};
   satf_exr_write_opts opts = {EXR_PIXEL_HALF, EXR_COMPRESSION_ZIP,
-                              rgba ? NULL : write_attrs, (void *)db};
+                              rgba ? NULL : write_attrs, (void *)db, threads};
   satf_status st = satf_exr_write(
       path, db->p.n_view * db->p.trace.width, db->p.samples * db->p.n_light,
       rgba ? atlas_ch : db_ch, rgba ? 4 : nc, &opts, err);
@@ -280,12 +280,17 @@ static satf_status write_image(const satf_db *db, const char *path, int rgba,
 
 satf_status satf_db_write(const satf_db *db, const char *path,
                           satf_error *err) {
-  return write_image(db, path, 0, err);
+  return write_image(db, path, 0, 0, err);
+}
+
+satf_status satf_db_write_threads(const satf_db *db, const char *path,
+                                  int threads, satf_error *err) {
+  return write_image(db, path, 0, threads, err);
 }
 
 satf_status satf_db_write_atlas(const satf_db *db, const char *path,
                                 satf_error *err) {
-  return write_image(db, path, 1, err);
+  return write_image(db, path, 1, 0, err);
 }
 
 typedef struct read_ctx {

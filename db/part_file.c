@@ -74,7 +74,7 @@ satf_status satf_db_part_write(satf_db_part *part, const char *path,
   for (int c = 0; c < nc; c++)
     ch[c] = (satf_exr_channel){names[c], planes[c]};
   satf_exr_write_opts opts = {EXR_PIXEL_HALF, EXR_COMPRESSION_ZIP, write_attrs,
-                              part};
+                              part, 0};
   st = satf_exr_write(path, p->n_view * p->trace.width,
                       part->count * p->n_light, ch, nc, &opts, err);
   for (int c = 0; c < nc; c++)

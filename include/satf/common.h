@@ -261,6 +261,7 @@ typedef struct satf_exr_write_opts {
   exr_compression_t compression; /* e.g. EXR_COMPRESSION_ZIP */
   satf_exr_attr_writer attrs;    /* may be NULL */
   void *attrs_ctx;
+  int threads; /* chunks compressed on this many threads; 0: every core */
 } satf_exr_write_opts;
 
 /* Writes through a temporary file renamed into place. */

@@ -312,8 +312,12 @@ float satf_db_level_value(const float *levels, const float *values, int count,
 satf_status satf_db_relevel(const satf_db *db, const float *sigma, int n,
                             int threads, satf_db **out, satf_error *err);
 
-/* File I/O. Writing goes through a temporary file renamed into place. */
+/* File I/O. Writing goes through a temporary file renamed into place, its
+ * chunks compressed on every core (satf_db_write_threads: on `threads`,
+ * 0: every core; the bytes are the same on any count). */
 satf_status satf_db_write(const satf_db *db, const char *path, satf_error *err);
+satf_status satf_db_write_threads(const satf_db *db, const char *path,
+                                  int threads, satf_error *err);
 satf_status satf_db_read(const char *path, satf_db **out, satf_error *err);
 /* Writes the records as an RGBA image (R = G = B = reflectance, A = alpha)
  * in the file's pixel layout, for viewers that do not show Y/A images. */

@@ -184,7 +184,7 @@ static satf_status write_exr(const satf_image *img, const char *path,
     channels[c].name = img->names[c];
     channels[c].data = satf_image_const_plane(img, c);
   }
-  satf_exr_write_opts opts = {type, EXR_COMPRESSION_ZIP, NULL, NULL};
+  satf_exr_write_opts opts = {type, EXR_COMPRESSION_ZIP, NULL, NULL, 0};
   return satf_exr_write(path, img->width, img->height, channels, img->nchannels,
                         &opts, err);
 }

@@ -39,9 +39,12 @@ static void test_round_trip(void **state) {
   char path[512];
   test_path(path, sizeof path, "exr_round_trip.exr");
   satf_exr_channel ch[2] = {{"A", a}, {"B", b}};
-  satf_exr_write_opts opts = {EXR_PIXEL_FLOAT, EXR_COMPRESSION_ZIP, NULL, NULL};
+  satf_exr_write_opts opts = {EXR_PIXEL_FLOAT, EXR_COMPRESSION_ZIP, NULL, NULL,
+                              0};
   satf_error err;
-  assert_int_equal(satf_exr_write(path, W, H, ch, 2, &opts, &err), SATF_OK);
+  satf_status wst = satf_exr_write(path, W, H, ch, 2, &opts, &err);
+  if (wst != SATF_OK)
+    fail_msg("%s", err.message);
   const char *names[2] = {"B", "A"};
   float *planes[2];
   int w = 0, h = 0;
@@ -63,6 +66,59 @@ static void test_round_trip(void **state) {
   assert_null(planes[0]);
 }
 
+/* Chunks compressed on several threads (write_chunks): a tall image of 63
+ * ZIP chunks, two batches and a short last chunk, gives the same file on
+ * 1, 2 and 3 threads, and reads back exactly. */
+static void test_threads_same_file(void **state) {
+  (void)state;
+  enum { TW = 40, TH = 1000 };
+  static float a[TW * TH];
+  for (int i = 0; i < TW * TH; i++)
+    a[i] = (float)((i * 2654435761u) % 1000u) / 7.0f;
+  satf_exr_channel ch[1] = {{"Y", a}};
+  char path[3][512];
+  const char *names[3] = {"exr_threads_1.exr", "exr_threads_2.exr",
+                          "exr_threads_3.exr"};
+  satf_error err;
+  for (int t = 0; t < 3; t++) {
+    test_path(path[t], sizeof path[t], names[t]);
+    satf_exr_write_opts opts = {EXR_PIXEL_FLOAT, EXR_COMPRESSION_ZIP, NULL,
+                                NULL, t + 1};
+    assert_int_equal(satf_exr_write(path[t], TW, TH, ch, 1, &opts, &err),
+                     SATF_OK);
+  }
+  size_t n[3];
+  unsigned char *bytes[3];
+  for (int t = 0; t < 3; t++) {
+    FILE *f = fopen(path[t], "rb");
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    n[t] = (size_t)ftell(f);
+    rewind(f);
+    bytes[t] = malloc(n[t]);
+    assert_non_null(bytes[t]);
+    assert_int_equal(fread(bytes[t], 1, n[t], f), n[t]);
+    fclose(f);
+  }
+  for (int t = 1; t < 3; t++) {
+    assert_int_equal(n[t], n[0]);
+    assert_memory_equal(bytes[t], bytes[0], n[0]);
+  }
+  const char *y[1] = {"Y"};
+  float *plane[1];
+  int w = 0, h = 0;
+  assert_int_equal(
+      satf_exr_read(path[1], y, 1, 1 << 20, NULL, NULL, &w, &h, plane, &err),
+      SATF_OK);
+  assert_int_equal(h, TH);
+  assert_memory_equal(plane[0], a, sizeof a);
+  free(plane[0]);
+  for (int t = 0; t < 3; t++) {
+    free(bytes[t]);
+    remove(path[t]);
+  }
+}
+
 /* In a child whose files may not grow past `limit` bytes (RLIMIT_FSIZE with
  * SIGXFSZ ignored: write() then fails as on a full disk), writes an image
  * far larger than that. Exit status: 0 a clean SATF_ERR_IO with nothing left at
@@ -77,8 +133,8 @@ static void write_into_full_disk(const char *path, rlim_t limit) {
   for (int i = 0; i < 512 * 512; i++)
     noise[i] = (float)((i * 2654435761u) % 1000003u);
   satf_exr_channel ch[1] = {{"Y", noise}};
-  satf_exr_write_opts opts = {EXR_PIXEL_FLOAT, EXR_COMPRESSION_NONE, NULL,
-                              NULL};
+  satf_exr_write_opts opts = {EXR_PIXEL_FLOAT, EXR_COMPRESSION_NONE, NULL, NULL,
+                              0};
   satf_error err;
   satf_status st = satf_exr_write(path, 512, 512, ch, 1, &opts, &err);
   struct stat sb;
@@ -123,6 +179,7 @@ static void test_full_disk_fails_cleanly(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_round_trip),
+      cmocka_unit_test(test_threads_same_file),
       cmocka_unit_test(test_full_disk_fails_cleanly),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

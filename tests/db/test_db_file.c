@@ -191,7 +191,7 @@ static void foreign_and_missing_files(void **state) {
   /* a real EXR image that is not a database */
   float px[4] = {0.1f, 0.2f, 0.3f, 0.4f};
   satf_exr_channel ch[1] = {{"Y", px}};
-  satf_exr_write_opts o = {EXR_PIXEL_HALF, EXR_COMPRESSION_NONE, NULL, NULL};
+  satf_exr_write_opts o = {EXR_PIXEL_HALF, EXR_COMPRESSION_NONE, NULL, NULL, 0};
   test_path(path, sizeof path, "test_db_file_plain.exr");
   assert_int_equal(satf_exr_write(path, 2, 2, ch, 1, &o, &err), SATF_OK);
   assert_int_equal(satf_db_read(path, &db, &err), SATF_ERR_FORMAT);

@@ -232,7 +232,8 @@ static void white_point_is_numpy_percentile(void **state) {
 static void write_exr(const img *m, const char *name, int width) {
   char path[512];
   satf_exr_channel ch[4] = {{"A", m->a}, {"B", m->b}, {"G", m->g}, {"R", m->r}};
-  satf_exr_write_opts opts = {EXR_PIXEL_HALF, EXR_COMPRESSION_ZIP, NULL, NULL};
+  satf_exr_write_opts opts = {EXR_PIXEL_HALF, EXR_COMPRESSION_ZIP, NULL, NULL,
+                              0};
   satf_error err;
   satf_status st = satf_exr_write(test_path(path, sizeof path, name), width, H,
                                   ch, 4, &opts, &err);

@@ -361,7 +361,7 @@ static satf_status build_whole(const options *o, int nthreads,
   satf_progress_end(prog);
   t->trace = satf_now_seconds() - t0;
   if (st == SATF_OK)
-    st = satf_db_write(db, o->out, err);
+    st = satf_db_write_threads(db, o->out, nthreads, err);
   t->total = satf_now_seconds() - t0;
   satf_db_destroy(db);
   return st;
@@ -439,7 +439,7 @@ static int build_mpi(const satf_mpi *m, const options *o, int nthreads) {
     satf_mpi_fail(m, PROG, err.message);
   int rc = 0;
   if (m->rank == 0) {
-    st = satf_db_write(db, o->out, &err);
+    st = satf_db_write_threads(db, o->out, nthreads, &err);
     satf_db_destroy(db);
     if (st != SATF_OK) {
       fprintf(stderr, "%s: %s\n", PROG, err.message);
