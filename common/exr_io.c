@@ -50,7 +50,7 @@ static const char *describe(const exr_msg *m, exr_result_t rc) {
  * compressed chunks are then written in order by the calling thread. */
 typedef struct chunk_batch {
   exr_context_t ctx;
-  int part, width, height, lines, y0;
+  int part, width, lines, y0;
   const satf_exr_channel *channels;
   int nchannels;
   exr_encode_pipeline_t enc[EXR_BATCH];
@@ -109,7 +109,6 @@ static exr_result_t write_chunks(exr_context_t ctx, int part, int width,
   *b = (chunk_batch){.ctx = ctx,
                      .part = part,
                      .width = width,
-                     .height = height,
                      .lines = lines,
                      .channels = channels,
                      .nchannels = nchannels};

@@ -23,8 +23,9 @@ void fiber_from_material(const satf_scene_material *m, satf_fiber *f) {
 }
 
 /* The global term's tables (fiber_gpu.h), for fibre f and its dual
- * tables tab; left unmade without their memory (the uniforms then read
- * texture 0, which the renderer's check reports as a GL error). */
+ * tables tab. Without the memory for them (1.2 MB) they are left unmade:
+ * the term then reads zero (the unbound 3-D texture samples black), the
+ * forward-scattered light is left out rather than the frame failing. */
 static void global_tables(fiber_gpu *g, const satf_fiber *f, const float *tab) {
   const int nh = SATF_FIBER_GLOBAL_NH, nd = SATF_FIBER_GLOBAL_ND;
   const int np = SATF_FIBER_GLOBAL_NPHI;

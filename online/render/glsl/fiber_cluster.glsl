@@ -17,8 +17,9 @@ uniform sampler2D u_fiber_tables;
  * Per fragment it cost more than the rest of the physical shading, and
  * evaluated per vertex (fiber_dual_global) still 9 of anim_8's 71 ms, so
  * the vertex reads it from its table over the three angles
- * (satf_fiber_dual_global_table, filtered: within 2% of its peak away
- * from grazing, test_fiber_dual). In the fibre frame: x along the hair, y
+ * (satf_fiber_dual_global_table, filtered: within 2.5% of its peak up to
+ * 66 degrees from the normal plane, test_fiber_dual). In the fibre frame:
+ * x along the hair, y
  * the view's direction across it. */
 uniform sampler3D u_fiber_global, u_fiber_back;
 vec3 key_global(vec3 hair, vec3 v, vec3 l, out vec3 back) {

@@ -6,7 +6,7 @@
 /* a texel holds the key light's quad and the fill's (maps_fiber.h) as 8
  * halfs in 4 words, low half first: one fetch reads both, where two
  * RGBA16F slices cost the shading pass a second fetch per point (anim_8:
- * L 82 -> 66 ms without it, bench_shading) */
+ * L 82 -> 71 ms, bench_shading) */
 uniform usampler2DArray u_maps;
 #else
 uniform sampler2DArray u_maps;

@@ -236,7 +236,7 @@ void main() {
   vec3 l0 = normalize(dl0);
   vec3 e0 = u_light_color[0] *
             (u_light_local[0].w > 0.0 ? 1.0 / max(dot(dl0, dl0), 1e-6) : 1.0);
-  float dom_c = max(dom, 1e-6), n_dom = -log(dom_c);
+  float n_dom = -log(max(dom, 1e-6));
   /* the direct light's local back-scattering from the hair behind the
    * point (Zinke's eq. 20: f_s + d_b f_back; the records hold what the
    * point's own sector scatters back) */
@@ -245,13 +245,6 @@ void main() {
    * layer point only takes its depth's transmittance (Zinke's eq. 5) */
   vec3 af0 = fiber_dual_field(u_fiber_tables, 0,
                               fiber_asin(clamp(dot(l0, hair), -1.0, 1.0)));
-  /* a point's forward-scattered light, exp(-(n_dom + a)(1 - a_f)) -
-   * exp(-(n_dom + a)) for its layers' count a, as the fragment's factor of
-   * each exponential times the point's: exp(-a) is the point's s-map
-   * shadow, so a point takes one exponential of RGB and none of its own
-   * (per point these cost anim_8 11 of the shading pass's 71 ms) */
-  vec3 fwd_c = exp(-n_dom * (1.0 - af0)), fwd_x = -(1.0 - af0);
-  vec3 fwd_e = e0 * global;
 #endif
   vec3 col = vec3(0.0);
   float transmit = 1.0;
@@ -294,7 +287,7 @@ void main() {
       /* the direct light crosses the outer layers' hairs as a Poisson
        * count (exp(-n), Zinke's model; the paper's k_shadow belongs to
        * the kk mode) */
-      float tau_a = exp(-mf.a), tau = u_self_shadow != 0 ? tau_a : 1.0;
+      float tau = u_self_shadow != 0 ? exp(-mf.a) : 1.0;
 #else
       vec4 m = fetch_map(u_turns, t, k);
       vec2 ra = reflectance_alpha(m);
@@ -314,8 +307,8 @@ void main() {
          * mode; the records hold the shadowing inside an HSV */
         y = (mk.rgb + back) * (tau * dom) + mf.rgb;
         if (u_cluster_shadow != 0) /* forward-scattered: Zinke 2008 */
-          y += fwd_e * max(fwd_c * exp(mf.a * fwd_x) - dom_c * tau_a,
-                           vec3(0.0));
+          y += e0 * global * max(exp(-(n_dom + mf.a) * (1.0 - af0)) -
+                                 exp(-(n_dom + mf.a)), vec3(0.0));
       }
       col += transmit * ra.y * y;
 #else
