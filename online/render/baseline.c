@@ -17,6 +17,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "draw.h"
+#include "path.h"
 #include "satf/common.h"
 #include "shaders.h"
 
@@ -310,7 +312,7 @@ static satf_status build_programs(const satf_renderer *r, struct baseline *b,
     snprintf(defines, sizeof defines,
              "#define SATF_MAX_LIGHTS %d\n#define NLIGHTS %d\n"
              "#define BASE_PASS %d\n",
-             SATF_SCENE_MAX_LIGHTS, r->nlights, progs[i].pass);
+             SATF_SCENE_MAX_LIGHTS, r->view.nlights, progs[i].pass);
     const char *fs = satf_glsl_baseline_fs, *nl = strchr(fs, '\n');
     size_t head = nl ? (size_t)(nl - fs) + 1 : 0;
     char *text = malloc(strlen(fs) + strlen(defines) + 1);
@@ -326,19 +328,21 @@ static satf_status build_programs(const satf_renderer *r, struct baseline *b,
   return st;
 }
 
-/* The programs once, and the patches of every prototype that has none or
- * whose shape changed since they were built. */
+/* The path's state the first time it is chosen: its programs. */
+static satf_status baseline_create(satf_renderer *r, satf_error *err) {
+  if (r->baseline)
+    return SATF_OK;
+  struct baseline *b = calloc(1, sizeof *b);
+  if (!b)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  r->baseline = b;
+  return build_programs(r, b, err);
+}
+
+/* The patches of every prototype that has none or whose shape changed
+ * since they were built. */
 static satf_status baseline_prepare(satf_renderer *r, satf_error *err) {
   struct baseline *b = r->baseline;
-  if (!b) {
-    b = calloc(1, sizeof *b);
-    if (!b)
-      return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-    r->baseline = b;
-    satf_status st = build_programs(r, b, err);
-    if (st != SATF_OK)
-      return st;
-  }
   if (b->nprotos != r->nprotos) {
     for (int m = 0; m < b->nprotos; m++)
       release_proto(&b->protos[m]);
@@ -361,7 +365,7 @@ static satf_status baseline_prepare(satf_renderer *r, satf_error *err) {
   return SATF_OK;
 }
 
-void baseline_release(satf_renderer *r) {
+static void baseline_destroy(satf_renderer *r) {
   struct baseline *b = r->baseline;
   if (!b)
     return;
@@ -378,10 +382,6 @@ void baseline_release(satf_renderer *r) {
 
 /* ---- drawing ---------------------------------------------------------- */
 
-static void set_mat4(GLuint prog, const char *name, const float m[16]) {
-  glUniformMatrix4fv(glGetUniformLocation(prog, name), 1, GL_TRUE, m);
-}
-
 /* Which layers of a cluster a draw covers, and in which order. */
 typedef enum { ALL_LAYERS, OUTER_FIRST, INNER_FIRST } layer_order;
 
@@ -392,7 +392,7 @@ static void draw_patches(const satf_renderer *r, GLuint prog,
                          layer_order layers) {
   const struct baseline *b = r->baseline;
   glUseProgram(prog);
-  set_mat4(prog, "u_viewproj", viewproj);
+  draw_set_mat4(prog, "u_viewproj", viewproj);
   glUniform1i(glGetUniformLocation(prog, "u_hair"), 0);
   GLint model = glGetUniformLocation(prog, "u_model");
   GLint nmat = glGetUniformLocation(prog, "u_normal_matrix");
@@ -425,30 +425,30 @@ static void draw_patches(const satf_renderer *r, GLuint prog,
   glFrontFace(GL_CCW);
 }
 
-/* The deep opacity map (as passes_dom) from the patches' own alpha: the
+/* The deep opacity map (dom.h) from the patches' own alpha: the
  * first hair at least DOM_ALPHA opaque, then every patch's alpha summed
  * into four slabs behind it. */
 static void dom_patches(satf_renderer *r, void *ctx, int opacity) {
   const struct baseline *b = ctx;
   if (opacity) {
-    passes_dom_uniforms(r, b->prog_dom);
-    draw_patches(r, b->prog_dom, r->light_viewproj, NULL, ALL_LAYERS);
+    dom_uniforms(&r->dom, b->prog_dom);
+    draw_patches(r, b->prog_dom, r->dom.viewproj, NULL, ALL_LAYERS);
     return;
   }
   glUseProgram(b->prog_alpha);
   glUniform1f(glGetUniformLocation(b->prog_alpha, "u_alpha_ref"), DOM_ALPHA);
-  draw_patches(r, b->prog_alpha, r->light_viewproj, NULL, ALL_LAYERS);
+  draw_patches(r, b->prog_alpha, r->dom.viewproj, NULL, ALL_LAYERS);
 }
 
 static void baseline_dom(satf_renderer *r) {
-  passes_dom_with(r, dom_patches, r->baseline);
+  draw_dom(r, hierarchy_hair_width(r), dom_patches, r->baseline);
 }
 
 /* The full pixel shader's uniforms: the clusters' material, lights,
- * effects and deep opacity map (set_shading_uniforms), and its own. */
+ * effects and deep opacity map (draw_shading_uniforms), and its own. */
 static void base_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
-  set_shading_uniforms(r, p, aov);
-  passes_world_lights(r, p);
+  draw_shading_uniforms(r, p, aov);
+  draw_world_lights(r, p);
   glUniform1f(glGetUniformLocation(p, "u_shift_range"), SHIFT_RANGE);
   glUniform1f(glGetUniformLocation(p, "u_base_scale"), BASE_SCALE);
   /* the paper's ambient occlusion is its self-shadowing approximation:
@@ -457,8 +457,8 @@ static void base_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
 }
 
 /* Paper 002, "Rendering with approximate depth sorting", over the opaque
- * meshes' depth (begin_frame): clusters in a coarse back-to-front order
- * (their centres' distance from the eye, frame_far_to_near, which the
+ * meshes' depth (draw_begin_frame): clusters in a coarse back-to-front order
+ * (their centres' distance from the eye, hierarchy_far_to_near, which the
  * paper's static draw order stands for), each pass over all of them. */
 static void draw_passes(satf_renderer *r, satf_aov aov,
                         const float viewproj[16], const int *order) {
@@ -501,8 +501,8 @@ static void draw_passes(satf_renderer *r, satf_aov aov,
   glDisable(GL_DEPTH_TEST);
 }
 
-satf_status baseline_frame(satf_renderer *r, satf_aov aov, int refresh,
-                           satf_frame_timing *timing, satf_error *err) {
+static satf_status baseline_frame(satf_renderer *r, satf_aov aov, int refresh,
+                                  satf_frame_timing *timing, satf_error *err) {
   satf_frame_timing t;
   memset(&t, 0, sizeof t);
   double t0 = satf_now_seconds();
@@ -515,11 +515,11 @@ satf_status baseline_frame(satf_renderer *r, satf_aov aov, int refresh,
   glFinish();
   double t2 = satf_now_seconds();
   float viewproj[16];
-  frame_camera(r, viewproj);
-  int *order = frame_far_to_near(r);
+  view_camera(&r->view, viewproj);
+  int *order = hierarchy_far_to_near(r, r->view.camera.position);
   if (!order)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  begin_frame(r, aov, viewproj);
+  draw_begin_frame(r, aov, viewproj);
   draw_passes(r, aov, viewproj, order);
   free(order);
   glFinish();
@@ -533,3 +533,6 @@ satf_status baseline_frame(satf_renderer *r, satf_aov aov, int refresh,
     *timing = t;
   return satf_gl_check("baseline frame", err);
 }
+
+const render_path baseline_path = {"baseline", baseline_create, baseline_frame,
+                                   baseline_destroy};

@@ -282,9 +282,9 @@ static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
         scene_name(r->scene), in->proto, len[0], len[1], len[2]);
   satf_mat4_normal_matrix(in->m, in->nmat);
   if (in->looked_up) /* its frames or features may have moved */
-    frame_forget_lookups(in);
+    cluster_cpu_forget_lookups(in);
   /* a mirror turns the proxy inside out: its outward faces then wind
-   * clockwise on screen (passes.c flips the front face for it) */
+   * clockwise on screen (cluster_gpu.c flips the front face for it) */
   in->mirrored = satf_mat4_det3(in->m) < 0.0f;
   float *own = in->own_features ? in->geom.features : NULL;
   in->geom = p->geom;
@@ -315,7 +315,7 @@ static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
  * texels around and two rows per HSV (maps.h; half floats, half.h: RGBA16F,
  * or in the physical mode RGBA32UI holding a key and a fill quad of halfs,
  * maps_fiber.h, so one fetch reads both), in texture arrays shared by
- * up to chunk_insts instances, so one draw call shades them all (passes.c;
+ * up to chunk_insts instances, so one draw call shades them all (cluster_gpu.c;
  * the layer count of an array is capped by GL_MAX_ARRAY_TEXTURE_LAYERS). */
 static satf_status create_map_textures(const satf_renderer *r, proto *p,
                                        satf_error *err) {
@@ -376,7 +376,7 @@ static satf_status build_inst(satf_renderer *r, inst *in, int pi,
   if (!in->angles || !in->looked_up || !in->texels)
     return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate %zu map texels",
                           texels);
-  frame_forget_lookups(in);
+  cluster_cpu_forget_lookups(in);
   r->stats.clusters++;
   r->stats.layers += p->layers;
   r->stats.hsvs += (long)satf_shell_hsv_count(&p->geom.shell);
@@ -513,4 +513,64 @@ void hierarchy_release(satf_renderer *r) {
   }
   free(r->protos);
   free(r->insts);
+}
+
+/* The mean over the procedural densities of strand_width x the
+ * prototype's radius at its root. */
+float hierarchy_density_width(const satf_renderer *r) {
+  double sum = 0.0;
+  int n = 0;
+  for (int m = 0; m < r->nprotos; m++) {
+    const satf_scene_cluster *c = &r->scene->macro_clusters[m].prototype;
+    if (c->density.type != SATF_SCENE_DENSITY_PROCEDURAL ||
+        !(c->density.strand_width > 0.0f))
+      continue;
+    sum += (double)c->density.strand_width * c->a.values[0];
+    n++;
+  }
+  return n > 0 ? (float)(sum / n) : 0.0f;
+}
+
+float hierarchy_hair_width(const satf_renderer *r) {
+  float w = strands_gpu_width(r->sparse);
+  return w > 0.0f ? w : hierarchy_density_width(r);
+}
+
+typedef struct depth_key {
+  float d2;
+  float centre[3];
+  int index;
+} depth_key;
+
+/* Far first; equal distances by position, never by list order. */
+static int farther_first(const void *a, const void *b) {
+  const depth_key *x = a, *y = b;
+  if (x->d2 != y->d2)
+    return x->d2 < y->d2 ? 1 : -1;
+  for (int k = 0; k < 3; k++)
+    if (x->centre[k] != y->centre[k])
+      return x->centre[k] < y->centre[k] ? -1 : 1;
+  return 0;
+}
+
+int *hierarchy_far_to_near(const satf_renderer *r, const float eye[3]) {
+  depth_key *keys = malloc((size_t)r->ninsts * sizeof *keys);
+  int *order = malloc((size_t)r->ninsts * sizeof *order);
+  if (!keys || !order) {
+    free(keys);
+    free(order);
+    return NULL;
+  }
+  for (int i = 0; i < r->ninsts; i++) {
+    const float *c = r->insts[i].centre;
+    float d[3] = {c[0] - eye[0], c[1] - eye[1], c[2] - eye[2]};
+    keys[i].d2 = satf_dot3f(d, d);
+    memcpy(keys[i].centre, c, sizeof keys[i].centre);
+    keys[i].index = i;
+  }
+  qsort(keys, (size_t)r->ninsts, sizeof *keys, farther_first);
+  for (int i = 0; i < r->ninsts; i++)
+    order[i] = keys[i].index;
+  free(keys);
+  return order;
 }

@@ -9,7 +9,7 @@
 
 #include <stddef.h>
 
-/* The proxies of a prototype (hierarchy.c builds them, passes.c draws
+/* The proxies of a prototype (hierarchy.c builds them, cluster_gpu.c draws
  * them), as index ranges of one buffer: a ring of 12 columns on every HSV
  * row; a thin ring of 6 columns on every row, or on every second; and the
  * deep opacity map's coarse one (12 columns, every fourth row), which the

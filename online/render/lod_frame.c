@@ -13,15 +13,15 @@ void lod_screen_size(const satf_renderer *r, int i, float *width_px,
   const inst *in = &r->insts[i];
   const proto *p = &r->protos[in->proto];
   /* pixels per scene unit at distance 1 */
-  float focal = 0.5f * (float)r->height /
-                tanf(0.5f * r->camera.fov_y * SATF_PI_F / 180.0f);
+  float focal = 0.5f * (float)r->view.height /
+                tanf(0.5f * r->view.camera.fov_y * SATF_PI_F / 180.0f);
   /* uniform scale: hierarchy.c refuses the rest */
   float c[3], d[3];
   satf_mat4_point(in->m, p->lod_sphere, c);
   float scale =
       sqrtf(in->m[0] * in->m[0] + in->m[4] * in->m[4] + in->m[8] * in->m[8]);
   for (int a = 0; a < 3; a++)
-    d[a] = c[a] - r->camera.position[a];
+    d[a] = c[a] - r->view.camera.position[a];
   float dist =
       sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - scale * p->lod_sphere[3];
   float px = dist > 0.0f ? focal * scale / dist : 1e30f;

@@ -1,7 +1,7 @@
 /* renderer.c - owns the renderer's public API (satf/render.h): creating
  * and destroying it, switching scenes and image sizes, its interactive
- * state, and rendering frames and images by running the per-frame CPU work
- * (frame.c) and the GPU passes (passes.c) in order. */
+ * state, and rendering frames and images: it chooses the frame's drawing
+ * path (path.h) and runs it once per anti-aliasing sample (samples.c). */
 #include "renderer_internal.h"
 
 #include <math.h>
@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "path.h"
 #include "satf/common.h"
 #include "shaders.h"
 
@@ -23,16 +24,6 @@ static satf_status check_size(int width, int height, satf_error *err) {
     return satf_error_set(err, SATF_ERR_ARGUMENT, "image size %dx%d", width,
                           height);
   return SATF_OK;
-}
-
-/* The scene's camera, lights and bounds (the state an animation moves). */
-static void take_view(satf_renderer *r, const satf_scene *scene) {
-  r->camera = scene->camera;
-  r->nlights = scene->n_lights < SATF_SCENE_MAX_LIGHTS ? scene->n_lights
-                                                       : SATF_SCENE_MAX_LIGHTS;
-  memcpy(r->lights, scene->lights,
-         (size_t)r->nlights * sizeof(satf_scene_light));
-  satf_scene_bounds(scene, r->lo, r->hi);
 }
 
 satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,
@@ -64,19 +55,19 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   r->scene = scene;
   r->db = db;
-  r->width = width;
-  r->height = height;
+  r->view.width = width;
+  r->view.height = height;
   r->threads = threads > 0 ? threads : satf_cpu_count();
   r->effects = scene->effects;
   satf_renderer_set_samples(r, scene->image.samples);
-  take_view(r, scene);
+  view_take(&r->view, scene);
   r->map_opt = satf_map_options_default();
   r->instanced = 1;
   r->incremental = 1;
   r->sparse_max = SATF_SPARSE_STRANDS_DEFAULT;
   r->lod_opt = lod_defaults();    /* r->lod 0: full detail unless asked */
-  r->dom_eye_tol = INFINITY;      /* the shadows keep while the eye moves */
-  r->dom_move_tol = DOM_MOVE_TOL; /* and while the hair moves little */
+  r->dom.eye_tol = INFINITY;      /* the shadows keep while the eye moves */
+  r->dom.move_tol = DOM_MOVE_TOL; /* and while the hair moves little */
   st = satf_maps_create(db, &r->maps, err);
   if (st != SATF_OK) {
     free(r);
@@ -112,18 +103,20 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
 void satf_renderer_destroy(satf_renderer *r) {
   if (!r)
     return;
-  strands_release(r);
-  sparse_release(r);
-  baseline_release(r);
+  /* every path's own state (the clusters' first: their sparse strands
+   * mark the prototypes), then what they all read */
+  clusters_path.destroy(r);
+  strands_path.destroy(r);
+  baseline_path.destroy(r);
   hierarchy_release(r);
   resources_release(r);
-  frame_release(r);
+  samples_release(&r->accum);
+  dom_release(&r->dom);
   satf_maps_destroy(r->maps);
   satf_maps_fiber_destroy(r->fiber);
   if (r->fgpu)
     fiber_gpu_release(r->fgpu);
   free(r->fgpu);
-  free(r->dom_points);
   free(r);
 }
 
@@ -132,10 +125,10 @@ satf_status satf_renderer_resize(satf_renderer *r, int width, int height,
   satf_status st = check_size(width, height, err);
   if (st != SATF_OK)
     return st;
-  if (width == r->width && height == r->height)
+  if (width == r->view.width && height == r->view.height)
     return SATF_OK;
-  r->width = width;
-  r->height = height;
+  r->view.width = width;
+  r->view.height = height;
   return resources_alloc_screen(r, err);
 }
 
@@ -143,17 +136,21 @@ void satf_renderer_stats(const satf_renderer *r, satf_render_stats *s) {
   *s = r->stats;
 }
 void satf_renderer_size(const satf_renderer *r, int *width, int *height) {
-  *width = r->width;
-  *height = r->height;
+  *width = r->view.width;
+  *height = r->view.height;
 }
-satf_scene_camera *satf_renderer_camera(satf_renderer *r) { return &r->camera; }
+satf_scene_camera *satf_renderer_camera(satf_renderer *r) {
+  return &r->view.camera;
+}
 satf_scene_effects *satf_renderer_effects(satf_renderer *r) {
   return &r->effects;
 }
 satf_scene_light *satf_renderer_light(satf_renderer *r, int i) {
-  return i >= 0 && i < r->nlights ? &r->lights[i] : NULL;
+  return i >= 0 && i < r->view.nlights ? &r->view.lights[i] : NULL;
 }
-int satf_renderer_light_count(const satf_renderer *r) { return r->nlights; }
+int satf_renderer_light_count(const satf_renderer *r) {
+  return r->view.nlights;
+}
 void satf_renderer_set_composite(satf_renderer *r, satf_composite mode) {
   r->composite = mode;
 }
@@ -163,10 +160,10 @@ satf_composite satf_renderer_composite(const satf_renderer *r) {
 void satf_renderer_set_lod(satf_renderer *r, int on) { r->lod = on != 0; }
 int satf_renderer_lod(const satf_renderer *r) { return r->lod; }
 void satf_renderer_set_shadow_move(satf_renderer *r, float texels) {
-  r->dom_move_tol = texels >= 0.0f ? texels : -1.0f;
+  r->dom.move_tol = texels >= 0.0f ? texels : -1.0f;
 }
 float satf_renderer_shadow_move(const satf_renderer *r) {
-  return r->dom_move_tol;
+  return r->dom.move_tol;
 }
 unsigned satf_renderer_texture(const satf_renderer *r) {
   return satf_gl_target_color_texture(r->out, 0);
@@ -175,87 +172,40 @@ unsigned satf_renderer_framebuffer(const satf_renderer *r) {
   return satf_gl_target_fbo(r->out);
 }
 
-/* The composite pass of the renderer's mode; exact mode grows the
- * fragment arrays and draws again when a pixel had more fragments than
- * slots, and where a pixel has more than the arrays' largest size draws
- * once more keeping each pixel's nearest fragments (so the frame does not
- * depend on the order fragments arrive in). */
-static satf_status composite(satf_renderer *r, satf_aov aov,
-                             const float viewproj[16], long *count,
-                             satf_error *err) {
-  r->stats.overflow_pixels = 0;
-  if (r->composite == SATF_COMPOSITE_ORDERED)
-    return passes_ordered(r, aov, viewproj, err);
-  long over = 0, ignore = 0;
-  GLuint most = passes_lists(r, aov, viewproj, 0, count, &over);
-  satf_status st = SATF_OK;
-  if ((int)most > r->slots && r->slots < SATF_MAX_FRAGMENTS) {
-    int slots = (int)most + 4;
-    st = resources_alloc_lists(
-        r, slots < SATF_MAX_FRAGMENTS ? slots : SATF_MAX_FRAGMENTS, err);
-    if (st != SATF_OK)
-      return st;
-    most = passes_lists(r, aov, viewproj, 0, count, &over);
-  }
-  if (over > 0 && (st = resources_alloc_keys(r, err)) == SATF_OK)
-    passes_lists(r, aov, viewproj, 1, count, &ignore);
-  r->stats.overflow_pixels = over;
+/* The frame's drawing path: the strands when the caller gave some
+ * (satf_renderer_set_strands), else Fig. 4(a)'s baseline when SATF is
+ * switched off, else the clusters; a path chosen for the first time
+ * builds its state. */
+static satf_status choose_path(satf_renderer *r, satf_error *err) {
+  const render_path *p = r->strands         ? &strands_path
+                         : !r->effects.satf ? &baseline_path
+                                            : &clusters_path;
+  if (p == r->path)
+    return SATF_OK;
+  satf_status st = p->create ? p->create(r, err) : SATF_OK;
+  if (st == SATF_OK)
+    r->path = p;
   return st;
 }
 
-/* A frame; with refresh 0 the maps and the deep opacity map of the
- * previous frame are reused (the AOV passes of one image). */
-static satf_status render_sample(satf_renderer *r, satf_aov aov, int refresh,
-                                 satf_frame_timing *timing, satf_error *err) {
-  if (r->strands) /* the strand reference path (strands.c) */
-    return strands_render_frame(r, aov, refresh, timing, err);
-  if (!r->effects.satf) /* Fig. 4(a): paper 002, no database (baseline.c) */
-    return baseline_frame(r, aov, refresh, timing, err);
-  satf_frame_timing t;
-  memset(&t, 0, sizeof t);
-  double t0 = satf_now_seconds();
-  satf_status st = refresh ? frame_update_maps(r, &t, err) : SATF_OK;
-  if (st == SATF_OK)
-    st = frame_instance_data(r, err);
-  if (st != SATF_OK)
-    return st;
-  double t1 = satf_now_seconds();
-  if (refresh && r->effects.cluster_shadows)
-    passes_dom(r);
-  glFinish();
-  double t2 = satf_now_seconds();
-  float viewproj[16];
-  frame_camera(r, viewproj);
-  long count = 0;
-  st = composite(r, aov, viewproj, &count, err);
-  if (st != SATF_OK)
-    return st;
-  glFinish();
-  double t3 = satf_now_seconds();
-  t.shadow_ms = 1e3 * (t2 - t1);
-  t.lighting_ms = 1e3 * (t3 - t2);
-  t.total_ms = 1e3 * (t3 - t0);
-  t.fragments = (long)count;
-  if (timing)
-    *timing = t;
-  return satf_gl_check("frame", err);
-}
-
-/* render_sample r->samples times with the camera jittered inside the pixel,
- * averaged (samples.c); the maps and shadows are made by the first. */
+/* The frame's path run r->samples times with the camera jittered inside
+ * the pixel, averaged (samples.c); the maps and shadows are made by the
+ * first. */
 static satf_status render_frame(satf_renderer *r, satf_aov aov, int refresh,
                                 satf_frame_timing *timing, satf_error *err) {
+  satf_status st = choose_path(r, err);
+  if (st != SATF_OK)
+    return st;
   int n = r->samples > 1 ? r->samples : 1;
   if (n == 1)
-    return render_sample(r, aov, refresh, timing, err);
+    return r->path->frame(r, aov, refresh, timing, err);
   satf_frame_timing sum, t;
   memset(&sum, 0, sizeof sum);
-  satf_status st = SATF_OK;
   for (int i = 0; i < n && st == SATF_OK; i++) {
-    samples_offset(i, n, r->jitter);
-    st = render_sample(r, aov, refresh && i == 0, &t, err);
+    samples_offset(i, n, r->view.jitter);
+    st = r->path->frame(r, aov, refresh && i == 0, &t, err);
     if (st == SATF_OK)
-      st = samples_add(r, i, n, err);
+      st = samples_add(&r->accum, r->out, r->empty_vao, i, n, err);
     if (i == 0) {
       sum = t;
       continue;
@@ -265,9 +215,9 @@ static satf_status render_frame(satf_renderer *r, satf_aov aov, int refresh,
     sum.total_ms += t.total_ms;
     sum.fragments += t.fragments;
   }
-  r->jitter[0] = r->jitter[1] = 0.0f;
+  r->view.jitter[0] = r->view.jitter[1] = 0.0f;
   if (st == SATF_OK)
-    st = samples_finish(r, err);
+    st = samples_finish(&r->accum, r->out, r->empty_vao, err);
   if (st == SATF_OK && timing)
     *timing = sum;
   return st;
@@ -282,9 +232,9 @@ satf_status satf_renderer_set_sparse_strands(satf_renderer *r, int max_strands,
   if (max_strands == r->sparse_max)
     return SATF_OK;
   r->sparse_max = max_strands;
-  r->dom_valid = 0;                   /* other hair casts the shadows now */
+  r->dom.valid = 0;                   /* other hair casts the shadows now */
   for (int i = 0; i < r->ninsts; i++) /* a cluster again needs its maps */
-    frame_forget_lookups(&r->insts[i]);
+    cluster_cpu_forget_lookups(&r->insts[i]);
   return sparse_build(r, err);
 }
 int satf_renderer_sparse_strands(const satf_renderer *r) {
@@ -313,7 +263,7 @@ void satf_renderer_present(satf_renderer *r) {
                r->scene->background);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
-  passes_fullscreen(r);
+  shaders_fullscreen(r->empty_vao);
 }
 
 satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
@@ -327,10 +277,11 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
       "specII.R",  "specII.G",  "specII.B", "shadow.Y", "alpha.Y"};
   int n = aovs ? 15 : 4;
   satf_image *img = NULL;
-  satf_status st = satf_image_create(r->width, r->height, names, n, &img, err);
+  satf_status st =
+      satf_image_create(r->view.width, r->view.height, names, n, &img, err);
   if (st != SATF_OK)
     return st;
-  size_t px = (size_t)r->width * (size_t)r->height;
+  size_t px = (size_t)r->view.width * (size_t)r->view.height;
   float *buf = malloc(px * 4 * sizeof(float));
   if (!buf) {
     satf_image_destroy(img);
@@ -401,12 +352,13 @@ satf_status satf_renderer_set_scene(satf_renderer *r, const satf_scene *scene,
   if (st != SATF_OK)
     return st;
   int moved = 0;
-  if (r->dom_move_tol < 0.0f) /* the hair may have moved (else passes_dom */
-    r->dom_valid = 0;         /* measures how far) */
+  /* the hair may have moved (else cluster_dom_update measures how far) */
+  if (r->dom.move_tol < 0.0f)
+    r->dom.valid = 0;
   st = hierarchy_update(r, scene, &moved, err);
   if (st == SATF_OK) /* the sparse clusters' strands move with them */
     st = sparse_build(r, err);
-  take_view(r, scene);
+  view_take(&r->view, scene);
   if (rebuilt)
     *rebuilt = moved;
   return st;

@@ -1,32 +1,42 @@
 /* renderer_internal.h - the renderer's state and what its files offer each
- * other (private to online/render). The renderer is five files, one job
- * each: renderer.c the public API (create, destroy, scene switches,
- * frames, images), hierarchy.c the prototypes and instances, resources.c
- * the GL programs, targets and meshes, frame.c the per-frame CPU work
- * (look-ups, maps, transforms) and passes.c the GPU passes; strands.c
- * draws the source strands instead (the reference path). Names here
- * carry the owning file's name instead of the public satf_ prefix. */
+ * other (private to online/render). A frame runs as stages, each in its
+ * own file owning its own state:
+ *   renderer.c   the public API; chooses a drawing path once a frame and
+ *                runs it once per anti-aliasing sample (samples.c)
+ *   hierarchy.c  the prototypes and instances (SATF's macro-clusters)
+ *   resources.c  the GL programs, output target and meshes
+ * the drawing paths (path.h), each calling none of the others:
+ *   clusters.c   SATF's clusters: cluster_cpu.c (look-ups, maps: Table 1
+ *                I, C, M), cluster_dom.c (their shadows: S), cluster_gpu.c
+ *                (shading and compositing: L), sparse.c (clusters of few
+ *                strands drawn as those strands)
+ *   strands.c    the source strands, the reference the clusters approximate
+ *   baseline.c   Scheuermann 2004's textured patches (SATF Fig. 4a)
+ * and under them, calling no path:
+ *   view.c       camera, lights, bounds, jitter     (view.h)
+ *   dom.c        the deep opacity map               (dom.h)
+ *   lists.c      the per-pixel fragment arrays      (lists.h)
+ *   draw.c       the frame's start, shading uniforms (draw.h)
+ *   ribbons.c    strands on the GPU as ribbons, for strands.c and sparse.c
+ * Names here carry the owning file's name instead of the public satf_
+ * prefix. */
 #ifndef SATF_RENDERER_INTERNAL_H
 #define SATF_RENDERER_INTERNAL_H
 
+#include "dom.h"
 #include "fiber_gpu.h"
+#include "lists.h"
 #include "lod.h"
 #include "maps.h"
 #include "maps_fiber.h"
+#include "samples.h"
 #include "satf/density.h"
 #include "satf/geometry.h"
 #include "satf/gl.h"
 #include "satf/render.h"
+#include "view.h"
 
-/* Side of the deep opacity map, in texels. */
-#define DOM_SIZE 512
-/* The most a cluster's control point may move, in texels across the light
- * or slabs along it, before the deep opacity map is drawn again (passes.c;
- * satf_renderer_set_shadow_move). */
-#define DOM_MOVE_TOL 1.0f
-/* Fragments each pixel can keep at first; the arrays grow (up to
- * SATF_MAX_FRAGMENTS) when a frame needs more. */
-#define START_SLOTS 16
+struct render_path;
 
 /* A macro-cluster's prototype: its generalized cylinder, shell geometry,
  * density and drawn proxy. */
@@ -44,7 +54,7 @@ typedef struct proto {
   float lod_sphere[4], lod_width, lod_sag;
   /* its instances: r->insts[first_inst .. first_inst + ninsts), whose maps
    * share texture arrays of chunk_insts instances each (one draw call
-   * covers a run of them: passes.c) */
+   * covers a run of them: cluster_gpu.c) */
   int first_inst, ninsts, chunk_insts, nchunks;
   GLuint *map_tex;
   int sparse; /* drawn as its strands (sparse.c), not as a cluster */
@@ -65,8 +75,8 @@ typedef struct inst {
   float eye[3], light[4];
   GLuint tex; /* its prototype's texture array holding its maps */
   int layer0; /* its first layer there */
-  /* what the next frame's maps must look up again (frame.c): angles of the
-   * last look-ups, and whether the texels are new since the last upload */
+  /* what the next frame's maps must look up again (cluster_cpu.c): angles of
+   * the last look-ups, and whether the texels are new since the last upload */
   float *looked_up;
   int stale_upload;
   int still;    /* this frame's azimuths are all those of the last look-ups */
@@ -91,93 +101,69 @@ typedef struct mesh_gpu {
 struct satf_renderer {
   const satf_scene *scene;
   const satf_db *db;
+  view view; /* camera, lights, bounds, image size, jitter (view.h) */
+  satf_scene_effects effects;
+  int threads;
+  satf_render_stats stats;
+  /* the drawing path of the last frame (path.h), and which paths have
+   * built their own state (bit per path: renderer.c) */
+  const struct render_path *path;
+  unsigned paths_made;
+  /* the hierarchy (hierarchy.c): prototypes and their instances */
+  int nprotos, ninsts;
+  proto *protos;
+  inst *insts;
+  /* the database's maps (maps.h) and their width; the physical mode's maps
+   * (maps_fiber.h), NULL in the paper's mode, and the RGBA half quads of a
+   * map texel: 2 with them (key and fill, one GL_RGBA32UI texel), else 1
+   * (GL_RGBA16F) */
   satf_maps *maps;
-  /* the physical mode's maps (maps_fiber.h), NULL in the paper's mode, and
-   * the RGBA half quads of a map texel: 2 with them (key and fill, one
-   * GL_RGBA32UI texel), else 1 (GL_RGBA16F) */
+  satf_map_options map_opt;
+  int w;
   satf_maps_fiber *fiber;
   int quads;
   fiber_gpu *fgpu; /* its fibre's uniforms and tables (with fiber) */
-  satf_map_options map_opt;
-  satf_scene_camera camera;
-  satf_scene_effects effects;
-  satf_scene_light lights[SATF_SCENE_MAX_LIGHTS];
-  /* the lights the physical maps were last made for (frame.c): while
-   * they and an instance's eye stay, its maps stay */
+  /* the lights the physical maps were last made for (cluster_cpu.c):
+   * while they and an instance's eye stay, its maps stay */
   satf_scene_light fiber_lights[SATF_SCENE_MAX_LIGHTS];
   int fiber_nlights, fiber_trt; /* and the TRT switch (Fig. 4b) */
-  int nlights;
-  int width, height, threads, w;
-  float lo[3], hi[3];
-  int nprotos, ninsts, nmeshes;
-  mesh_gpu *meshes;
-  GLuint prog_mesh, prog_mesh_depth, prog_mesh_dom;
-  proto *protos;
-  inst *insts;
-  satf_render_stats stats;
-  /* GL */
-  satf_composite composite;
-  GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve,
-      prog_display;
-  /* the shading programs with the level of detail compiled in (r->lod) */
-  GLuint prog_shade_lod, prog_shade_ordered_lod;
-  /* per instance, for instanced draws (passes.c): the model matrices and
-   * the eye and lights in each prototype frame (frame_instance_data) */
-  GLuint inst_models, inst_shading;
-  int instanced;   /* 0: one draw per instance (a test's reference) */
-  int incremental; /* 0: every HSV looked up every frame (the reference) */
-  int lod;         /* level of detail by size on screen (lod.c) */
-  lod_params lod_opt;
-  int maps_changed; /* instances whose maps the last frame changed */
-  /* per map thread, one instance's maps in floats (frame.c builds them
-   * there, then packs them to halfs): scratch_n buffers of
+  /* per map thread, one instance's maps in floats (cluster_cpu.c builds
+   * them there, then packs them to halfs): scratch_n buffers of
    * scratch_floats */
   float **scratch;
   int scratch_n;
   size_t scratch_floats;
-  /* the deep opacity map's inputs when it was drawn (reused while the
-   * light, the hair and its maps stay: passes.c) */
-  int dom_valid;
-  float dom_viewproj[16], dom_light_slab;
-  long dom_reuses; /* frames that reused it */
-  /* the maps' alpha, which the map reads, follows the eye's azimuth: the
-   * eye when the map was drawn, whether maps were uploaded since, and how
-   * far (radians, seen from any cluster) the eye may turn before the map
-   * is drawn again for them (passes.c; INFINITY by default: never for the
-   * eye alone, 0: whenever a map changed) */
-  float dom_eye[3], dom_eye_tol;
-  int dom_maps_stale;
-  /* the map kept across scene changes (issue 12 item 4; passes.c) while
-   * no cluster's control point has moved more than dom_move_tol texels
-   * across the light or slabs along it (dom_points: each one's world xyz
-   * and radius when the map was drawn, dom_npoints of them); dom_move_tol
-   * < 0: the exact rule (drawn again after every satf_renderer_set_scene) */
-  float dom_move_tol;
-  float *dom_points;
-  int dom_npoints;
-  float dom_light[4]; /* the key light's vector when the map was drawn */
-  GLuint empty_vao, counts_tex, frags_tex, list_fbo;
-  GLuint keys_tex; /* per-pixel depth keys of the nearest `slots` fragments,
-                      made when a pixel first overflows (0: none yet) */
-  int slots;       /* fragments kept per pixel */
-  /* x, y, width, height of the pixels the last plain list pass overflowed
-   * (passes_lists: its nearest passes draw only there) */
-  int overflow_box[4];
-  satf_gl_target *out, *dom_depth, *dom_opacity;
-  float light_viewproj[16], dom_slab;
-  strands_gpu *strands; /* strand reference mode (strands.c); NULL: clusters */
+  int maps_changed; /* instances whose maps the last frame changed */
+  int incremental;  /* 0: every HSV looked up every frame (the reference) */
+  /* the clusters' drawing (cluster_gpu.c): compositing mode, programs (with
+   * the level of detail compiled in: *_lod), and per instance, for
+   * instanced draws, the model matrices and the eye and lights in each
+   * prototype frame (cluster_cpu_instance_data) */
+  satf_composite composite;
+  GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve;
+  GLuint prog_shade_lod, prog_shade_ordered_lod;
+  GLuint inst_models, inst_shading;
+  int instanced; /* 0: one draw per instance (a test's reference) */
+  int lod;       /* level of detail by size on screen (lod.c) */
+  lod_params lod_opt;
   /* sparse clusters' strands (sparse.c), NULL if none; sparse_max: the
    * most strands a cluster drawn so may hold (0: none is) */
   strands_gpu *sparse;
   int sparse_max;
-  struct baseline *baseline; /* the --no-satf path's state (baseline.c) */
-  /* anti-aliasing (samples.c): samples per pixel, this sample's camera
-   * offset in pixels, and the accumulator */
+  /* the strand path's strands (strands.c); NULL: no strands given */
+  strands_gpu *strands;
+  struct baseline *baseline; /* the baseline path's state (baseline.c) */
+  /* under the paths (resources.c): the output, the meshes and their
+   * programs, the display blit, an empty vertex array */
+  satf_gl_target *out;
+  int nmeshes;
+  mesh_gpu *meshes;
+  GLuint prog_mesh, prog_mesh_depth, prog_mesh_dom, prog_display, empty_vao;
+  dom_map dom;      /* the deep opacity map (dom.c) */
+  frag_lists lists; /* the per-pixel fragment arrays (lists.c) */
+  /* anti-aliasing: samples per pixel and their accumulator (samples.c) */
   int samples;
-  float jitter[2];
-  GLuint prog_accum;
-  satf_gl_target *accum;
-  int accum_size[2];
+  sample_accum accum;
 };
 
 /* The scene's name for messages. */
@@ -209,69 +195,48 @@ satf_status hierarchy_check(const satf_renderer *r, const satf_scene *scene,
 satf_status hierarchy_update(satf_renderer *r, const satf_scene *scene,
                              int *moved, satf_error *err);
 void hierarchy_release(satf_renderer *r);
+/* The clusters' density strand diameter (strand_width x radius, their
+ * mean over the procedural densities); 0 if none says. */
+float hierarchy_density_width(const satf_renderer *r);
+/* The diameter of the hair the deep opacity map counts for the clusters
+ * (and the baseline's patches): the sparse clusters' strands' median
+ * width, else hierarchy_density_width. */
+float hierarchy_hair_width(const satf_renderer *r);
+/* Instance indices far to near from `eye` (malloc'd; NULL: no memory);
+ * equal distances by position, never by list order. */
+int *hierarchy_far_to_near(const satf_renderer *r, const float eye[3]);
 
-/* ---- resources.c: GL programs, targets and meshes --------------------- */
+/* ---- resources.c: GL resources under the paths ------------------------ */
 
-/* Meshes, programs and every target; r's hierarchy is already built. */
+/* Meshes (grown into the view's bounds), programs, the output target, the
+ * fragment arrays, the deep opacity map and the instance buffers; r's
+ * hierarchy is already built. */
 satf_status resources_build(satf_renderer *r, satf_error *err);
-/* The output target and fragment arrays for r->width x r->height. */
+/* The output target and fragment arrays for the view's image size. */
 satf_status resources_alloc_screen(satf_renderer *r, satf_error *err);
-/* Fragment arrays of `slots` fragments per pixel. */
-satf_status resources_alloc_lists(satf_renderer *r, int slots, satf_error *err);
-/* r->keys_tex for r->slots keys per pixel, unless it exists. */
-satf_status resources_alloc_keys(satf_renderer *r, satf_error *err);
 void resources_release(satf_renderer *r);
-/* One program, its fragment shader given SATF_MAX_LIGHTS and
- * SATF_MAX_FRAGMENTS (and `extra`) after its #version line. */
-satf_status build_program(const char *label, const char *vs, const char *fs,
-                          const char *extra, GLuint *out, satf_error *err);
 
-/* ---- samples.c: anti-aliasing by jittered supersampling --------------- */
+/* ---- cluster_cpu.c: the clusters' CPU work (Table 1: I, C, M) --------- */
 
-/* The camera offset, in pixels within [-1/2, 1/2], of sample `index` of
- * `count` (0, 0 when count is 1). */
-void samples_offset(int index, int count, float offset[2]);
-/* Adds r->out, weighted 1/count, into the accumulator (cleared at 0). */
-satf_status samples_add(satf_renderer *r, int index, int count,
-                        satf_error *err);
-/* The accumulated average back into r->out. */
-satf_status samples_finish(satf_renderer *r, satf_error *err);
-void samples_release(satf_renderer *r);
-
-/* ---- frame.c: per-frame CPU work (Table 1: I, C, M) ------------------- */
-
-/* A light as seen from a point: xyz + w (0: direction to it, 1: position). */
-void frame_light_vector(const satf_scene_light *l, float out[4]);
-/* The same in a frame whose inverse transform is inv. */
-void frame_light_local(const float inv[16], const satf_scene_light *l,
-                       float out[4]);
-/* colour x intensity of every light, 3 floats each. */
-void frame_light_colors(const satf_renderer *r, float *col);
 /* Sector angles, layer maps and s-map sums of every instance, uploaded;
  * with r->incremental only the HSVs whose azimuths changed are looked up
  * again, and only changed instances uploaded (r->maps_changed counts
  * them). */
-satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
-                              satf_error *err);
+satf_status cluster_cpu_update_maps(satf_renderer *r, satf_frame_timing *t,
+                                    satf_error *err);
 /* Marks every HSV of `in` for a look-up at the next frame (its geometry,
  * features or transform changed). */
-void frame_forget_lookups(inst *in);
+void cluster_cpu_forget_lookups(inst *in);
 /* Frees the map threads' scratch buffers. */
-void frame_release(satf_renderer *r);
+void cluster_cpu_release(satf_renderer *r);
 /* The per-instance data of the instanced draws (r->inst_models,
  * r->inst_shading: glsl/cluster_vs.glsl, glsl/shade_fs.glsl) for the
  * current camera, lights and transforms. */
-satf_status frame_instance_data(satf_renderer *r, satf_error *err);
-/* Bytes of one instance's view in r->inst_shading. */
-size_t frame_instance_view_bytes(void);
-void frame_camera(const satf_renderer *r, float viewproj[16]);
-/* r->light_viewproj and r->dom_slab for the key light's deep opacity map. */
-void frame_light_view(satf_renderer *r);
-/* Pixel rectangle (x, y, w, h) the scene bounds can cover. */
-void frame_screen_box(const satf_renderer *r, const float viewproj[16],
-                      int box[4]);
-/* Instance indices far to near from the eye (malloc'd; NULL: no memory). */
-int *frame_far_to_near(const satf_renderer *r);
+satf_status cluster_cpu_instance_data(satf_renderer *r, satf_error *err);
+/* std430 layout of glsl/shade_fs.glsl's per-instance view: the eye (xyz,
+ * w the level of detail) and SATF_SCENE_MAX_LIGHTS lights, 4 floats each
+ * (the bytes of one instance's view in r->inst_shading). */
+#define CLUSTER_VIEW_FLOATS (4 + 4 * SATF_SCENE_MAX_LIGHTS)
 
 /* ---- lod_frame.c: level of detail per frame (rules: lod.h) ------------ */
 
@@ -285,67 +250,52 @@ void lod_screen_size(const satf_renderer *r, int i, float *width_px,
  * r->stats. */
 void lod_update(satf_renderer *r);
 
-/* ---- passes.c: GPU passes (Table 1: L, S) ----------------------------- */
+/* ---- cluster_dom.c: the clusters' shadows (Table 1: S) ---------------- */
 
-/* The deep opacity map from the key light. */
-/* Draws the hair of a deep opacity map into the bound target: its depth
- * (opacity 0, colour writes off) or its opacity into the slabs (1: the
- * first-hair depth on texture unit 1; passes_dom_uniforms sets a
- * program's u_dom_depth and u_dom_slab). */
-typedef void (*passes_dom_hair_fn)(satf_renderer *r, void *ctx, int opacity);
-/* The deep opacity map of any hair: the light's view, both passes with the
- * meshes as opaque occluders, the state restored. */
-void passes_dom_with(satf_renderer *r, passes_dom_hair_fn hair, void *ctx);
-void passes_dom_uniforms(const satf_renderer *r, GLuint prog);
-void passes_dom(satf_renderer *r);
+/* The deep opacity map of the clusters (and the sparse clusters' strands),
+ * drawn again unless the one drawn last still stands for this frame. */
+void cluster_dom_update(satf_renderer *r);
 /* The largest move, in texels across the light or slabs along it, of any
  * cluster control point (or radius) since the map was drawn; INFINITY when
  * it cannot be measured (no map, or other clusters). */
-float passes_dom_hair_move(const satf_renderer *r);
+float cluster_dom_hair_move(const satf_renderer *r);
+
+/* ---- cluster_gpu.c: the clusters' shading (Table 1: L) ---------------- */
+
+/* The outermost shells of every cluster drawn as a cluster with `prog`:
+ * their depth or their alpha into the deep opacity map's bound target
+ * (coarse: the light passes' proxy), else their shading. */
+void cluster_gpu_draw(const satf_renderer *r, GLuint prog,
+                      const float viewproj[16], int coarse);
 /* Per-pixel fragment arrays, then their sorted composite; returns the
  * largest number of fragments a pixel received and sets *overflow to the
- * pixels that received more than r->slots. Without `nearest` each pixel
- * keeps the first r->slots fragments to arrive. `nearest` (r->keys_tex
- * allocated) follows a call without it for the same frame: the pixels that
- * received more than r->slots there are filled again with their r->slots
- * nearest fragments, whatever their arrival order; the others keep
+ * pixels that received more than r->lists.slots. Without `nearest` each
+ * pixel keeps the first slots fragments to arrive. `nearest` (the depth
+ * keys allocated) follows a call without it for the same frame: the
+ * pixels that received more than slots there are filled again with their
+ * slots nearest fragments, whatever their arrival order; the others keep
  * theirs (and the counts, so the figures are that call's). */
-GLuint passes_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
-                    int nearest, long *fragments, long *overflow);
+GLuint cluster_gpu_lists(satf_renderer *r, satf_aov aov,
+                         const float viewproj[16], int nearest, long *fragments,
+                         long *overflow);
 /* Clusters drawn far to near with "over" blending. */
-satf_status passes_ordered(satf_renderer *r, satf_aov aov,
-                           const float viewproj[16], satf_error *err);
-/* A triangle covering the viewport, drawn with the bound program. */
-void passes_fullscreen(const satf_renderer *r);
-/* What other drawing paths (baseline.c, strands.c) share with the
- * clusters' passes: the opaque meshes with `prog`; the material, lights,
- * effects and deep opacity map of a shading program; clearing the frame
- * and drawing the lit meshes; hair tested against the meshes' depth
- * without writing it. */
-void draw_meshes(const satf_renderer *r, GLuint prog, const float viewproj[16]);
-void set_shading_uniforms(const satf_renderer *r, GLuint p, satf_aov aov);
-void begin_frame(const satf_renderer *r, satf_aov aov,
-                 const float viewproj[16]);
-void hair_depth_test(int on);
-/* The eye and every light (xyz, w: 0 direction, 1 position) in world
- * space: u_eye and u_light_vec of a program shading in world space. */
-void passes_world_lights(const satf_renderer *r, GLuint p);
+satf_status cluster_gpu_ordered(satf_renderer *r, satf_aov aov,
+                                const float viewproj[16], satf_error *err);
 
-/* ---- strands.c: the strand reference path ----------------------------- */
+/* ---- ribbons.c: strands on the GPU as camera-facing ribbons ----------- */
 
-/* A frame of the strands (satf_renderer_set_strands) in the clusters'
- * place; with refresh 0 the deep opacity map is reused. */
-satf_status strands_render_frame(satf_renderer *r, satf_aov aov, int refresh,
-                                 satf_frame_timing *timing, satf_error *err);
-void strands_release(satf_renderer *r);
-/* A set of strands on the GPU as camera-facing ribbons: n strands of
- * counts[i] points (xyz), each point's width (thickness, or default_width
- * when thickness is NULL); with `list` also the program that writes into
- * the per-pixel arrays. *out is NULL for n = 0. */
+/* n strands of counts[i] points (xyz), each point's width (thickness, or
+ * default_width when thickness is NULL); with `list` also the program that
+ * writes into the per-pixel arrays. *out is NULL for n = 0. */
 satf_status strands_gpu_create(int n, const int *counts, const float *xyz,
                                const float *thickness, float default_width,
                                int list, strands_gpu **out, satf_error *err);
 void strands_gpu_destroy(strands_gpu *s);
+int strands_gpu_count(const strands_gpu *s);
+/* The ribbons' bounds. */
+void strands_gpu_bounds(const strands_gpu *s, float lo[3], float hi[3]);
+/* Segments far to near from `eye` (painter's order for the "over" draws). */
+void strands_gpu_sort(strands_gpu *s, const float eye[3]);
 /* Segments in the order of their strands (strand i's segments follow
  * strand i - 1's), for draws of ranges and for the per-pixel arrays, which
  * need no order. */
@@ -355,19 +305,27 @@ size_t strands_gpu_segments(const strands_gpu *s);
 float strands_gpu_width(const strands_gpu *s);
 /* The shading program, every fragment (whole or partly covered) blended
  * "over" (list_mode -1) or into the per-pixel arrays in that mode of
- * passes_lists, bound with the frame's material, lights and view. */
+ * cluster_gpu_lists, bound with the frame's material, lights and view. */
 void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
                        const float viewproj[16], int list_mode);
 void strands_gpu_draw(const strands_gpu *s, size_t first, size_t count);
 /* Binds the shading program of strands_gpu_begin again (list_mode -1),
  * its uniforms as that call left them. */
 void strands_gpu_use(const strands_gpu *s);
+/* Whether any ribbon is at least a pixel wide for viewproj on a frame
+ * `height` pixels high. */
+int strands_gpu_any_wide(const strands_gpu *s, const float viewproj[16],
+                         int height);
+/* With the program of strands_gpu_begin bound: only the fragments the
+ * strands cover whole (whole 1), only those they cover partly (0), or
+ * every one (-1). */
+void strands_gpu_whole(const strands_gpu *s, int whole);
 /* The depth of the fragments the strands cover whole (opaque: what lies
  * behind them in a pixel is hidden) written into the bound framebuffer's
  * depth; 0 if no strand is a pixel wide (nothing written). */
 int strands_gpu_opaque_depth(const satf_renderer *r, const strands_gpu *s,
                              const float viewproj[16]);
-/* The strands into the bound deep opacity map (passes_dom_hair_fn). */
+/* The strands into the bound deep opacity map (a dom_hair_fn's body). */
 void strands_gpu_dom(satf_renderer *r, strands_gpu *s, int opacity);
 
 /* ---- sparse.c: clusters of few strands drawn as those strands -------- */
@@ -388,7 +346,7 @@ void sparse_cluster_size(const satf_scene_density *d, int *strands,
                          size_t *points);
 void sparse_release(satf_renderer *r);
 /* The sparse strands into the per-pixel arrays (list mode of
- * passes_lists) or into the bound deep opacity map. */
+ * cluster_gpu_lists) or into the bound deep opacity map. */
 void sparse_lists(const satf_renderer *r, satf_aov aov,
                   const float viewproj[16], int mode);
 void sparse_dom(satf_renderer *r, int opacity);
@@ -400,18 +358,13 @@ int sparse_opaque_depth(const satf_renderer *r, const float viewproj[16]);
  * uniforms and textures stay while sparse_ordered switches to it. */
 void sparse_ordered_begin(satf_renderer *r, satf_aov aov,
                           const float viewproj[16]);
-/* Instance i's strands blended "over" (passes_ordered's order), with the
- * program of sparse_ordered_begin left bound; 0 if it is not sparse (it is
- * drawn as a cluster). */
+/* Instance i's strands blended "over" (cluster_gpu_ordered's order), with
+ * the program of sparse_ordered_begin left bound; 0 if it is not sparse
+ * (it is drawn as a cluster). */
 int sparse_ordered(satf_renderer *r, int i);
 
-/* ---- baseline.c: the --no-satf path (Scheuermann 2004, paper 002) ----- */
+/* ---- baseline.c: Scheuermann 2004 (paper 002) ------------------------- */
 
-/* A frame of paper 002's method in SATF's place (effects.satf off): no
- * database; with refresh 0 the deep opacity map is reused. */
-satf_status baseline_frame(satf_renderer *r, satf_aov aov, int refresh,
-                           satf_frame_timing *timing, satf_error *err);
-void baseline_release(satf_renderer *r);
 /* Ambient occlusion of layer k (0 innermost) of `layers` whose texture has
  * mean alpha `mean_alpha`. */
 float baseline_layer_occlusion(float mean_alpha, int k, int layers);

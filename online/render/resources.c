@@ -1,7 +1,7 @@
 /* resources.c - owns the renderer's GL resources that are not per cluster:
- * the shader programs, the output target and per-pixel fragment arrays
- * (resized with the image), the deep opacity map's targets and the scene's
- * opaque meshes. */
+ * the shader programs, the output target (resized with the image; the
+ * fragment arrays of lists.c follow it), the scene's opaque meshes and the
+ * instance buffers; it creates the deep opacity map's targets (dom.c). */
 #include "renderer_internal.h"
 
 #include <stddef.h>
@@ -13,43 +13,11 @@
 #include "mat4.h"
 #include "shaders.h"
 
-/* src with `lines` inserted after its #version line. */
-static char *with_defines(const char *src, const char *lines) {
-  const char *nl = strchr(src, '\n');
-  size_t head = nl ? (size_t)(nl - src) + 1 : 0;
-  char *out = malloc(strlen(src) + strlen(lines) + 1);
-  if (out) {
-    memcpy(out, src, head);
-    strcpy(out + head, lines);
-    strcat(out, src + head);
-  }
-  return out;
-}
-
-/* Compiles one program. Its shaders' arrays are sized by the C limits,
- * defined after their #version lines with `extra` (glsl/). */
-satf_status build_program(const char *label, const char *vs, const char *fs,
-                          const char *extra, GLuint *out, satf_error *err) {
-  char defines[256];
-  snprintf(defines, sizeof defines,
-           "#define SATF_MAX_LIGHTS %d\n#define SATF_MAX_FRAGMENTS %d\n%s",
-           SATF_SCENE_MAX_LIGHTS, SATF_MAX_FRAGMENTS, extra);
-  /* both stages see them (cluster_vs.glsl shades per vertex in the
-   * physical mode) */
-  char *text = with_defines(fs, defines), *vtext = with_defines(vs, defines);
-  satf_status st = text && vtext
-                       ? satf_gl_program_build(label, vtext, text, out, err)
-                       : satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  free(text);
-  free(vtext);
-  return st;
-}
-
 static satf_status build_programs(satf_renderer *r, satf_error *err) {
   /* the light loop runs a compile-time count so it unrolls */
   char lights[64], ordered[96], lights_lod[80], ordered_lod[112];
   snprintf(lights, sizeof lights, "#define NLIGHTS %d\n#define PHYSICAL %d\n",
-           r->nlights, r->fiber != NULL);
+           r->view.nlights, r->fiber != NULL);
   snprintf(ordered, sizeof ordered, "%s#define EXACT 0\n", lights);
   /* the level of detail's shells are compiled in only where --lod is on
    * (glsl/shade_fs.glsl: llvmpipe pays for them at every layer point) */
@@ -85,97 +53,23 @@ static satf_status build_programs(satf_renderer *r, satf_error *err) {
        &r->prog_mesh_dom}};
   satf_status st = SATF_OK;
   for (size_t i = 0; i < sizeof progs / sizeof *progs && st == SATF_OK; i++)
-    st = build_program(progs[i].label, progs[i].vs, progs[i].fs, progs[i].extra,
-                       progs[i].out, err);
+    st = shaders_program(progs[i].label, progs[i].vs, progs[i].fs,
+                         progs[i].extra, progs[i].out, err);
   return st;
-}
-
-/* Per-pixel fragment arrays: an r32ui counter per pixel and a layered
- * rgba32ui image of `slots` fragments (colour as halves, depth). A texture
- * rather than a storage buffer: llvmpipe caps buffers at 128 MB, and a
- * per-pixel counter avoids the contention of one global atomic counter,
- * which made linked lists three times slower there. */
-satf_status resources_alloc_lists(satf_renderer *r, int slots,
-                                  satf_error *err) {
-  if (r->counts_tex)
-    glDeleteTextures(1, &r->counts_tex);
-  if (r->frags_tex)
-    glDeleteTextures(1, &r->frags_tex);
-  if (r->keys_tex) /* made again, at the new size, when a frame needs it */
-    glDeleteTextures(1, &r->keys_tex);
-  r->keys_tex = 0;
-  glGenTextures(1, &r->counts_tex);
-  glBindTexture(GL_TEXTURE_2D, r->counts_tex);
-  glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32UI, r->width, r->height);
-  glGenTextures(1, &r->frags_tex);
-  glBindTexture(GL_TEXTURE_2D_ARRAY, r->frags_tex);
-  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32UI, r->width, r->height,
-                 slots);
-  r->slots = slots;
-  return satf_gl_check("fragment arrays", err);
-}
-
-/* `slots` layers of depth keys and one more, the counter of the second
- * nearest pass's stores (glsl/list_write.glsl). */
-satf_status resources_alloc_keys(satf_renderer *r, satf_error *err) {
-  if (r->keys_tex)
-    return SATF_OK;
-  glGenTextures(1, &r->keys_tex);
-  glBindTexture(GL_TEXTURE_2D_ARRAY, r->keys_tex);
-  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_R32UI, r->width, r->height,
-                 r->slots + 1);
-  return satf_gl_check("fragment depth keys", err);
 }
 
 satf_status resources_alloc_screen(satf_renderer *r, satf_error *err) {
   /* half floats: what the EXR keeps, and faster to blend on llvmpipe */
   const satf_gl_format out_format = SATF_GL_RGBA16F;
-  if (!r->list_fbo)
-    glGenFramebuffers(1, &r->list_fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
-  glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_WIDTH,
-                          r->width);
-  glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_HEIGHT,
-                          r->height);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
   if (r->out)
     satf_gl_target_destroy(r->out);
   r->out = NULL;
-  satf_status st =
-      satf_gl_target_create(r->width, r->height, 1, &out_format, &r->out, err);
-  if (st == SATF_OK) {
-    /* the hair's fragment pass tests against the meshes' depth */
-    glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D,
-                           satf_gl_target_depth_texture(r->out), 0);
-    glDrawBuffer(GL_NONE);
-    glReadBuffer(GL_NONE);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    st = resources_alloc_lists(r, r->slots > 0 ? r->slots : START_SLOTS, err);
-  }
-  return st;
-}
-
-/* The deep opacity map's depth and opacity targets, filtered: the map is
- * coarse, and its texels must not show. */
-static satf_status alloc_dom(satf_renderer *r, satf_error *err) {
-  satf_status st =
-      satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &r->dom_depth, err);
+  satf_status st = satf_gl_target_create(r->view.width, r->view.height, 1,
+                                         &out_format, &r->out, err);
   if (st == SATF_OK)
-    st = satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &r->dom_opacity,
-                               err);
-  if (st != SATF_OK)
-    return st;
-  GLuint dom[2] = {satf_gl_target_depth_texture(r->dom_depth),
-                   satf_gl_target_color_texture(r->dom_opacity, 0)};
-  for (int k = 0; k < 2; k++) {
-    glBindTexture(GL_TEXTURE_2D, dom[k]);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  }
-  return satf_gl_check("renderer set-up", err);
+    st = lists_attach(&r->lists, r->view.width, r->view.height,
+                      satf_gl_target_depth_texture(r->out), err);
+  return st;
 }
 
 /* Grows the scene bounds by a mesh's transformed bounding box, so the
@@ -189,10 +83,7 @@ static void grow_bounds(satf_renderer *r, const satf_mesh *mesh,
                   c & 4 ? hi[2] : lo[2]},
           w[3];
     satf_mat4_point(m, p, w);
-    for (int a = 0; a < 3; a++) {
-      r->lo[a] = w[a] < r->lo[a] ? w[a] : r->lo[a];
-      r->hi[a] = w[a] > r->hi[a] ? w[a] : r->hi[a];
-    }
+    view_grow(&r->view, w, w);
   }
 }
 
@@ -253,7 +144,7 @@ static satf_status build_meshes(satf_renderer *r, satf_error *err) {
 }
 
 /* The instances' transforms and views for instanced draws (filled per
- * frame by frame_instance_data). */
+ * frame by cluster_cpu_instance_data). */
 static satf_status alloc_instance_data(satf_renderer *r, satf_error *err) {
   size_t n = (size_t)(r->ninsts > 0 ? r->ninsts : 1);
   glGenBuffers(1, &r->inst_models);
@@ -263,7 +154,7 @@ static satf_status alloc_instance_data(satf_renderer *r, satf_error *err) {
   glGenBuffers(1, &r->inst_shading);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->inst_shading);
   glBufferData(GL_SHADER_STORAGE_BUFFER,
-               (GLsizeiptr)(n * frame_instance_view_bytes()), NULL,
+               (GLsizeiptr)(n * CLUSTER_VIEW_FLOATS * sizeof(float)), NULL,
                GL_DYNAMIC_DRAW);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
   return satf_gl_check("instance buffers", err);
@@ -278,7 +169,7 @@ satf_status resources_build(satf_renderer *r, satf_error *err) {
     st = resources_alloc_screen(r, err);
   }
   if (st == SATF_OK)
-    st = alloc_dom(r, err);
+    st = dom_create(&r->dom, err);
   if (st == SATF_OK)
     st = alloc_instance_data(r, err);
   return st;
@@ -302,14 +193,8 @@ void resources_release(satf_renderer *r) {
       glDeleteProgram(progs[i]);
   if (r->empty_vao)
     glDeleteVertexArrays(1, &r->empty_vao);
-  GLuint texs[3] = {r->counts_tex, r->frags_tex, r->keys_tex};
-  glDeleteTextures(3, texs);
   GLuint bufs[2] = {r->inst_models, r->inst_shading};
   glDeleteBuffers(2, bufs);
-  if (r->list_fbo)
-    glDeleteFramebuffers(1, &r->list_fbo);
-  samples_release(r);
+  lists_release(&r->lists);
   satf_gl_target_destroy(r->out);
-  satf_gl_target_destroy(r->dom_depth);
-  satf_gl_target_destroy(r->dom_opacity);
 }

@@ -1,8 +1,15 @@
 /* shaders.c - the GLSL of the online renderer under its C names
  * (shaders.h). The text lives in the .glsl files of glsl/, embedded at
  * build time by glsl/embed.cmake as the constants of glsl_text.c (one per
- * file, includes expanded): edit the .glsl files. */
+ * file, includes expanded): edit the .glsl files. It also builds a
+ * program from them with the limits its arrays are sized by. */
 #include "shaders.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "satf/scene.h"
 
 extern const char glsl_text_lighting[], glsl_text_layer_vs[],
     glsl_text_cluster_vs[], glsl_text_shade_fs[], glsl_text_dom_fs[],
@@ -35,3 +42,41 @@ const char *const satf_glsl_strand_fs = glsl_text_strand_fs;
 const char *const satf_glsl_strand_dom_fs = glsl_text_strand_dom_fs;
 const char *const satf_glsl_fiber = glsl_text_fiber;
 const char *const satf_glsl_fiber_cluster = glsl_text_fiber_cluster;
+
+/* src with `lines` inserted after its #version line. */
+static char *with_defines(const char *src, const char *lines) {
+  const char *nl = strchr(src, '\n');
+  size_t head = nl ? (size_t)(nl - src) + 1 : 0;
+  char *out = malloc(strlen(src) + strlen(lines) + 1);
+  if (out) {
+    memcpy(out, src, head);
+    strcpy(out + head, lines);
+    strcat(out, src + head);
+  }
+  return out;
+}
+
+/* Compiles one program. Its shaders' arrays are sized by the C limits,
+ * defined after their #version lines with `extra` (glsl/). */
+satf_status shaders_program(const char *label, const char *vs, const char *fs,
+                            const char *extra, GLuint *out, satf_error *err) {
+  char defines[256];
+  snprintf(defines, sizeof defines,
+           "#define SATF_MAX_LIGHTS %d\n#define SATF_MAX_FRAGMENTS %d\n%s",
+           SATF_SCENE_MAX_LIGHTS, SATF_MAX_FRAGMENTS, extra);
+  /* both stages see them (cluster_vs.glsl shades per vertex in the
+   * physical mode) */
+  char *text = with_defines(fs, defines), *vtext = with_defines(vs, defines);
+  satf_status st = text && vtext
+                       ? satf_gl_program_build(label, vtext, text, out, err)
+                       : satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  free(text);
+  free(vtext);
+  return st;
+}
+
+void shaders_fullscreen(GLuint vao) {
+  glBindVertexArray(vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}

@@ -47,4 +47,15 @@ extern const char *const satf_glsl_fiber_cluster;
 /* Fragments (one per cluster a pixel's ray meets) kept by the resolve. */
 #define SATF_MAX_FRAGMENTS 64
 
+#include "satf/gl.h"
+
+/* One program, its shaders given SATF_MAX_LIGHTS and SATF_MAX_FRAGMENTS
+ * (and `extra`) after their #version lines. */
+satf_status shaders_program(const char *label, const char *vs, const char *fs,
+                            const char *extra, GLuint *out, satf_error *err);
+/* The triangle satf_glsl_fullscreen_vs makes of vertices 0 to 2, which
+ * covers the viewport, drawn with the bound program (`vao`: an empty
+ * vertex array). */
+void shaders_fullscreen(GLuint vao);
+
 #endif

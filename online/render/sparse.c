@@ -7,7 +7,7 @@
  * r->sparse_max strands, its instances are drawn instead as those
  * strands: each track, slice by slice, placed by the cluster's own
  * generalized cylinder (SATF eq. 1 with the twist, satf/geometry.h) and
- * the instance's transform, as anti-aliased ribbons (strands.c) of the
+ * the instance's transform, as anti-aliased ribbons (ribbons.c) of the
  * width the density assumes. In the exact mode they go into the same
  * per-pixel arrays as the clusters' fragments (strand_fs.glsl with LIST),
  * so the two are sorted together; in the ordered mode they are drawn at

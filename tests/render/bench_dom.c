@@ -10,8 +10,8 @@
  *    SSIM and luminance ratio; the coverage does not depend on shadows).
  *    The error of dropping the cluster shadows altogether is the scale.
  * 2. The map's cost (wall and process CPU time: llvmpipe's threads are
- *    the process's): FRAMES calls of passes_dom drawing the map, in turn
- *    with calls that keep it.
+ *    the process's): FRAMES calls of cluster_dom_update drawing the map, in
+ * turn with calls that keep it.
  * --cost: only 2. With OUTDIR the frames are written there as EXRs
  * (fresh.exr, noshadow.exr, keep_DEG.exr).
  *
@@ -19,7 +19,7 @@
  *
  * 3. Moving hair: every frame of the scene's animation, FRAMES times over,
  *    with the map kept while no cluster moved more than TOL texels or
- *    slabs (r->dom_move_tol), against a renderer drawing it every frame
+ *    slabs (r->dom.move_tol), against a renderer drawing it every frame
  *    (the exact rule): S of each (wall ms, and the whole frame), whether
  *    the map was kept, how far the hair had moved, and the frame's error
  *    against the exact one (SSIM, mean |luminance change| as a share of
@@ -64,7 +64,7 @@ static satf_image *frame(satf_renderer *r) {
   return img;
 }
 
-static compare_image view(const satf_image *img, const char *name) {
+static compare_image compare_view(const satf_image *img, const char *name) {
   compare_image c = {
       name, satf_image_width(img), satf_image_height(img), NULL, NULL, NULL,
       NULL};
@@ -77,7 +77,7 @@ static compare_image view(const satf_image *img, const char *name) {
 
 /* Mean |luminance difference| over pixels either covers. */
 static double lum_diff(const satf_image *a, const satf_image *b) {
-  compare_image x = view(a, "a"), y = view(b, "b");
+  compare_image x = compare_view(a, "a"), y = compare_view(b, "b");
   double sum = 0.0;
   long n = 0;
   for (int i = 0; i < x.width * x.height; i++) {
@@ -92,7 +92,7 @@ static double lum_diff(const satf_image *a, const satf_image *b) {
 
 static void report(const char *what, const satf_image *ref,
                    const satf_image *test, double scale) {
-  compare_image a = view(ref, "ref"), b = view(test, "test");
+  compare_image a = compare_view(ref, "ref"), b = compare_view(test, "test");
   compare_result res;
   satf_error err;
   if (compare_measure(&a, &b, &res, &err) != SATF_OK)
@@ -129,8 +129,8 @@ static void animation(const bench_setup *b, const char *dir, int rounds,
   if (satf_scene_at_frame(b->scene, first, &now, &err) != SATF_OK ||
       satf_renderer_create(now, b->db, w, h, 0, &cheap, &err) != SATF_OK)
     die("--anim", &err);
-  exact->dom_move_tol = -1.0f;
-  cheap->dom_move_tol = tol;
+  exact->dom.move_tol = -1.0f;
+  cheap->dom.move_tol = tol;
   double s_sum[2] = {0}, total[2] = {0}, worst_ssim = 1.0, worst_share = 0.0,
          share_sum = 0.0;
   long kept = 0, n = 0;
@@ -146,18 +146,19 @@ static void animation(const bench_setup *b, const char *dir, int rounds,
       satf_frame_timing t[2];
       satf_image *img[2] = {NULL, NULL};
       satf_renderer *rs[2] = {exact, cheap};
-      long reuses = cheap->dom_reuses;
-      float move = passes_dom_hair_move(cheap);
+      long reuses = cheap->dom.reuses;
+      float move = cluster_dom_hair_move(cheap);
       for (int k = 0; k < 2; k++)
         if (satf_renderer_render_image(rs[k], 0, &img[k], &t[k], &err) !=
             SATF_OK)
           die("--anim render", &err);
-      int keep = cheap->dom_reuses > reuses;
+      int keep = cheap->dom.reuses > reuses;
       exact->effects.cluster_shadows = 0;
       satf_image *none = frame(exact);
       exact->effects.cluster_shadows = 1;
       double scale = lum_diff(img[0], none), d = lum_diff(img[0], img[1]);
-      compare_image x = view(img[0], "exact"), y = view(img[1], "cheap");
+      compare_image x = compare_view(img[0], "exact"),
+                    y = compare_view(img[1], "cheap");
       compare_result res;
       if (compare_measure(&x, &y, &res, &err) != SATF_OK)
         die("compare", &err);
@@ -220,7 +221,7 @@ int main(int argc, char **argv) {
     return 0;
   }
   satf_scene_camera start = *satf_renderer_camera(r);
-  r->dom_move_tol = -1.0f; /* the reference: the exact rule */
+  r->dom.move_tol = -1.0f; /* the reference: the exact rule */
   r->effects.cluster_shadows = 1;
   satf_image *fresh = frame(r);
   save(fresh, dir, "fresh.exr");
@@ -235,14 +236,14 @@ int main(int argc, char **argv) {
     goto timing;
   static const float turns[] = {5, 15, 30, 60, 90, 180};
   for (size_t k = 0; k < sizeof turns / sizeof turns[0]; k++) {
-    r->dom_eye_tol = 0.0f; /* drawn at the turned eye */
+    r->dom.eye_tol = 0.0f; /* drawn at the turned eye */
     bench_turn(satf_renderer_camera(r), turns[k] * SATF_PI_F / 180.0f);
     satf_image_destroy(frame(r));
     *satf_renderer_camera(r) = start;
-    r->dom_eye_tol = 4.0f; /* kept, whatever the turn */
-    long before = r->dom_reuses;
+    r->dom.eye_tol = 4.0f; /* kept, whatever the turn */
+    long before = r->dom.reuses;
     satf_image *kept = frame(r);
-    if (r->dom_reuses != before + 1)
+    if (r->dom.reuses != before + 1)
       die("the map was not kept", NULL);
     char name[64];
     snprintf(name, sizeof name, "keep_%.0f.exr", turns[k]);
@@ -253,14 +254,14 @@ int main(int argc, char **argv) {
   }
 timing:
   /* 2. the map's cost, drawn and kept, frame by frame in turn */
-  r->dom_eye_tol = 0.0f;
+  r->dom.eye_tol = 0.0f;
   double wall[2] = {0}, cpu[2] = {0};
   for (int f = 0; f <= frames; f++)
     for (int v = 0; v < 2; v++) {
-      r->dom_valid = v == 1;
+      r->dom.valid = v == 1;
       glFinish();
       double w0 = satf_now_seconds(), c0 = cpu_seconds();
-      passes_dom(r);
+      cluster_dom_update(r);
       glFinish();
       if (f > 0) { /* the first round warms up */
         wall[v] += 1e3 * (satf_now_seconds() - w0);

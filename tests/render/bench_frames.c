@@ -75,22 +75,23 @@ static float half_value(unsigned h) {
  * fragments whose alpha is at least 1 - 1/512. */
 static void fragment_stats(const satf_renderer *r, long *frags, long *pixels,
                            long *saturated) {
-  size_t n = (size_t)r->width * (size_t)r->height;
+  size_t n = (size_t)r->view.width * (size_t)r->view.height;
   GLuint *counts = malloc(n * sizeof(GLuint));
-  GLuint *frags_px = malloc(n * (size_t)r->slots * 4 * sizeof(GLuint));
+  GLuint *frags_px = malloc(n * (size_t)r->lists.slots * 4 * sizeof(GLuint));
   *frags = *pixels = *saturated = 0;
   if (!counts || !frags_px) {
     free(counts);
     free(frags_px);
     return;
   }
-  glBindTexture(GL_TEXTURE_2D, r->counts_tex);
+  glBindTexture(GL_TEXTURE_2D, r->lists.counts);
   glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, counts);
-  glBindTexture(GL_TEXTURE_2D_ARRAY, r->frags_tex);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, r->lists.frags);
   glGetTexImage(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                 frags_px);
   for (size_t p = 0; p < n; p++) {
-    GLuint c = counts[p] < (GLuint)r->slots ? counts[p] : (GLuint)r->slots;
+    GLuint c =
+        counts[p] < (GLuint)r->lists.slots ? counts[p] : (GLuint)r->lists.slots;
     *frags += c;
     *pixels += c > 0;
     for (GLuint s = 0; s < c; s++) {

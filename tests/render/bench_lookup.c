@@ -17,8 +17,8 @@
  *     alike), plus the features' time per G.
  *   bench_lookup turn DB SCENE [FRAMES] [kk|physical]
  *     the renderer's per-frame CPU work (SATF Table 1: I azimuths, C
- *     look-ups, M upload; frame.c) with the camera turning 2 degrees a frame,
- *     so every HSV is looked up again: ms per frame on 1 and on 2 threads
+ *     look-ups, M upload; cluster_cpu.c) with the camera turning 2 degrees a
+ * frame, so every HSV is looked up again: ms per frame on 1 and on 2 threads
  *     (taken in turn, frame by frame), and I + C + M per 100K HSVs (issue 12
  *     item 3); and the process's CPU time in those stages, which other
  *     load on the machine inflates less than their wall time (all threads,
@@ -375,7 +375,7 @@ static int turn_bench(const satf_db *db, const char *path, int frames,
       r->threads = th + 1;
       bench_turn(satf_renderer_camera(r), step);
       double c0 = cpu_ms();
-      if (frame_update_maps(r, &t, &err) != SATF_OK)
+      if (cluster_cpu_update_maps(r, &t, &err) != SATF_OK)
         die("maps", &err);
       double v[5] = {t.index_ms, t.maps_ms, t.upload_ms,
                      t.index_ms + t.maps_ms + t.upload_ms, cpu_ms() - c0};

@@ -76,12 +76,12 @@ static double mean_diff(const satf_image *a, const satf_image *b) {
  * that row's units (texels for x, slabs for z) per world unit, and the
  * row's direction. */
 static float light_axis(const satf_renderer *r, int row, float dir[3]) {
-  const float *m = r->dom_viewproj + 4 * row;
+  const float *m = r->dom.drawn_viewproj + 4 * row;
   float len = sqrtf(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
   for (int k = 0; k < 3; k++)
     dir[k] = m[k] / len;
   return row == 0 ? len * 0.5f * (float)DOM_SIZE
-                  : len * 0.5f / r->dom_light_slab;
+                  : len * 0.5f / r->dom.drawn_slab;
 }
 
 /* The scene with instance 0 moved by `units` of the map's row `row`. */
@@ -109,11 +109,11 @@ static void test_still_hair_keeps_map(void **state) {
   assert_true(satf_renderer_shadow_move(r) == DOM_MOVE_TOL);
   satf_image *a = fixture_render_image(r);
   assert_non_null(a);
-  assert_int_equal(r->dom_reuses, 0);
+  assert_int_equal(r->dom.reuses, 0);
   assert_int_equal(satf_renderer_set_scene(r, again, NULL, &err), SATF_OK);
-  assert_true(passes_dom_hair_move(r) == 0.0f);
+  assert_true(cluster_dom_hair_move(r) == 0.0f);
   satf_image *b = fixture_render_image(r);
-  assert_int_equal(r->dom_reuses, 1);
+  assert_int_equal(r->dom.reuses, 1);
   assert_true(same_image(a, b));
   satf_image_destroy(a);
   satf_image_destroy(b);
@@ -138,18 +138,18 @@ static void moves(fixture_gl *f, int row) {
   assert_non_null(far);
   satf_error err;
   assert_int_equal(satf_renderer_set_scene(r, near, NULL, &err), SATF_OK);
-  float m = passes_dom_hair_move(r);
+  float m = cluster_dom_hair_move(r);
   printf("row %d: moved %.4f (tolerance %.2f)\n", row, m, tol);
   assert_float_equal(m, 0.6f * tol, 0.02f * tol);
   satf_image_destroy(fixture_render_image(r));
-  assert_int_equal(r->dom_reuses, 1);
+  assert_int_equal(r->dom.reuses, 1);
   /* the frame's shadows differ from those of the map drawn for it (the
    * move is one the test can see), by less than the cluster shadows */
   satf_renderer *now = make(f, near, tol);
   assert_non_null(now);
   satf_image *kept = fixture_render_image(r),
              *drawn = fixture_render_image(now);
-  assert_int_equal(r->dom_reuses, 2);
+  assert_int_equal(r->dom.reuses, 2);
   now->effects.cluster_shadows = 0;
   satf_image *none = fixture_render_image(now);
   double effect = mean_diff(drawn, none), err_kept = mean_diff(drawn, kept);
@@ -162,9 +162,9 @@ static void moves(fixture_gl *f, int row) {
   satf_renderer_destroy(now);
   /* measured from where the map was drawn, not from the last frame */
   assert_int_equal(satf_renderer_set_scene(r, far, NULL, &err), SATF_OK);
-  assert_float_equal(passes_dom_hair_move(r), 1.6f * tol, 0.02f * tol);
+  assert_float_equal(cluster_dom_hair_move(r), 1.6f * tol, 0.02f * tol);
   satf_image *a = fixture_render_image(r);
-  assert_int_equal(r->dom_reuses, 2);
+  assert_int_equal(r->dom.reuses, 2);
   satf_renderer *fresh = make(f, far, tol);
   assert_non_null(fresh);
   satf_image *b = fixture_render_image(fresh);
@@ -192,10 +192,10 @@ static void test_light_turn_draws(void **state) {
   assert_non_null(r);
   satf_image_destroy(fixture_render_image(r));
   satf_image_destroy(fixture_render_image(r));
-  assert_int_equal(r->dom_reuses, 1);
+  assert_int_equal(r->dom.reuses, 1);
   satf_renderer_light(r, 0)->direction[0] += 0.01f;
   satf_image_destroy(fixture_render_image(r));
-  assert_int_equal(r->dom_reuses, 1);
+  assert_int_equal(r->dom.reuses, 1);
   satf_renderer_destroy(r);
   satf_scene_destroy(scene);
 }
@@ -214,11 +214,11 @@ static void test_off_switch_exact(void **state) {
   assert_true(satf_renderer_shadow_move(r) < 0.0f);
   satf_image *a = fixture_render_image(r);
   satf_image_destroy(fixture_render_image(r)); /* nothing changed: kept */
-  assert_int_equal(r->dom_reuses, 1);
+  assert_int_equal(r->dom.reuses, 1);
   satf_error err;
   assert_int_equal(satf_renderer_set_scene(r, again, NULL, &err), SATF_OK);
   satf_image *b = fixture_render_image(r);
-  assert_int_equal(r->dom_reuses, 1);
+  assert_int_equal(r->dom.reuses, 1);
   assert_true(same_image(a, b));
   /* a move of 0.6 texels: kept with 1, drawn again once switched off */
   satf_renderer_set_shadow_move(r, 1.0f);
@@ -226,11 +226,11 @@ static void test_off_switch_exact(void **state) {
   assert_non_null(near);
   assert_int_equal(satf_renderer_set_scene(r, near, NULL, &err), SATF_OK);
   satf_image *c = fixture_render_image(r);
-  assert_int_equal(r->dom_reuses, 2);
+  assert_int_equal(r->dom.reuses, 2);
   assert_int_equal(satf_renderer_set_scene(r, near, NULL, &err), SATF_OK);
   satf_renderer_set_shadow_move(r, -1.0f);
   satf_image *d = fixture_render_image(r);
-  assert_int_equal(r->dom_reuses, 2);
+  assert_int_equal(r->dom.reuses, 2);
   satf_renderer *fresh = make(f, near, -1.0f);
   assert_non_null(fresh);
   satf_image *e = fixture_render_image(fresh);

@@ -254,7 +254,7 @@ static void shadowed_strand_keeps_forward_scattering(void **state) {
   }
   /* one hair wholly in the way (n = 1): the model's 0.51 of the lone
    * strand (direct e^-1 plus the forward-scattered part); counting the
-   * lit strand too (n = 2, slabs thinner than a hair, frame.c) gave 0.33,
+   * lit strand too (n = 2, slabs thinner than a hair, dom.c) gave 0.33,
    * a map that counted nothing 0.59 */
   fprintf(stderr, "shadowed / alone %g, model n = 1 %g, n = 2 %g\n", s / a,
           m1 / m0, m2 / m0);
@@ -266,7 +266,7 @@ static void shadowed_strand_keeps_forward_scattering(void **state) {
 
 /* Back-lit, a strand behind another (towards the light): the deep
  * opacity map counts the one hair in the way, not the lit strand itself.
- * Its slabs are at least one strand deep (frame.c); thinner ones, a third
+ * Its slabs are at least one strand deep (dom.c); thinner ones, a third
  * of this scene's cluster radius (0.1, a twentieth of the strand), put the
  * map's four inside the first hair, so the lit strand counted the whole
  * column, itself too (n = 2: its pixels e^-1 of these). The pixels against

@@ -242,10 +242,10 @@ static void test_dom_reuse(void **state) {
   satf_renderer *r = make(f, scene);
   assert_non_null(r);
   satf_image *a = image(r);
-  assert_int_equal(r->dom_reuses, 0);
+  assert_int_equal(r->dom.reuses, 0);
   /* the same view again: the map is kept, and the frame is the same */
   satf_image *b = image(r);
-  assert_int_equal(r->dom_reuses, 1);
+  assert_int_equal(r->dom.reuses, 1);
   assert_true(fixture_same_bits(a, b, "R"));
   assert_true(fixture_same_bits(a, b, "A"));
   /* the camera moves: the maps' alpha changes with the eye's azimuth,
@@ -253,7 +253,7 @@ static void test_dom_reuse(void **state) {
    * close to that of a fresh renderer, whose map is made for this eye */
   satf_renderer_camera(r)->position[0] += 3.0f;
   satf_image *c = image(r);
-  assert_int_equal(r->dom_reuses, 2);
+  assert_int_equal(r->dom.reuses, 2);
   assert_true(r->maps_changed > 0);
   satf_renderer *fresh = make(f, scene);
   assert_non_null(fresh);
@@ -267,33 +267,33 @@ static void test_dom_reuse(void **state) {
   assert_true(kept < 0.1 * effect);
   /* with no tolerance for the eye, the map is drawn again, and the frame
    * equals the fresh renderer's bit for bit */
-  r->dom_eye_tol = 0.0f;
+  r->dom.eye_tol = 0.0f;
   satf_image *e = image(r);
-  assert_int_equal(r->dom_reuses, 2);
+  assert_int_equal(r->dom.reuses, 2);
   assert_true(fixture_same_bits(e, d, "R"));
   assert_true(fixture_same_bits(e, d, "A"));
   /* a tolerance: kept while the eye has turned less, drawn beyond */
-  r->dom_eye_tol = 10.0f * SATF_PI_F / 180.0f;
+  r->dom.eye_tol = 10.0f * SATF_PI_F / 180.0f;
   bench_turn(satf_renderer_camera(r), 5.0f * SATF_PI_F / 180.0f);
   satf_image_destroy(image(r));
-  assert_int_equal(r->dom_reuses, 3);
+  assert_int_equal(r->dom.reuses, 3);
   bench_turn(satf_renderer_camera(r), 10.0f * SATF_PI_F / 180.0f);
   satf_image_destroy(image(r));
-  assert_int_equal(r->dom_reuses, 3);
+  assert_int_equal(r->dom.reuses, 3);
   /* the key light turns: drawn again, however far the eye may turn */
-  r->dom_eye_tol = INFINITY;
+  r->dom.eye_tol = INFINITY;
   satf_renderer_light(r, 0)->direction[0] += 0.3f;
   satf_image_destroy(image(r));
-  assert_int_equal(r->dom_reuses, 3);
+  assert_int_equal(r->dom.reuses, 3);
   satf_image_destroy(image(r));
-  assert_int_equal(r->dom_reuses, 4);
+  assert_int_equal(r->dom.reuses, 4);
   /* a new state of the scene: drawn again under the exact rule (the
    * default measures how far the hair moved: test_dom_cheap) */
   satf_renderer_set_shadow_move(r, -1.0f);
   satf_error err;
   assert_int_equal(satf_renderer_set_scene(r, scene, NULL, &err), SATF_OK);
   satf_image_destroy(image(r));
-  assert_int_equal(r->dom_reuses, 4);
+  assert_int_equal(r->dom.reuses, 4);
   satf_image_destroy(a);
   satf_image_destroy(b);
   satf_image_destroy(c);

@@ -298,8 +298,8 @@ static void test_still_frames(void **state) {
  * fill's channel 3 the sum of the key quads' alpha over the layers outside
  * k (eq. 12), 0 for the outer one; HSV i's top row and HSV i - 1's bottom
  * row, one boundary, are the same texels in every layer. Three threads: the one
- * cluster is built in three parts (frame.c), of 3, 3 and 4 columns of HSVs, the
- * same maps as one thread's. */
+ * cluster is built in three parts (cluster_cpu.c), of 3, 3 and 4 columns of
+ * HSVs, the same maps as one thread's. */
 static void test_layout_sums(void **state) {
   (void)state;
   char json[2048], lights[512];

@@ -4,7 +4,7 @@
  * normal-plane frame turned by the twist theta), the trajectory's unit
  * tangent and |dT/dt|, and A, B, theta, all in the prototype's frame (vertex
  * layout: hierarchy.c). One draw covers a run of a prototype's instances
- * (passes.c): instance u_first + gl_InstanceID, whose transform is in the
+ * (cluster_gpu.c): instance u_first + gl_InstanceID, whose transform is in the
  * instance buffer and whose maps start at texture layer v_layer0. */
 layout(location = 0) in vec3 a_pos;
 layout(location = 2) in vec3 a_tangent;

@@ -10,7 +10,7 @@ layout(early_fragment_tests) in;
 uniform int u_slots;
 /* 0: every fragment takes the next slot; 1: only the depth keys of the
  * u_slots nearest are kept (u_keys); 2: fragments no farther than the
- * u_slots-th nearest take slots (passes.c, passes_lists). Modes 1 and 2
+ * u_slots-th nearest take slots (cluster_gpu.c, cluster_gpu_lists). Modes 1 and 2
  * follow mode 0 of the same frame and redo only the pixels it overflowed
  * (its count, which they leave, over u_slots): the others keep what it
  * stored, which was every fragment they received. */
@@ -22,7 +22,7 @@ layout(binding = 1, rgba32ui) uniform writeonly uimage2DArray u_frags;
 layout(binding = 2, r32ui) uniform coherent uimage2DArray u_keys;
 /* whether the nearest passes need nothing of this fragment: mode 0 did not
  * overflow its pixel (they draw only inside the box of those that
- * overflowed, passes_lists; asked in those modes only, so that mode 0 pays
+ * overflowed, cluster_gpu_lists; asked in those modes only, so that mode 0 pays
  * nothing for it) */
 bool list_skip() {
   return imageLoad(u_counts, ivec2(gl_FragCoord.xy)).r <= uint(u_slots);

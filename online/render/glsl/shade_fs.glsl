@@ -81,7 +81,7 @@ uniform float u_kcluster;
 uniform int u_aov;  /* 0 beauty, 1 diffuse, 2 specI, 3 specII, 4 shadow, 5 alpha */
 #if EXACT
 #include "list_write.glsl"
-/* the nearest-kept passes' first (passes_lists) wants only the depth key
+/* the nearest-kept passes' first (cluster_gpu_lists) wants only the depth key
  * of each fragment that would be stored: its alpha, which the maps' alpha
  * alone decides, not its colour (no lighting, no shadows) */
 #define KEYS_ONLY (u_list_mode == 1)

@@ -140,7 +140,7 @@ void main() {
   if (u_whole >= 0 && whole != (u_whole != 0)) discard;
   if (whole) cover = 1.0;
 #if LIST
-  /* the nearest-kept passes' first (passes_lists): only the depth key of a
+  /* the nearest-kept passes' first (cluster_gpu_lists): only the depth key of a
    * fragment that would be stored, which its coverage alone decides */
   if (u_list_mode == 1) {
     list_write(vec3(0.0), cover);

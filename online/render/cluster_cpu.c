@@ -1,7 +1,7 @@
-/* frame.c - owns the renderer's per-frame CPU work (SATF Table 1: I, C,
- * M): the lights and eye in each instance's frame, the sector angles, the
- * database look-ups that fill every layer's maps and their upload, and the
- * frame's transforms (camera, key light, screen box, depth order). */
+/* cluster_cpu.c - owns the clusters' per-frame CPU work (SATF Table 1: I,
+ * C, M): the lights and eye in each instance's frame, the sector angles,
+ * the database look-ups that fill every layer's maps and their upload, and
+ * the instance data of the instanced draws. */
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
 #error "the physical maps' words (map_fetch.glsl) assume a little-endian host"
 #endif
@@ -15,43 +15,14 @@
 #include "satf/common.h"
 #include "satf/math.h"
 
-void frame_light_vector(const satf_scene_light *l, float out[4]) {
-  if (l->type == SATF_SCENE_LIGHT_POINT) {
-    memcpy(out, l->position, 3 * sizeof(float));
-    out[3] = 1.0f;
-  } else {
-    out[0] = -l->direction[0];
-    out[1] = -l->direction[1];
-    out[2] = -l->direction[2];
-    out[3] = 0.0f;
-  }
-}
-
-void frame_light_local(const float inv[16], const satf_scene_light *l,
-                       float out[4]) {
-  float lv[4];
-  frame_light_vector(l, lv);
-  if (lv[3] != 0.0f)
-    satf_mat4_point(inv, lv, out);
-  else
-    satf_mat4_vector(inv, lv, out);
-  out[3] = lv[3];
-}
-
-void frame_light_colors(const satf_renderer *r, float *col) {
-  for (int k = 0; k < r->nlights; k++)
-    for (int a = 0; a < 3; a++)
-      col[3 * k + a] = r->lights[k].color[a] * r->lights[k].intensity;
-}
-
 /* Whether instance `in` sees the eye and the key light where it saw them
  * (in its own frame) and its shells are unchanged since (no
- * frame_forget_lookups): then its azimuths are last frame's. Otherwise
+ * cluster_cpu_forget_lookups): then its azimuths are last frame's. Otherwise
  * the new eye and light are kept for angles_job. */
 static int inst_still(const satf_renderer *r, int lights_same, inst *in) {
   float eye[3], light[4];
-  satf_mat4_point(in->inv, r->camera.position, eye);
-  frame_light_local(in->inv, &r->lights[0], light);
+  satf_mat4_point(in->inv, r->view.camera.position, eye);
+  view_light_local(in->inv, &r->view.lights[0], light);
   /* the physical mode's maps follow every light, its colour too: still
    * only while none changed (lights_same) */
   if (r->incremental && (!r->fiber || lights_same) && !in->replaced &&
@@ -94,12 +65,12 @@ static satf_status update_angles(satf_renderer *r, satf_error *err) {
   if (!moved)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   size_t n = 0;
-  size_t bytes = (size_t)r->nlights * sizeof(satf_scene_light);
-  int lights_same = r->fiber_nlights == r->nlights &&
+  size_t bytes = (size_t)r->view.nlights * sizeof(satf_scene_light);
+  int lights_same = r->fiber_nlights == r->view.nlights &&
                     r->fiber_trt == r->effects.secondary_highlight &&
-                    !memcmp(r->fiber_lights, r->lights, bytes);
-  memcpy(r->fiber_lights, r->lights, bytes);
-  r->fiber_nlights = r->nlights;
+                    !memcmp(r->fiber_lights, r->view.lights, bytes);
+  memcpy(r->fiber_lights, r->view.lights, bytes);
+  r->fiber_nlights = r->view.nlights;
   r->fiber_trt = r->effects.secondary_highlight;
   for (int i = 0; i < r->ninsts; i++) {
     /* a sparse cluster is drawn as its strands (sparse.c): no maps */
@@ -115,7 +86,7 @@ static satf_status update_angles(satf_renderer *r, satf_error *err) {
   return SATF_OK;
 }
 
-void frame_forget_lookups(inst *in) {
+void cluster_cpu_forget_lookups(inst *in) {
   size_t n = 2 * satf_shell_sector_count(&in->geom.shell);
   for (size_t q = 0; q < n; q++)
     in->looked_up[q] = NAN;
@@ -142,13 +113,13 @@ static int fiber_maps(const satf_renderer *r, const inst *in, int part,
                       int parts, float *sums) {
   satf_fiber_light lights[SATF_SCENE_MAX_LIGHTS];
   float col[3 * SATF_SCENE_MAX_LIGHTS];
-  frame_light_colors(r, col);
-  for (int l = 0; l < r->nlights; l++) {
-    frame_light_local(in->inv, &r->lights[l], lights[l].local);
+  view_light_colors(&r->view, col);
+  for (int l = 0; l < r->view.nlights; l++) {
+    view_light_local(in->inv, &r->view.lights[l], lights[l].local);
     memcpy(lights[l].rgb, col + 3 * l, sizeof lights[l].rgb);
   }
   return satf_maps_fiber_build(r->maps, r->fiber, &in->geom, in->eye, lights,
-                               r->nlights, r->effects.secondary_highlight,
+                               r->view.nlights, r->effects.secondary_highlight,
                                &r->map_opt, part, parts, sums, in->texels);
 }
 
@@ -297,14 +268,14 @@ static satf_status grow_scratch(satf_renderer *r, size_t floats,
                                 satf_error *err) {
   if (r->scratch_n >= r->threads && r->scratch_floats >= floats)
     return SATF_OK;
-  frame_release(r);
+  cluster_cpu_release(r);
   int n = r->threads > 0 ? r->threads : 1;
   r->scratch = calloc((size_t)n, sizeof *r->scratch);
   for (int t = 0; r->scratch && t < n; t++)
     if (!(r->scratch[t] = malloc((floats > 0 ? floats : 1) * sizeof(float))))
       break;
   if (!r->scratch || !r->scratch[n - 1]) {
-    frame_release(r);
+    cluster_cpu_release(r);
     return satf_error_set(err, SATF_ERR_NOMEM,
                           "cannot allocate %zu map floats per thread", floats);
   }
@@ -313,7 +284,7 @@ static satf_status grow_scratch(satf_renderer *r, size_t floats,
   return SATF_OK;
 }
 
-void frame_release(satf_renderer *r) {
+void cluster_cpu_release(satf_renderer *r) {
   for (int t = 0; r->scratch && t < r->scratch_n; t++)
     free(r->scratch[t]);
   free(r->scratch);
@@ -375,8 +346,8 @@ static satf_status build_maps(satf_renderer *r, long *lookups,
   return SATF_OK;
 }
 
-satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
-                              satf_error *err) {
+satf_status cluster_cpu_update_maps(satf_renderer *r, satf_frame_timing *t,
+                                    satf_error *err) {
   double t0 = satf_now_seconds();
   satf_status st = update_angles(r, err);
   if (st != SATF_OK)
@@ -403,7 +374,7 @@ satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
     r->maps_changed++;
   }
   if (r->maps_changed) /* the deep opacity map reads their alpha */
-    r->dom_maps_stale = 1;
+    r->dom.maps_stale = 1;
   glFinish();
   double t3 = satf_now_seconds();
   t->index_ms = 1e3 * (t1 - t0);
@@ -412,14 +383,10 @@ satf_status frame_update_maps(satf_renderer *r, satf_frame_timing *t,
   return satf_gl_check("map upload", err);
 }
 
-/* std430 layout of glsl/shade_fs.glsl's per-instance view: the eye (xyz,
- * w the level of detail) and SATF_SCENE_MAX_LIGHTS lights, 4 floats each. */
-#define VIEW_FLOATS (4 + 4 * SATF_SCENE_MAX_LIGHTS)
-
-satf_status frame_instance_data(satf_renderer *r, satf_error *err) {
+satf_status cluster_cpu_instance_data(satf_renderer *r, satf_error *err) {
   size_t n = (size_t)(r->ninsts > 0 ? r->ninsts : 1);
   float *models = calloc(n * 16, sizeof(float));
-  float *views = calloc(n * VIEW_FLOATS, sizeof(float));
+  float *views = calloc(n * CLUSTER_VIEW_FLOATS, sizeof(float));
   if (!models || !views) {
     free(models);
     free(views);
@@ -432,200 +399,20 @@ satf_status frame_instance_data(satf_renderer *r, satf_error *err) {
     for (int a = 0; a < 4; a++)
       for (int b = 0; b < 4; b++)
         models[16 * (size_t)i + 4 * (size_t)b + (size_t)a] = in->m[4 * a + b];
-    float *v = views + VIEW_FLOATS * (size_t)i;
-    satf_mat4_point(in->inv, r->camera.position, v);
+    float *v = views + CLUSTER_VIEW_FLOATS * (size_t)i;
+    satf_mat4_point(in->inv, r->view.camera.position, v);
     v[3] = in->lod; /* the eye's w: the level (glsl/shade_fs.glsl) */
-    for (int k = 0; k < r->nlights; k++)
-      frame_light_local(in->inv, &r->lights[k], v + 4 + 4 * k);
+    for (int k = 0; k < r->view.nlights; k++)
+      view_light_local(in->inv, &r->view.lights[k], v + 4 + 4 * k);
   }
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->inst_models);
   glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
                   (GLsizeiptr)(n * 16 * sizeof(float)), models);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, r->inst_shading);
   glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
-                  (GLsizeiptr)(n * VIEW_FLOATS * sizeof(float)), views);
+                  (GLsizeiptr)(n * CLUSTER_VIEW_FLOATS * sizeof(float)), views);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
   free(models);
   free(views);
   return satf_gl_check("instance data", err);
-}
-
-size_t frame_instance_view_bytes(void) { return VIEW_FLOATS * sizeof(float); }
-
-/* Centre and radius (a little more) of the scene bounds. */
-static float scene_radius(const satf_renderer *r, float centre[3]) {
-  float d2 = 0.0f;
-  for (int a = 0; a < 3; a++) {
-    centre[a] = 0.5f * (r->lo[a] + r->hi[a]);
-    float h = 0.5f * (r->hi[a] - r->lo[a]);
-    d2 += h * h;
-  }
-  return sqrtf(d2) + 1e-3f;
-}
-
-/* Distance squared between two points. */
-static float distance2(const float a[3], const float b[3]) {
-  float d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-  return satf_dot3f(d, d);
-}
-
-/* The diameter of the hair the deep opacity map counts: the strands' median
- * width where strands are drawn (the strand reference, else the sparse
- * clusters' strands), else the clusters' density strand diameter
- * (strand_width x radius, their mean); 0 if none says. */
-static float hair_diameter(const satf_renderer *r) {
-  const strands_gpu *s = r->strands ? r->strands : r->sparse;
-  if (s && strands_gpu_width(s) > 0.0f)
-    return strands_gpu_width(s);
-  double sum = 0.0;
-  int n = 0;
-  for (int m = 0; m < r->nprotos; m++) {
-    const satf_scene_cluster *c = &r->scene->macro_clusters[m].prototype;
-    if (c->density.type != SATF_SCENE_DENSITY_PROCEDURAL ||
-        !(c->density.strand_width > 0.0f))
-      continue;
-    sum += (double)c->density.strand_width * c->a.values[0];
-    n++;
-  }
-  return n > 0 ? (float)(sum / n) : 0.0f;
-}
-
-/* An orthographic view along the key light's direction (a point light is
- * treated as directional from its position towards the scene centre), and
- * slabs a third of a typical cluster's radius deep, in depth units, but
- * never thinner than one hair. The map (Yuksel & Keyser 2008) counts the
- * hair in four slabs behind the first hair and lumps all that lies beyond
- * into the fourth; the physical mode looks it up one slab nearer the light
- * so a strand does not count itself (strand_fs.glsl). A hair is an
- * occluder one diameter deep: slabs thinner than that put the four inside
- * the first hair, so every point past it counts the whole column (its own
- * strand and the hair beyond it) and its direct light e^-n loses at least
- * e^-1. Clusters split into single strands (import_refine.c) have a
- * strand's radius, which made the slabs a sixth of a strand (the ponytail
- * back-lit: direct light through the map 0.70 of Cycles' unblocked
- * fraction, the frame 0.60 of Cycles' luminance; at one diameter 0.93). */
-void frame_light_view(satf_renderer *r) {
-  float c[3], rad = scene_radius(r, c), lv[4], dir[3];
-  frame_light_vector(&r->lights[0], lv);
-  for (int a = 0; a < 3; a++)
-    dir[a] = lv[3] != 0.0f ? lv[a] - c[a] : lv[a];
-  if (!(satf_normalize3f(dir) > 0)) {
-    dir[0] = dir[2] = 0.0f;
-    dir[1] = 1.0f;
-  }
-  float eye[3] = {c[0] + 2 * rad * dir[0], c[1] + 2 * rad * dir[1],
-                  c[2] + 2 * rad * dir[2]};
-  float up[3] = {0, 1, 0};
-  if (fabsf(dir[1]) > 0.95f) {
-    up[1] = 0;
-    up[2] = 1;
-  }
-  float view[16], proj[16];
-  satf_mat4_look_at(eye, c, up, view);
-  satf_mat4_ortho(-rad, rad, -rad, rad, rad, 3 * rad, proj);
-  satf_mat4_mul(proj, view, r->light_viewproj);
-  float cluster_r = 0.0f;
-  for (int m = 0; m < r->nprotos; m++)
-    cluster_r += r->scene->macro_clusters[m].prototype.a.values[0];
-  cluster_r /= (float)(r->nprotos > 0 ? r->nprotos : 1);
-  float slab = 0.66f * cluster_r * 0.5f, hair = hair_diameter(r);
-  r->dom_slab = (slab > hair ? slab : hair) / (2.0f * rad);
-}
-
-/* The camera's view-projection; without explicit clip planes they hug the
- * scene bounds. */
-void frame_camera(const satf_renderer *r, float viewproj[16]) {
-  const satf_scene_camera *cam = &r->camera;
-  float c[3], rad = scene_radius(r, c), view[16], proj[16];
-  float n = cam->near_clip, f = cam->far_clip;
-  if (!(n > 0.0f && f > n)) {
-    float d = sqrtf(distance2(cam->position, c));
-    f = d + 1.5f * rad;
-    n = d - 1.5f * rad;
-    if (n < 0.002f * f)
-      n = 0.002f * f;
-  }
-  satf_mat4_look_at(cam->position, cam->target, cam->up, view);
-  satf_mat4_perspective(cam->fov_y, (float)r->width / (float)r->height, n, f,
-                        proj);
-  /* the anti-aliasing sample's sub-pixel offset (samples.c), as a shift of
-   * normalised device coordinates: x_ndc += 2 dx / width */
-  float dx = 2.0f * r->jitter[0] / (float)r->width;
-  float dy = 2.0f * r->jitter[1] / (float)r->height;
-  for (int k = 0; k < 4; k++) {
-    proj[k] += dx * proj[12 + k];
-    proj[4 + k] += dy * proj[12 + k];
-  }
-  satf_mat4_mul(proj, view, viewproj);
-}
-
-/* The whole frame when a corner of the bounds is behind the eye. */
-void frame_screen_box(const satf_renderer *r, const float viewproj[16],
-                      int box[4]) {
-  float mn[2] = {1e30f, 1e30f}, mx[2] = {-1e30f, -1e30f};
-  int behind = 0;
-  for (int c = 0; c < 8; c++) {
-    float p[3] = {c & 1 ? r->hi[0] : r->lo[0], c & 2 ? r->hi[1] : r->lo[1],
-                  c & 4 ? r->hi[2] : r->lo[2]};
-    float w = viewproj[12] * p[0] + viewproj[13] * p[1] + viewproj[14] * p[2] +
-              viewproj[15];
-    if (w <= 1e-6f) {
-      behind = 1;
-      break;
-    }
-    for (int a = 0; a < 2; a++) {
-      float q = (viewproj[4 * a] * p[0] + viewproj[4 * a + 1] * p[1] +
-                 viewproj[4 * a + 2] * p[2] + viewproj[4 * a + 3]) /
-                w;
-      mn[a] = q < mn[a] ? q : mn[a];
-      mx[a] = q > mx[a] ? q : mx[a];
-    }
-  }
-  int size[2] = {r->width, r->height};
-  for (int a = 0; a < 2; a++) {
-    int lo = behind ? 0 : (int)floorf((mn[a] * 0.5f + 0.5f) * size[a]) - 1;
-    int hi = behind ? size[a] : (int)ceilf((mx[a] * 0.5f + 0.5f) * size[a]) + 1;
-    lo = lo < 0 ? 0 : lo > size[a] ? size[a] : lo;
-    hi = hi < lo ? lo : hi > size[a] ? size[a] : hi;
-    box[a] = lo;
-    box[2 + a] = hi - lo;
-  }
-}
-
-typedef struct depth_key {
-  float d2;
-  float centre[3];
-  int index;
-} depth_key;
-
-/* Far first; equal distances by position, never by list order. */
-static int farther_first(const void *a, const void *b) {
-  const depth_key *x = a, *y = b;
-  if (x->d2 != y->d2)
-    return x->d2 < y->d2 ? 1 : -1;
-  for (int k = 0; k < 3; k++)
-    if (x->centre[k] != y->centre[k])
-      return x->centre[k] < y->centre[k] ? -1 : 1;
-  return 0;
-}
-
-int *frame_far_to_near(const satf_renderer *r) {
-  depth_key *keys = malloc((size_t)r->ninsts * sizeof *keys);
-  int *order = malloc((size_t)r->ninsts * sizeof *order);
-  if (!keys || !order) {
-    free(keys);
-    free(order);
-    return NULL;
-  }
-  for (int i = 0; i < r->ninsts; i++) {
-    const float *c = r->insts[i].centre;
-    keys[i].d2 = distance2(c, r->camera.position);
-    memcpy(keys[i].centre, c, sizeof keys[i].centre);
-    keys[i].index = i;
-  }
-  qsort(keys, (size_t)r->ninsts, sizeof *keys, farther_first);
-  for (int i = 0; i < r->ninsts; i++)
-    order[i] = keys[i].index;
-  free(keys);
-  return order;
 }

@@ -1,0 +1,62 @@
+/* dom.h - the deep opacity map (Yuksel & Keyser 2008) from the key light
+ * (private to online/render): its targets, the light's view and slabs, and
+ * what it was drawn with, so a drawing path can keep it while nothing it
+ * reads has changed. dom.c owns it and the drawing sequence every path
+ * shares (draw.h: the hair's first depth with the meshes as occluders,
+ * then its optical depth summed into four slabs); the paths draw their own
+ * hair into it through a dom_hair_fn. */
+#ifndef SATF_RENDER_DOM_H
+#define SATF_RENDER_DOM_H
+
+#include "satf/gl.h"
+#include "satf/render.h"
+#include "view.h"
+
+/* Side of the deep opacity map, in texels. */
+#define DOM_SIZE 512
+/* The most a cluster's control point may move, in texels across the light
+ * or slabs along it, before the deep opacity map is drawn again
+ * (cluster_dom.c; satf_renderer_set_shadow_move). */
+#define DOM_MOVE_TOL 1.0f
+
+typedef struct dom_map {
+  satf_gl_target *depth, *opacity;
+  /* this frame's orthographic view along the key light, and the depth of
+   * one slab in its depth units (dom_place) */
+  float viewproj[16], slab;
+  /* whether the map holds a drawing, and the view and slab it was drawn
+   * with (a path that keeps the map draws with those) */
+  int valid;
+  float drawn_viewproj[16], drawn_slab;
+  long reuses; /* frames that reused it */
+  /* the maps' alpha, which the map reads, follows the eye's azimuth: the
+   * eye when the map was drawn, whether maps were uploaded since, and how
+   * far (radians, seen from any cluster) the eye may turn before the map
+   * is drawn again for them (INFINITY by default: never for the eye
+   * alone, 0: whenever a map changed) */
+  float eye[3], eye_tol;
+  int maps_stale;
+  /* the map is kept across scene changes while no cluster's control point
+   * has moved more than move_tol texels across the light or slabs along
+   * it (points: each one's world xyz and radius when the map was drawn,
+   * npoints of them); move_tol < 0: the exact rule (drawn again after
+   * every satf_renderer_set_scene) */
+  float move_tol;
+  float *points;
+  int npoints;
+  float light[4]; /* the key light's vector when the map was drawn */
+} dom_map;
+
+/* Its targets, filtered: the map is coarse, and its texels must not show. */
+satf_status dom_create(dom_map *d, satf_error *err);
+void dom_release(dom_map *d);
+/* d->viewproj along v's key light over the scene bounds, and d->slab a
+ * third of the mean macro-cluster radius deep (the prototypes' radius at
+ * their root, nprotos of them), never thinner than hair_width (a hair's
+ * diameter; 0: no floor). */
+void dom_place(dom_map *d, const view *v, const satf_scene *scene, int nprotos,
+               float hair_width);
+/* Binds `prog` and sets its u_dom_depth (texture unit 1) and u_dom_slab. */
+void dom_uniforms(const dom_map *d, GLuint prog);
+
+#endif

@@ -1,0 +1,109 @@
+/* lists.c - owns the per-pixel fragment arrays (lists.h): their textures
+ * and framebuffer, their binding for a fill pass and the counts read back
+ * after one. */
+#include "lists.h"
+
+#include <stdlib.h>
+
+satf_status lists_alloc(frag_lists *l, int slots, satf_error *err) {
+  if (l->counts)
+    glDeleteTextures(1, &l->counts);
+  if (l->frags)
+    glDeleteTextures(1, &l->frags);
+  if (l->keys) /* made again, at the new size, when a frame needs it */
+    glDeleteTextures(1, &l->keys);
+  l->keys = 0;
+  glGenTextures(1, &l->counts);
+  glBindTexture(GL_TEXTURE_2D, l->counts);
+  glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32UI, l->width, l->height);
+  glGenTextures(1, &l->frags);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, l->frags);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_RGBA32UI, l->width, l->height,
+                 slots);
+  l->slots = slots;
+  return satf_gl_check("fragment arrays", err);
+}
+
+satf_status lists_alloc_keys(frag_lists *l, satf_error *err) {
+  if (l->keys)
+    return SATF_OK;
+  glGenTextures(1, &l->keys);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, l->keys);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_R32UI, l->width, l->height,
+                 l->slots + 1);
+  return satf_gl_check("fragment depth keys", err);
+}
+
+satf_status lists_attach(frag_lists *l, int width, int height, GLuint depth,
+                         satf_error *err) {
+  l->width = width;
+  l->height = height;
+  if (!l->fbo)
+    glGenFramebuffers(1, &l->fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, l->fbo);
+  glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_WIDTH, width);
+  glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_HEIGHT,
+                          height);
+  /* the hair's fragment pass tests against the meshes' depth */
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D,
+                         depth, 0);
+  glDrawBuffer(GL_NONE);
+  glReadBuffer(GL_NONE);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return lists_alloc(l, l->slots > 0 ? l->slots : START_SLOTS, err);
+}
+
+void lists_release(frag_lists *l) {
+  GLuint texs[3] = {l->counts, l->frags, l->keys};
+  glDeleteTextures(3, texs);
+  if (l->fbo)
+    glDeleteFramebuffers(1, &l->fbo);
+  l->counts = l->frags = l->keys = l->fbo = 0;
+}
+
+void lists_bind(const frag_lists *l, int mode) {
+  GLuint zero = 0, empty = 0xFFFFFFFFu;
+  if (mode == 0) /* the nearest passes redo only pixels it overflowed */
+    glClearTexImage(l->counts, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindImageTexture(0, l->counts, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(1, l->frags, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32UI);
+  if (mode == 1) /* no key yet: every slot farther than any fragment */
+    glClearTexImage(l->keys, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &empty);
+  if (mode > 0)
+    glBindImageTexture(2, l->keys, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindFramebuffer(GL_FRAMEBUFFER, l->fbo);
+  glViewport(0, 0, l->width, l->height);
+}
+
+GLuint lists_count(frag_lists *l, int nearest, long *fragments,
+                   long *overflow) {
+  /* the deepest pixel decides whether the arrays were large enough */
+  size_t n = (size_t)l->width * (size_t)l->height;
+  GLuint *counts = malloc(n * sizeof(GLuint)), most = 0;
+  *fragments = 0;
+  *overflow = 0;
+  int box[4] = {0, 0, l->width, l->height}; /* x0, y0, x1, y1 */
+  if (counts) {
+    glBindTexture(GL_TEXTURE_2D, l->counts);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, counts);
+    box[0] = l->width, box[1] = l->height, box[2] = box[3] = 0;
+    for (size_t i = 0; i < n; i++) {
+      most = counts[i] > most ? counts[i] : most;
+      *fragments += counts[i] < (GLuint)l->slots ? counts[i] : (GLuint)l->slots;
+      if (counts[i] <= (GLuint)l->slots)
+        continue;
+      ++*overflow;
+      int x = (int)(i % (size_t)l->width), y = (int)(i / (size_t)l->width);
+      box[0] = x < box[0] ? x : box[0], box[1] = y < box[1] ? y : box[1];
+      box[2] = x + 1 > box[2] ? x + 1 : box[2];
+      box[3] = y + 1 > box[3] ? y + 1 : box[3];
+    }
+    free(counts);
+  }
+  if (!nearest) { /* the counts are the plain pass's in both */
+    l->overflow_box[0] = box[0], l->overflow_box[1] = box[1];
+    l->overflow_box[2] = box[2] > box[0] ? box[2] - box[0] : 0;
+    l->overflow_box[3] = box[3] > box[1] ? box[3] - box[1] : 0;
+  }
+  return most;
+}

@@ -1,0 +1,52 @@
+/* lists.h - per-pixel fragment arrays (private to online/render): an
+ * r32ui counter per pixel and a layered rgba32ui image of `slots`
+ * fragments (colour as halves, depth), the depth keys of the nearest
+ * passes, and the framebuffer the hair's fragment passes draw into (it
+ * tests against the frame's depth). A texture rather than a storage
+ * buffer: llvmpipe caps buffers at 128 MB, and a per-pixel counter avoids
+ * the contention of one global atomic counter, which made linked lists
+ * three times slower there. lists.c owns them; the shaders that fill and
+ * resolve them are glsl/list_write.glsl and glsl/resolve_fs.glsl. */
+#ifndef SATF_RENDER_LISTS_H
+#define SATF_RENDER_LISTS_H
+
+#include "satf/gl.h"
+#include "satf/render.h"
+
+/* Fragments each pixel can keep at first; the arrays grow (up to
+ * SATF_MAX_FRAGMENTS) when a frame needs more. */
+#define START_SLOTS 16
+
+typedef struct frag_lists {
+  GLuint counts, frags;
+  GLuint keys; /* per-pixel depth keys of the nearest `slots` fragments,
+                  made when a pixel first overflows (0: none yet) */
+  GLuint fbo;
+  int slots; /* fragments kept per pixel */
+  int width, height;
+  /* x, y, width, height of the pixels the last plain pass overflowed (the
+   * nearest passes draw only there) */
+  int overflow_box[4];
+} frag_lists;
+
+/* The framebuffer for width x height with `depth` (the frame's depth
+ * texture) attached, and arrays of the slots they had (START_SLOTS at
+ * first). */
+satf_status lists_attach(frag_lists *l, int width, int height, GLuint depth,
+                         satf_error *err);
+/* Arrays of `slots` fragments per pixel (the keys dropped). */
+satf_status lists_alloc(frag_lists *l, int slots, satf_error *err);
+/* `slots` layers of depth keys and one more, the counter of the second
+ * nearest pass's stores (glsl/list_write.glsl), unless they exist. */
+satf_status lists_alloc_keys(frag_lists *l, satf_error *err);
+void lists_release(frag_lists *l);
+/* Binds the arrays as images for a fill pass of `mode` (u_list_mode:
+ * 0 plain, which clears the counts; 1 and 2 the nearest passes, 1 clearing
+ * the keys) and their framebuffer. */
+void lists_bind(const frag_lists *l, int mode);
+/* After a fill: the largest number of fragments a pixel received, the
+ * fragments kept (*fragments) and the pixels that received more than
+ * `slots` (*overflow); a plain pass (nearest 0) also records their box. */
+GLuint lists_count(frag_lists *l, int nearest, long *fragments, long *overflow);
+
+#endif
