@@ -100,7 +100,7 @@ void satf_density_features(const float *density, int ns, int nt,
 /* ---- Record kinds (format version 2) ----
  * A database holds records of one kind. Phong records (format version 1,
  * the paper's planar ray tracing) hold reflectance and alpha. Fibre records
- * (format version 2, issue 11) come from 2-D Monte Carlo path tracing of the
+ * (format version 2) come from 2-D Monte Carlo path tracing of the
  * sector's strands as circular fibres with the d'Eon/Chiang azimuthal
  * scattering (papers 003 and satf/fiber.h) in the fibres' normal plane:
  * theta_i = theta_o = 0, so a record holds the lateral response N_p A_p only

@@ -1,4 +1,4 @@
-/* maps_fiber.h - the maps of the physical shading mode (issue 11): every
+/* maps_fiber.h - the maps of the physical shading mode: every
  * HSV's radiance from a fibre database's per-lobe records (satf/db.h,
  * format version 2) times the longitudinal M_p of the fibre model (d'Eon
  * 2011 eq. 7, satf/fiber.h) at the HSV's view and light angles, for every

@@ -331,7 +331,7 @@ void passes_dom(satf_renderer *r) {
    * (measured with bench_dom, a map kept from an eye turned 5 to 180
    * degrees: SSIM >= 0.994 and mean |luminance change| <= 0.0025 on every
    * sample, the imported ponytail and 40K-strand fur; the most, fur at 90
-   * degrees, is 11% of what the cluster shadows change there; issue 12).
+   * degrees, is 11% of what the cluster shadows change there).
    * Moving hair: the map is kept while no control point moved more than
    * r->dom_move_tol (DOM_MOVE_TOL: a texel, the percentage-closer filter's
    * own reach, glsl/dom_lookup.glsl) from where it was drawn. anim_8's
@@ -495,7 +495,7 @@ GLuint passes_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
    * arrival-order-free k-buffer), the second stores only fragments no
    * farther than the last of them; both only inside the box of the pixels
    * the plain pass overflowed (the ponytail's ribbons cost their
-   * rasterising there, not their shading: issue 12) */
+   * rasterising there, not their shading) */
   if (nearest) {
     const int *b = r->overflow_box;
     glEnable(GL_SCISSOR_TEST);

@@ -147,7 +147,7 @@ struct satf_renderer {
    * eye alone, 0: whenever a map changed) */
   float dom_eye[3], dom_eye_tol;
   int dom_maps_stale;
-  /* the map kept across scene changes (issue 12 item 4; passes.c) while
+  /* the map kept across scene changes (passes.c) while
    * no cluster's control point has moved more than dom_move_tol texels
    * across the light or slabs along it (dom_points: each one's world xyz
    * and radius when the map was drawn, dom_npoints of them); dom_move_tol
