@@ -2,7 +2,7 @@
  * (eq. 4): records of reflectance + alpha, indexed by the density features
  * of the sector they came from and by the view and light azimuths.
  *
- * The file is an OpenEXR image (see docs in README, "HRIR-DB format"): any
+ * The file is an OpenEXR image (docs/formats.md, "HRIR database"): any
  * EXR viewer shows the database as a picture. */
 #ifndef SATF_DB_H
 #define SATF_DB_H
@@ -173,7 +173,7 @@ typedef struct satf_build_params {
 } satf_build_params;
 
 satf_build_params satf_build_params_default(void);
-/* The default fibre database (satf-build --kind fiber): see README. */
+/* The default fibre database (satf-build --kind fiber): docs/shading.md. */
 satf_build_params satf_build_params_default_fiber(void);
 /* Channels of a record of a build: 2 for Phong, SATF_DB_FIBER_CHANNELS. */
 int satf_build_params_channels(const satf_build_params *p);
