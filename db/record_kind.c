@@ -15,7 +15,7 @@ satf_fiber_trace_params satf_fiber_trace_params_default(void) {
   p.beta_n = 0.3f; /* Cycles' Radial Roughness default */
   /* Absorption levels per unit fibre radius: Cycles' melanin 0 .. 1 spans
    * sigma_a 0 .. ~15 (blue of black hair). Measured with
-   * tests/offline/bench_fiber_levels (README): log-linear interpolation in
+   * tests/offline/bench_fiber_levels: log-linear interpolation in
    * sigma between these levels stays within 2.7% (TT), 3.6% (TRT) and 6.4%
    * (MS, near sigma 0.1) of traced values over sigma in [0.1, 16]. */
   p.levels = 5;
@@ -83,7 +83,7 @@ satf_build_params satf_build_params_default_fiber(void) {
   p.fiber = satf_fiber_trace_params_default();
   /* A record keeps 3 + 3 levels channels instead of 2: narrower records
    * and fewer samples keep the default file near 30 MB and its reading
-   * near 2.5 s of CPU (README, measured). */
+   * near 2.5 s of CPU (measured). */
   p.trace.width = 16;
   p.samples = 128;
   return p;

@@ -1,4 +1,4 @@
-/* trace_fiber.c - fibre records (format version 2, issue 11): 2-D Monte
+/* trace_fiber.c - fibre records (format version 2): 2-D Monte
  * Carlo path tracing of a sector's strands as circular fibres in their
  * normal plane, with the d'Eon/Chiang azimuthal scattering of one fibre
  * (paper 003, satf/fiber.h: A_p N_p at theta_i = theta_o = 0).

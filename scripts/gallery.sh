@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The README's gallery: a few samples, and imported hair next to its strand
-# reference (satf-render --strands: the source strands drawn as ribbons
-# under the same lights, material and shadows), with satf-compare's figures
+# The README's gallery: a few samples, the animation's contact sheet, and
+# imported hair next to its strand reference (satf-render --strands: the
+# source strands drawn as ribbons under the same lights, material and
+# shadows), with satf-compare's figures
 # and difference image. Generated hair (scripts/gen-strands.py) always; the
 # shared ponytail and Bangs_100 too when ../shared/data/hair is present.
 # usage: gallery.sh [BUILD_DIR] [DATABASE] [OUT_DIR]
@@ -29,6 +30,10 @@ if [ -s "$fdb" ]; then
     --size $size --samples 4 -q -o "$work/p.exr" \
     --png "$out/hair_7a_physical.png"
 fi
+
+# the animated sample, every frame, as a contact sheet
+"$bin/satf-render" samples/anim_8.json --db "$db" --frames all --size 320x240 \
+  -q -o "$work/anim_%04d.exr" --contact-sheet "$out/anim_8_contact.png"
 
 # One imported hairstyle: clusters, then strands, then the comparison.
 # usage: compare NAME IMPORT_ARGS...

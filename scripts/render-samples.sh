@@ -34,7 +34,7 @@ for scene in samples/*.json; do
   fi
 done
 echo
-echo "Table 1 (paper 001) on this machine, 640x480, $frames frames each"
+echo "Table 1 (SATF, Xu et al. 2006) on this machine, 640x480, $frames frames each"
 echo "(under each row: fragments of the exact composite, look-ups of a frame"
 echo "after a move and of a still one):"
 first=1

@@ -404,7 +404,7 @@ int satf_frontend_shading_flag(satf_cli_args *it, int *model) {
 }
 
 const char *const satf_frontend_effect_help =
-    "  --no-satf            Fig. 4a's baseline, Scheuermann 2004 (paper 002):\n"
+    "  --no-satf            Fig. 4a's baseline, Scheuermann 2004:\n"
     "                       shell layers as textured patches, wrapped\n"
     "                       diffuse, two shifted highlights, ambient\n"
     "                       occlusion, depth-sorted passes; no database\n"

@@ -2,7 +2,7 @@
  * (eq. 4): records of reflectance + alpha, indexed by the density features
  * of the sector they came from and by the view and light azimuths.
  *
- * The file is an OpenEXR image (see docs in README, "HRIR-DB format"): any
+ * The file is an OpenEXR image (docs/formats.md, "HRIR database"): any
  * EXR viewer shows the database as a picture. */
 #ifndef SATF_DB_H
 #define SATF_DB_H
@@ -100,7 +100,7 @@ void satf_density_features(const float *density, int ns, int nt,
 /* ---- Record kinds (format version 2) ----
  * A database holds records of one kind. Phong records (format version 1,
  * the paper's planar ray tracing) hold reflectance and alpha. Fibre records
- * (format version 2, issue 11) come from 2-D Monte Carlo path tracing of the
+ * (format version 2) come from 2-D Monte Carlo path tracing of the
  * sector's strands as circular fibres with the d'Eon/Chiang azimuthal
  * scattering (papers 003 and satf/fiber.h) in the fibres' normal plane:
  * theta_i = theta_o = 0, so a record holds the lateral response N_p A_p only
@@ -173,7 +173,7 @@ typedef struct satf_build_params {
 } satf_build_params;
 
 satf_build_params satf_build_params_default(void);
-/* The default fibre database (satf-build --kind fiber): see README. */
+/* The default fibre database (satf-build --kind fiber): docs/shading.md. */
 satf_build_params satf_build_params_default_fiber(void);
 /* Channels of a record of a build: 2 for Phong, SATF_DB_FIBER_CHANNELS. */
 int satf_build_params_channels(const satf_build_params *p);

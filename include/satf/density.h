@@ -122,7 +122,7 @@ satf_status satf_vdb_write_mixed_test_file(const char *path, satf_error *err);
  * the density features (sec. 5.2) of every boundary sector of its shells. */
 
 /* Grid nodes per side used to sample a sector's density for its features.
- * 16 (issue 13 item 5, tests/render/bench_lookup): at 8 the nodes along a
+ * 16 (measured by tests/render/bench_lookup): at 8 the nodes along a
  * sector's phase are about a strand width apart (cluster_6a: 0.022 against
  * strands 0.03 wide), so a strand counts more or less by where it falls
  * between nodes: held-out error 7% above 16's at k = 4. 32, the database's

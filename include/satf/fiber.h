@@ -197,7 +197,7 @@ enum {
  * tracing for most hair styles). They stand for the part of a point's
  * surroundings that holds hair: a semi-infinite slab of fibres would take
  * d_b = 1 (test_fiber_slab), a hair volume with gaps and edges less.
- * Measured on the ponytail against Cycles (README): front-lit luminance
+ * Measured on the ponytail against Cycles: front-lit luminance
  * 0.86 / 0.88 / 0.90 (clusters) and 1.00 / 1.03 / 1.05 (strands) at 0.6 /
  * 0.7 / 0.8, melanin 0.2 0.87-0.96 and 0.89-1.01. */
 #define SATF_FIBER_DUAL_DENSITY 0.7f

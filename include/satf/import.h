@@ -200,7 +200,7 @@ const char *satf_strands_format_name(satf_strands_format f);
  * record holds (the shared ponytail's guides, 0.12-0.31 radii across, drew
  * as smooth scales: SSIM 0.59 against its strands); the adaptive clustering
  * splits it into single strands, which the renderer draws as themselves
- * (issue 10 item 4). Dense hair stays in volumes (a generated curtain of
+ * (online/render/sparse.c). Dense hair stays in volumes (a generated curtain of
  * 4,000 strands: 0.04-0.06). */
 #define SATF_IMPORT_SHELL_STRAND_WIDTH 0.08
 

@@ -221,7 +221,7 @@ int satf_renderer_lod(const satf_renderer *r);
  * (satf_renderer_set_scene: animated hair) while no cluster's control
  * point has moved more than `texels` of its texels across the light or
  * of its slabs along it (1 at creation); negative: drawn again after
- * every scene change (the rule before issue 12 item 4). */
+ * every scene change, whatever moved. */
 void satf_renderer_set_shadow_move(satf_renderer *r, float texels);
 float satf_renderer_shadow_move(const satf_renderer *r);
 

@@ -18,7 +18,7 @@
  * wide as leaves CORE_QUANTILE of the points there, and at most
  * SHELL_CORE, the radius for hair that fills its cluster's rim. Fur and
  * other clusters whose strands crowd the axis had 38% of their points in
- * a core of 0.4 (issue 10: see-through fur). */
+ * a core of 0.4, which left fur see-through. */
 #define SHELL_CORE 0.4
 #define CORE_QUANTILE 0.03
 #define CORE_BINS 40
@@ -296,7 +296,7 @@ satf_status satf_import_cluster_density(const satf_import_projection *proj,
  * A record's is extinction x rho (satf_trace_params), the same only for
  * w = 4 / (pi extinction), 0.127 cluster radii at the default 10; thinner
  * strands, fur's 0.09, came out at 60-65% of their coverage (sector by
- * sector, measured against opaque strands: issue 10). Wider ones are left
+ * sector, measured against opaque strands). Wider ones are left
  * as they are: a few wide Gaussians are no thinner than the strands. The
  * default database's parameters: a scene names the database it was
  * imported for, built with them. */
@@ -308,7 +308,7 @@ float satf_import_density_scale(float strand_width, float layer_depth) {
   k = k > 1.0f ? k : 1.0f;
   /* a layer deeper than the records' sector holds more hair on a ray than
    * its record shows at the same density: the density says so instead
-   * (measured on fur, curls and the ponytail: issue 10) */
+   * (measured on fur, curls and the ponytail) */
   float depth = sh.r_outer - sh.r_inner;
   if (layer_depth > 0.0f && depth > 0.0f)
     k *= layer_depth / depth;

@@ -103,7 +103,7 @@ static satf_status read_inputs(run *u, satf_error *err) {
         o->sequence ? first_frame : o->inputs[i], o, &s, err);
     if (st != SATF_OK)
       return st;
-    /* The budget, before anything grows with the points (issue 13 G). */
+    /* The budget, before anything grows with the points (the memory budget). */
     size_t total = satf_strand_set_point_count(s) +
                    (u->all ? satf_strand_set_point_count(u->all) : 0);
     char what[PATH_MAX + 32];
@@ -389,8 +389,8 @@ static void apply_material(const satf_import_options *o,
  * record's depth per layer) to opaque strands; the fibre records are
  * traced from circular fibres and were measured against Cycles without it.
  * With it the ponytail back-lit fell from 0.89 to 0.75 of Cycles'
- * luminance (front-lit 0.84 -> 0.86; issue 11's bands 0.8-1.25 and
- * 0.85-1.15). */
+ * luminance (front-lit 0.84 -> 0.86; the bands asked were 0.8-1.25
+ * and 0.85-1.15). */
 static void unit_density_scale(satf_scene *scene) {
   for (int m = 0; m < scene->n_macro_clusters; m++)
     scene->macro_clusters[m].prototype.density.scale = 1.0f;

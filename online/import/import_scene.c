@@ -130,7 +130,7 @@ static void fill_cluster(const satf_import_fit *f,
   d->strand_width = round7(f->strand_width);
   d->scale = round7(satf_import_density_scale(
       f->strand_width, (1.0f - c->shell.core) / (float)c->shell.layers));
-  if (f->n_tracks > 0) { /* the cluster's own strands (issue 10 item 5) */
+  if (f->n_tracks > 0) { /* the cluster's own strands (tracks) */
     size_t points = 0;
     for (int k = 0; k < f->n_tracks; k++)
       points += (size_t)f->track_count[k];

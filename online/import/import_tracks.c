@@ -1,5 +1,5 @@
-/* import_tracks.c - a cluster's density from its own strands (issue 10
- * item 5; scene density type "tracks", online/density/tracks.c): where
+/* import_tracks.c - a cluster's density from its own strands
+ * (scene density type "tracks", online/density/tracks.c): where
  * each member strand crosses evenly spaced t slices of the fitted cluster,
  * in its normalised cross-section, from the first slice it reaches to the
  * last. The renderer's sector features (SATF sec. 5.2) then see the file's

@@ -1,6 +1,6 @@
 /* half.h - IEEE 754 binary16 ("half float") conversion for the map
  * textures: the renderer keeps every cluster's maps as GL_RGBA16F (half
- * the bytes of RGBA32F to write, keep and upload: issue 12 item 3), built
+ * the bytes of RGBA32F to write, keep and upload), built
  * in floats and packed here. Rounding is to nearest, ties to even, as
  * Imath's half and the F16C instructions do; values beyond the largest
  * half (65504) become infinity, NaN stays NaN. */

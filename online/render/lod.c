@@ -1,4 +1,4 @@
-/* lod.c - owns the clusters' level of detail (issue 12 item 2): which
+/* lod.c - owns the clusters' level of detail: which
  * shell layers the shading pass reads and which proxy is drawn, per
  * cluster per frame from its size on screen (the rules: lod_frame.c
  * applies them each frame).

@@ -1,5 +1,5 @@
-/* lod.h - the clusters' level of detail (online/render/lod.c, issue 12
- * item 2): per cluster and frame, from its projected size, how many shell
+/* lod.h - the clusters' level of detail (online/render/lod.c):
+ * per cluster and frame, from its projected size, how many shell
  * layers the shading pass reads (a continuous level, faded across each
  * band so nothing pops) and which of its prototype's proxies is drawn:
  * the rules, pure functions (lod_frame.c applies them to a renderer).

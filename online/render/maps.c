@@ -128,7 +128,7 @@ satf_status satf_maps_prepare(const satf_maps *m, satf_shell_geom *g,
   return SATF_OK;
 }
 
-/* k = 4 (issue 13 item 5, measured by tests/render/bench_lookup, README
+/* k = 4 (measured by tests/render/bench_lookup, docs/method.md
  * "Look-up defaults"): against k = 1 it lowers the held-out error 14% (with
  * 16 x 16 feature nodes) and the change of the looked-up records between
  * neighbouring HSVs 25-45% (reflectance), for 1.3-1.5x the map stage;

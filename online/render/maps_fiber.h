@@ -1,4 +1,4 @@
-/* maps_fiber.h - the maps of the physical shading mode (issue 11): every
+/* maps_fiber.h - the maps of the physical shading mode: every
  * HSV's radiance from a fibre database's per-lobe records (satf/db.h,
  * format version 2) times the longitudinal M_p of the fibre model (d'Eon
  * 2011 eq. 7, satf/fiber.h) at the HSV's view and light angles, for every
@@ -13,7 +13,7 @@
  * 2i + 1 hold the records of its boundary sectors i and i + 1 (SATF
  * eq. 7).
  *
- * Choices (measured in the README): the records are traced with the light
+ * Choices (docs/shading.md): the records are traced with the light
  * in the fibres' normal plane, so absorption is taken at normal incidence
  * (a grazing view's longer internal path, 1 / cos(theta_t) <= 1.3 times,
  * is not added); a whole database is re-levelled at the hair's RGB

@@ -1,5 +1,5 @@
-/* sparse.c - owns the clusters drawn as their own strands (issue 10 item
- * 4). A cluster of a handful of strands fills no volume: SATF's shells
+/* sparse.c - owns the clusters drawn as their own strands.
+ * A cluster of a handful of strands fills no volume: SATF's shells
  * spread its strands' coverage over HSVs wider than the strands, so one
  * strand renders as a faint smear and a few as a twisted sheet. When a
  * prototype's density is "tracks" (the importer's record of where each

@@ -1,7 +1,7 @@
 /* test_exr_io.c - the OpenEXR layer: a write/read round trip, and a write
  * that fails half-way (the disk fills up) returning a clear error, leaving
  * nothing at the output path, instead of deadlocking in the error handler
- * (issue: satf-build and satf-render hung forever on a full disk). */
+ * (which once hung satf-build and satf-render on a full disk). */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>

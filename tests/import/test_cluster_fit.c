@@ -5,7 +5,7 @@
  * clusters: the tolerance met by p90 distances, fur clusters at least as
  * long as they are wide (never rings), counts growing with the quality,
  * and a row of short strands side by side reported as a ring; and on the
- * fur, that the clusters cover where the strands are (issue 10): shells
+ * fur, that the clusters cover where the strands are: shells
  * that hold the strands and a density as opaque as the strands. */
 #include <float.h>
 #include <math.h>
@@ -514,7 +514,7 @@ static double track_worst_bend(const satf_cluster *cl, const satf_import_fit *f,
 
 static void test_fur_runs_along_strands(void **state) {
   (void)state;
-  /* issue 10: fur clusters are short tufts lying along their strands,
+  /* Fur clusters are short tufts lying along their strands,
    * never rings or twisted ribbons. Their axes were the means of points
    * binned along the flow, which zigzag sideways (bins hold different
    * strands side by side); the tracks rebuilt about such an axis (how the
@@ -604,7 +604,7 @@ static void track_lengths(const satf_cluster *cl, const satf_import_fit *f,
 
 static void test_tuft_tracks_reach_ends(void **state) {
   (void)state;
-  /* issue 10: the renderer draws a tuft of short strands (fur) as its
+  /* The renderer draws a tuft of short strands (fur) as its
    * strands, rebuilt from their tracks. A track holds the slices its
    * strand crosses, so drawn through them alone each strand lost up to a
    * slice interval at both ends (here 0.84 of its length); the density's
@@ -702,7 +702,7 @@ static void test_row_is_a_ring(void **state) {
 
 static void test_crown_follows_strands(void **state) {
   (void)state;
-  /* issue 10's ponytail crown: its clusters became tufts (test_fur_patch's
+  /* A ponytail's crown: its clusters became tufts (test_fur_patch's
    * axis from the first roots to the last tips through the means of the
    * points binned along it), whose bins hold different strands side by
    * side: axes that jump sideways and turn back on themselves, drawn as

@@ -611,7 +611,7 @@ static void write_tfx_guides(const char *path, int g, int v, int follow) {
   free(pts);
 }
 
-/* Issue 13 item G: a 0.4 MB TressFX file whose header asks for 1024 follow
+/* The memory budget: a 0.4 MB TressFX file whose header asks for 1024 follow
  * strands per guide (33.6 M points, 205 s and 1.25 GB before the budget)
  * is refused at once, naming the file, the numbers and the --follow that
  * fits; with that --follow it imports. */

@@ -1,5 +1,5 @@
 /* test_publish.c - a scene and its side files published as one unit
- * (satf_import_stage_side, satf_import_publish_scene; issue 13 item D):
+ * (satf_import_stage_side, satf_import_publish_scene):
  * side files staged, then renamed to names of their bytes' hash together
  * just before the scene, which is renamed last, the
  * replaced scene's side files removed only once the new scene is in place,

@@ -60,7 +60,7 @@ static void sector_keeps_its_strands_as_fibres(void **state) {
   }
 }
 
-/* 2-D white furnace of a whole sector (issue 11 item 5): with nothing
+/* 2-D white furnace of a whole sector: with nothing
  * absorbed, what a path deposits towards the visible lights telescopes to
  * 1 - prod_v (1 - visible share at v) (trace_fiber.c, vertex_step), so
  * sum_l total(l) 2 pi / n_light equals alpha per sample up to: the lights'

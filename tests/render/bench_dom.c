@@ -1,5 +1,5 @@
 /* bench_dom - the deep opacity map's cost and its shortcuts' image error
- * (issue 12 item 4; a benchmark, not a test):
+ * (a benchmark, not a test):
  *
  *   bench_dom DB SCENE [OUTDIR|-] [FRAMES] [--cost]
  *

@@ -1,4 +1,4 @@
-/* bench_frames - where a frame's time goes (issue 12; a benchmark, not a
+/* bench_frames - where a frame's time goes (a benchmark, not a
  * test):
  *
  *   bench_frames DB SCENE [FRAMES] [WIDTHxHEIGHT]

@@ -19,8 +19,8 @@
  *     the renderer's per-frame CPU work (SATF Table 1: I azimuths, C
  *     look-ups, M upload; cluster_cpu.c) with the camera turning 2 degrees a
  * frame, so every HSV is looked up again: ms per frame on 1 and on 2 threads
- *     (taken in turn, frame by frame), and I + C + M per 100K HSVs (issue 12
- *     item 3); and the process's CPU time in those stages, which other
+ *     (taken in turn, frame by frame), and I + C + M per 100K HSVs;
+ *     and the process's CPU time in those stages, which other
  *     load on the machine inflates less than their wall time (all threads,
  *     GL's included). physical: the physical shading mode (give a fibre
  *     DB).

@@ -1,5 +1,5 @@
 /* bench_shading - the physical shading mode's frame rate against kk's
- * under the same load (issue 11: within 20%; a benchmark, not a test):
+ * under the same load (a benchmark, not a test):
  *
  *   bench_shading KK_DB FIBER_DB FRAMES SCENE...
  *

@@ -1,4 +1,4 @@
-/* test_correctness.c - rendering cases that were once wrong (issue 13):
+/* test_correctness.c - rendering cases that were once wrong:
  * mirrored instances, non-uniform instance scale, rays leaving through a
  * cluster's end (phantom caps), a lone cluster under the deep opacity map
  * (self-shadowing counted once), and anti-aliasing by jittered samples. */

@@ -1,4 +1,4 @@
-/* test_dom_cheap.c - cluster shadows of moving hair (issue 12 item 4):
+/* test_dom_cheap.c - cluster shadows of moving hair:
  * the deep opacity map kept across scene changes while no cluster moved
  * more than the tolerance (texels across the light, slabs along it), the
  * move measured from where the map was drawn, and drawn again beyond it

@@ -1,5 +1,5 @@
-/* test_half_maps.c - the renderer keeps its maps as half floats (half.h,
- * issue 12 item 3): the conversion rounds to nearest even with exact known
+/* test_half_maps.c - the renderer keeps its maps as half floats (half.h):
+ * the conversion rounds to nearest even with exact known
  * results, the F16C path and the portable one agree bit for bit, and the
  * renderer's texels are exactly the float maps (satf_maps_build_layer and
  * satf_maps_shadow_sums) rounded to halfs, so within 2^-11 of them

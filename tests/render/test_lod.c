@@ -1,4 +1,4 @@
-/* test_lod.c - the level of detail (online/render/lod.c, issue 12 item 2):
+/* test_lod.c - the level of detail (online/render/lod.c):
  * the level and proxy chosen for known sizes on screen, the layers' shares
  * continuous in the level and summing to the layer count, the image
  * continuous across the transition bands (no popping: the level swept

@@ -473,7 +473,7 @@ static void test_uniform_density_features(void **state) {
  * procedural strands seen from the side, its maps built with one database
  * sample per look-up (k = 1) and with the default options. The default
  * must change the looked-up records less from one HSV to the next, along
- * the phase and along t (issue 13 item 5: k = 1 showed visible jumps).
+ * the phase and along t (k = 1 showed visible jumps).
  * The jump across a boundary over the step inside an HSV is printed too:
  * the records' own profile across an HSV dominates it for any k. */
 typedef struct seam_figures {

@@ -1,5 +1,5 @@
 /* test_perf_paths.c - the renderer's shortcuts give what the long way
- * gives (issue 12): instanced draws (one call per run of a macro-cluster's
+ * gives: instanced draws (one call per run of a macro-cluster's
  * instances) the same image, bit for bit, as one draw per instance, in
  * both compositing modes and with mirrored instances; incremental look-ups
  * (only HSVs whose azimuths changed) the same maps as looking every HSV up

@@ -1,5 +1,5 @@
-/* test_physical.c - the physical shading mode of the cluster path (issue
- * 11; online/render/maps_fiber.c, glsl/shade_fs.glsl with PHYSICAL): the
+/* test_physical.c - the physical shading mode of the cluster path
+ * (online/render/maps_fiber.c, glsl/shade_fs.glsl with PHYSICAL): the
  * hair's colour follows its melanin, back-lit hair glows with transmitted
  * light, an absorption-free fibre is neutral, every light adds its own
  * look-ups, and a Phong database is refused. */

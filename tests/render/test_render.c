@@ -356,7 +356,7 @@ static int standard_channel(const char *name) {
          (!dot || dot > name);
 }
 
-/* EXR conventions (issue 13 item 9): every channel is named with a
+/* EXR conventions: every channel is named with a
  * standard token, the beauty is R, G, B, A, colour is premultiplied over
  * transparent black (alpha 0: RGB 0), and the PNG preview is that colour
  * over the background: PNG = RGB + (1 - A) bg, i.e. for an opaque

@@ -1,5 +1,5 @@
 /* test_sparse.c - a cluster of few strands looks like few strands of the
- * same hair (issue 15): rendered with 3000, 300 and 30 strands, same
+ * same hair: rendered with 3000, 300 and 30 strands, same
  * material and light, its coverage drops while the colour of the hair it
  * covers, sum(premultiplied rgb) / sum(alpha), stays but for the strands'
  * shadows on each other, which only darken dense hair. Whole frames on Mesa's

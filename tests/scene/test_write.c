@@ -281,7 +281,7 @@ static void test_built_scene(void **state) {
   satf_scene_destroy(scene);
 }
 
-/* Issue 13 item 11: satf_scene_write names every file relative to the
+/* Scenes that travel: satf_scene_write names every file relative to the
  * scene's folder, with ../ steps (directories resolved, a link's own name
  * kept), except a file in another top-level tree. */
 static void test_paths_relative_to_the_file(void **state) {

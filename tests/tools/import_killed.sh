@@ -1,5 +1,5 @@
 #!/bin/sh
-# import_killed.sh SATF-IMPORT INPUT DIR - issue 13 item D under real kills:
+# import_killed.sh SATF-IMPORT INPUT DIR - publishing under real kills:
 # satf-import is killed with SIGKILL at 16 moments from 45% to 120% of a
 # full run's duration, re-importing over the same scene each time (other
 # seeds, so other side files). After every kill the scene on disk must name

@@ -1,4 +1,4 @@
-# MPI and shard tests (issue 14), included by CMakeLists.txt when CMake
+# MPI and shard tests, included by CMakeLists.txt when CMake
 # found MPI: they run with Open MPI's mpirun on this one machine, 3 ranks
 # oversubscribed, as root in CI.
 set(mpi_dir ${CMAKE_CURRENT_BINARY_DIR}/cli_mpi)

@@ -1,5 +1,5 @@
 #!/bin/sh
-# mpi_killed.sh MPIRUN SATF-BUILD DIR - issue 14: a rank of an MPI build
+# mpi_killed.sh MPIRUN SATF-BUILD DIR - a rank of an MPI build
 # killed with SIGKILL mid-build must end the job with a non-zero status and
 # leave no database and no temporary file at the output path. Rank 1 is
 # found among the children of this script's own mpirun (never by name).

@@ -31,7 +31,7 @@ static void usage(FILE *out) {
       "                       shadow.Y, alpha.Y\n"
       "  --png PATH           sRGB PNG preview, over the scene's background\n"
       "  --background-in-exr  composite the EXR's R, G, B over the scene's\n"
-      "                       background too (A kept; the old output)\n"
+      "                       background too (A kept)\n"
       "  --db PATH            HRIR database (default: the scene's "
       "\"database\")\n"
       "  --size WxH           image size (default: the scene's, else "
