@@ -165,7 +165,8 @@ void cluster_dom_update(satf_renderer *r) {
    * hair moves 1.7-2.9 texels a frame: kept every other frame with 3, S
    * halves, but the shadow edges lag by a frame (SSIM >= 0.966, mean
    * |luminance change| <= 7.9% of the cluster shadows'; bench_dom --anim,
-   * README), so the default keeps only hair that (nearly) stands still */
+   * docs/performance.md), so the default keeps only hair that (nearly) stands
+   * still */
   dom_place(&r->dom, &r->view, r->scene, r->nprotos, hierarchy_hair_width(r));
   if (dom_keep(r)) {
     r->dom.reuses++;
