@@ -259,6 +259,9 @@ satf_status strands_gpu_create(int n_strands, const int *counts,
   strands_gpu *s = calloc(1, sizeof *s);
   if (!s)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  /* the physical shading reads the dual scattering's global term and back
+   * scattering from their tables (strand_fs.glsl) */
+  s->fiber.with_global = 1;
   s->nstrands = n_strands;
   s->npoints = total;
   s->nsegs = total - (size_t)n_strands;
@@ -438,8 +441,15 @@ static void set_fiber_uniforms(const satf_renderer *r, strands_gpu *s,
   const satf_scene_material *m = &r->scene->material;
   int physical = m->model == SATF_MATERIAL_PHYSICAL;
   glUniform1i(glGetUniformLocation(p, "u_model"), physical);
-  if (!physical)
+  if (!physical) {
+    /* unread, but GL refuses a draw whose samplers of two types share a
+     * unit: each of the fibre's on its own */
+    glUniform1i(glGetUniformLocation(p, "u_fiber_tables"), FIBER_TABLE_UNIT);
+    glUniform1i(glGetUniformLocation(p, "u_fiber_global"),
+                FIBER_TABLE_UNIT + 1);
+    glUniform1i(glGetUniformLocation(p, "u_fiber_back"), FIBER_TABLE_UNIT + 2);
     return;
+  }
   glActiveTexture(GL_TEXTURE0 + FIBER_TABLE_UNIT);
   fiber_gpu_bind(&s->fiber, m, p);
 }

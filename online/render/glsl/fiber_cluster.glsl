@@ -1,6 +1,8 @@
-/* fiber_cluster.glsl - the fibre model's part of the cluster path's
- * physical mode (maps_fiber.h), shared by cluster_vs.glsl, which evaluates
- * it per vertex, and shade_fs.glsl. No #version line: included. */
+/* fiber_cluster.glsl - the fibre model's uniforms and its tabulated
+ * multiple scattering, shared by the cluster path's physical mode
+ * (maps_fiber.h: cluster_vs.glsl, which evaluates it per vertex, and
+ * shade_fs.glsl) and the strands' (strand_fs.glsl, per fragment). No
+ * #version line: included. */
 #include "fiber.glsl"
 uniform float u_fiber_eta, u_fiber_s, u_fiber_alpha;
 uniform vec4 u_fiber_v;
