@@ -24,8 +24,9 @@ ROOT = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else
 
 # folder -> (public headers it owns, public headers it may include)
 LIBS = {
-    'common': ({'satf', 'common', 'math', 'fiber'}, set()),
-    'db': ({'db'}, {'common'}),
+    'common': ({'satf', 'common', 'math'}, set()),
+    'fiber': ({'fiber'}, {'common'}),
+    'db': ({'db'}, {'common', 'fiber'}),
     'offline': ({'offline'}, {'db'}),
     'online/geometry': ({'geometry'}, {'common'}),
     'online/scene': ({'scene'}, {'common'}),

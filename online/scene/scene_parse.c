@@ -9,7 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "satf/fiber.h"
 #include "satf/math.h"
 #include "scene_check.h"
 #include "scene_fields.h"
