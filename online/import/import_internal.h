@@ -35,9 +35,9 @@
  * across). A cluster of wider strands is a few strands side by side that no
  * record holds (the shared ponytail's guides, 0.12-0.31 radii across, drew
  * as smooth scales: SSIM 0.59 against its strands); the adaptive clustering
- * splits it into single strands, which the renderer draws as themselves
- * (issue 10 item 4). Dense hair stays in volumes (a generated curtain of
- * 4,000 strands: 0.04-0.06). */
+ * splits it into single strands, which the renderer draws as themselves.
+ * Dense hair stays in volumes (a generated curtain of 4,000 strands:
+ * 0.04-0.06). */
 #define SATF_IMPORT_SHELL_STRAND_WIDTH 0.08
 
 /* Called now and then from the calling thread; may be NULL. */
