@@ -81,6 +81,9 @@ COMMENT = re.compile(r'/\*.*?\*/|//[^\n]*|"(?:\\.|[^"\\\n])*"|'
 # the parameter list, then the body's brace (not a ';': a declaration)
 DEFINITION = re.compile(r'^(?!static\b|typedef\b|#)[A-Za-z_][\w \t\*]*?'
                         r'\b([A-Za-z_]\w*)\s*\(([^;{}]*?)\)\s*\{', re.M)
+# any function definition, static ones too: a file's own names
+ANY_DEFINITION = re.compile(r'^(?!typedef\b|#)[A-Za-z_][\w \t\*]*?'
+                            r'\b([A-Za-z_]\w*)\s*\(([^;{}]*?)\)\s*\{', re.M)
 IDENT = re.compile(r'\b[A-Za-z_]\w*\b')
 
 
@@ -88,7 +91,10 @@ def strip(text):
     """The code without comments, string and character literals and
     preprocessor lines (whose names need not be calls)."""
     text = COMMENT.sub(' ', text)
-    return re.sub(r'^\s*#.*?(?<!\\)$', ' ', text, flags=re.M | re.S)
+    text = re.sub(r'^\s*#.*?(?<!\\)$', ' ', text, flags=re.M | re.S)
+    # a return type on a line of its own joins its function's name
+    return re.sub(r'^([A-Za-z_][\w \t\*]*)\n(?=[A-Za-z_]\w*\s*\()', r'\1 ',
+                  text, flags=re.M)
 
 
 def call_edges(files):
@@ -105,7 +111,8 @@ def call_edges(files):
         if path.endswith('.h'):
             continue
         stem = os.path.splitext(os.path.basename(path))[0]
-        for name in set(IDENT.findall(code)):
+        own = {m.group(1) for m in ANY_DEFINITION.finditer(code)}
+        for name in set(IDENT.findall(code)) - own:
             for other in owner.get(name, ()):
                 dep = os.path.splitext(os.path.basename(other))[0]
                 if other != path and dep != stem:

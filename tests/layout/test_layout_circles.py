@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """scripts/check-layout.py on small made-up trees: a library whose files
-call each other in a circle fails, through a call or through a function's
-address taken; the same files calling one way pass; a folder listed as
-pending reports its circle as a note.
+call each other in a circle fails, through a call, a function's address
+taken or a definition with its return type on a line of its own; files
+calling one way pass, as does a file calling its own static function of
+another file's function's name; a folder listed as pending reports its
+circle as a note.
 
 usage: test_layout_circles.py CHECK_LAYOUT_PY"""
 import os
@@ -47,6 +49,16 @@ typedef int (*fn)(void);
 static const fn table[] = {a_value};
 int b_value(void) { return table[0](); }
 '''
+A_SPLIT = '''int b_value(void);
+int
+a_value(void) {
+  return b_value();
+}
+'''
+B_STATIC_SPLIT = '''static int
+a_value(void) { return 0; }
+int b_value(void) { return a_value(); }
+'''
 C_CALLS_A = '''int a_value(void);
 int c_value(void) { return a_value(); }
 '''
@@ -64,6 +76,11 @@ expect('circle', {'db/a.c': A_CALLS_B, 'db/b.c': B_CALLS_A}, 1,
        'db: call circle a -> b -> a')
 expect('address', {'db/a.c': A_CALLS_B, 'db/b.c': B_TAKES_A}, 1,
        'db: call circle a -> b -> a')
+expect('split line', {'db/a.c': A_SPLIT, 'db/b.c': B_CALLS_A}, 1,
+       'db: call circle a -> b -> a')
+# b's own static a_value: no call into a.c
+expect('static', {'db/a.c': A_SPLIT, 'db/b.c': B_STATIC_SPLIT}, 0,
+       'layout: 0 violation')
 expect('one way', {'db/a.c': A_CALLS_B, 'db/b.c': B_ALONE,
                    'db/c.c': C_CALLS_A}, 0, 'layout: 0 violation')
 expect('pending', {'online/render/a.c': A_CALLS_B,
