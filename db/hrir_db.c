@@ -7,21 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-satf_build_params satf_build_params_default(void) {
-  satf_build_params p;
-  memset(&p, 0, sizeof p);
-  p.seed = 1;
-  p.samples = 256;
-  p.n_view = 32;
-  p.n_light = 32;
-  p.grid = 32;
-  p.shape = satf_sector_shape_default();
-  p.trace = satf_trace_params_default();
-  p.kind = SATF_RECORD_PHONG;
-  p.fiber = satf_fiber_trace_params_default(); /* for --kind fiber */
-  return p;
-}
-
 satf_status satf_build_params_check(const satf_build_params *p,
                                     satf_error *err) {
   if (p->samples < 1 || p->samples > 1000000)

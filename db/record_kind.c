@@ -1,12 +1,28 @@
 /* record_kind.c - the record kinds of a database (satf/db.h "Record kinds"):
- * the fibre tracer's parameters, their defaults and checks, and what a kind
- * means for a record's channels and the file's format version. */
+ * the build parameters' defaults, the fibre tracer's parameters with their
+ * defaults and checks, and what a kind means for a record's channels and
+ * the file's format version. */
 #include <math.h>
 #include <string.h>
 
 #include "satf/db.h"
 #include "satf/fiber.h"
 #include "satf/math.h"
+
+satf_build_params satf_build_params_default(void) {
+  satf_build_params p;
+  memset(&p, 0, sizeof p);
+  p.seed = 1;
+  p.samples = 256;
+  p.n_view = 32;
+  p.n_light = 32;
+  p.grid = 32;
+  p.shape = satf_sector_shape_default();
+  p.trace = satf_trace_params_default();
+  p.kind = SATF_RECORD_PHONG;
+  p.fiber = satf_fiber_trace_params_default(); /* for --kind fiber */
+  return p;
+}
 
 satf_fiber_trace_params satf_fiber_trace_params_default(void) {
   satf_fiber_trace_params p;

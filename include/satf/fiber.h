@@ -1,5 +1,5 @@
-/* fiber.h - the physically based hair fibre model of satf (part of the
- * common library): d'Eon et al. 2011 (paper 003) with the Chiang et al.
+/* fiber.h - the physically based hair fibre model of satf (the fiber
+ * library, fiber/): d'Eon et al. 2011 (paper 003) with the Chiang et al.
  * 2016 roughness mappings, the parameter meanings of Blender Cycles'
  * Principled Hair BSDF (melanin mode) and pbrt-v4's HairBxDF, so a user sets
  * the same numbers in satf and in either peer. It owns the scattering

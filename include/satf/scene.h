@@ -349,6 +349,13 @@ uint64_t satf_scene_layer_count(const satf_scene *scene);
 uint64_t satf_scene_hsv_count(const satf_scene *scene);
 uint64_t satf_scene_strand_count(const satf_scene *scene);
 
+/* The strand diameter, in scene units, the clusters' procedural density
+ * assumes: its strand_width in units of the cluster radius sqrt(mean a *
+ * mean b) (what satf-import estimates from the strands' spacing; world
+ * sigma = width * radius / 2), scaled by the instance, the median over the
+ * placed clusters; 0 when no cluster has a procedural density. */
+float satf_scene_density_strand_width(const satf_scene *scene);
+
 /* Whether the renderer draws a cluster whose density is "tracks" (slices,
  * n_tracks and track_count as in satf_scene_density) as its own strands
  * rather than as shells: when it holds at most max_strands strands (too

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "import_internal.h"
 #include "satf/common.h"
-#include "satf/import.h"
 
 satf_import_cluster_params satf_import_cluster_params_default(void) {
   satf_import_cluster_params p = {0, 12, 20, 1, 0};

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "import_internal.h"
 #include "satf/db.h"
-#include "satf/import.h"
 #include "satf/math.h"
 
 #define WIDTH_SLICES 5

@@ -9,9 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "import_internal.h"
 #include "satf/common.h"
 #include "satf/geometry.h"
-#include "satf/import.h"
 #include "satf/math.h"
 
 #define TABLE 257 /* trajectory samples for the coarse closest-point search */

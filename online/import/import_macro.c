@@ -10,8 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "import_internal.h"
 #include "satf/geometry.h"
-#include "satf/import.h"
 
 #define SAMPLES 16
 

@@ -17,8 +17,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "import_internal.h"
 #include "satf/common.h"
-#include "satf/import.h"
 
 /* base split as DIR/STEM EXT ("out/hair.vdb": "out/hair", ".vdb"): the
  * extension is the last dot of the file name, if any. */

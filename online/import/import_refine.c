@@ -12,8 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "import_internal.h"
 #include "satf/common.h"
-#include "satf/import.h"
 
 #define SPLIT_SAMPLES 12
 #define SPLIT_ITERATIONS 12

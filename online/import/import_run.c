@@ -12,8 +12,8 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include "import_internal.h"
 #include "satf/common.h"
-#include "satf/import.h"
 #include "satf/math.h"
 
 /* What the steps share. */

@@ -12,8 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "import_internal.h"
 #include "satf/common.h"
-#include "satf/import.h"
 #include "satf/math.h"
 
 /* Cells of the segment grid: a cell is a segment's median length, so a

@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "import_internal.h"
 #include "satf/common.h"
-#include "satf/import.h"
 
 satf_import_options satf_import_options_default(void) {
   satf_import_options o;

@@ -8,7 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "satf/import.h"
+#include "import_internal.h"
 
 /* Slices per cluster: two per HSV along t (the shell's st, about one per
  * cluster width), so a strand that winds about the axis is followed

@@ -1,7 +1,8 @@
-/* scene.c - the in-memory scene: lifetime, warnings, the database path and
- * the Table-1 totals. */
+/* scene.c - the in-memory scene: lifetime, warnings, the database path,
+ * the Table-1 totals and the strand width the density assumes. */
 #include "satf/scene.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -142,4 +143,47 @@ uint64_t satf_scene_strand_count(const satf_scene *scene) {
       n += (uint64_t)mc->n_instances * (uint64_t)mc->prototype.density.n_tracks;
   }
   return n;
+}
+
+static float curve_mean(const satf_scene_curve *c) {
+  double sum = 0.0;
+  for (int i = 0; i < c->count; i++)
+    sum += c->values[i];
+  return c->count > 0 ? (float)(sum / c->count) : 0.0f;
+}
+
+static int float_less(const void *a, const void *b) {
+  float x = *(const float *)a, y = *(const float *)b;
+  return (x > y) - (x < y);
+}
+
+/* The strand diameter the clusters' density assumes (what satf-import
+ * estimates from the strands' spacing: "strand_width" in units of the
+ * cluster radius sqrt(mean a * mean b), world sigma = width * radius / 2,
+ * import_density.c), the median over the placed clusters; 0 if none. */
+float satf_scene_density_strand_width(const satf_scene *scene) {
+  int n = 0;
+  for (int m = 0; m < scene->n_macro_clusters; m++)
+    n += scene->macro_clusters[m].n_instances;
+  float *w = malloc((size_t)(n > 0 ? n : 1) * sizeof(float));
+  if (!w)
+    return 0.0f;
+  int k = 0;
+  for (int m = 0; m < scene->n_macro_clusters; m++) {
+    const satf_scene_cluster *c = &scene->macro_clusters[m].prototype;
+    if (c->density.type != SATF_SCENE_DENSITY_PROCEDURAL)
+      continue;
+    float radius = sqrtf(curve_mean(&c->a) * curve_mean(&c->b));
+    for (int i = 0; i < scene->macro_clusters[m].n_instances; i++) {
+      const float *t = scene->macro_clusters[m].instances[i].m;
+      float det = t[0] * (t[5] * t[10] - t[6] * t[9]) -
+                  t[1] * (t[4] * t[10] - t[6] * t[8]) +
+                  t[2] * (t[4] * t[9] - t[5] * t[8]);
+      w[k++] = c->density.strand_width * radius * cbrtf(fabsf(det));
+    }
+  }
+  qsort(w, (size_t)k, sizeof *w, float_less);
+  float median = k > 0 ? w[k / 2] : 0.0f;
+  free(w);
+  return median;
 }

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "scene_anim.h"
+#include "scene_fields.h"
 
 static int floats_equal(const float *a, const float *b, int n) {
   return n == 0 || memcmp(a, b, (size_t)n * sizeof *a) == 0;
@@ -42,14 +43,10 @@ static int tracks_equal(const satf_scene_density *a,
 
 static int densities_equal(const satf_scene_density *a,
                            const satf_scene_density *b) {
-  return a->type == b->type && a->strands == b->strands && a->seed == b->seed &&
-         a->layout == b->layout &&
-         floats_equal(&a->strand_width, &b->strand_width, 1) &&
-         floats_equal(&a->scale, &b->scale, 1) && a->clumps == b->clumps &&
-         floats_equal(&a->clump_spread, &b->clump_spread, 1) &&
-         a->holes == b->holes &&
-         floats_equal(&a->hole_radius, &b->hole_radius, 1) &&
-         floats_equal(&a->gradient, &b->gradient, 1) &&
+  /* the procedural table's numbers are the tracks' too (strand_width,
+   * scale), with the parameters of every layout */
+  return a->type == b->type && a->seed == b->seed && a->layout == b->layout &&
+         scene_fields_equal(&SCENE_PROCEDURAL, a, b) &&
          strings_equal(a->vdb_file, b->vdb_file) &&
          strings_equal(a->vdb_grid, b->vdb_grid) && tracks_equal(a, b);
 }
@@ -60,9 +57,7 @@ int satf_scene_prototype_equal(const satf_scene_cluster *a,
          floats_equal(a->trajectory, b->trajectory, 3 * a->n_points) &&
          curves_equal(&a->a, &b->a) && curves_equal(&a->b, &b->b) &&
          curves_equal(&a->twist, &b->twist) &&
-         a->shell.layers == b->shell.layers && a->shell.st == b->shell.st &&
-         a->shell.su == b->shell.su &&
-         floats_equal(&a->shell.core, &b->shell.core, 1) &&
+         scene_fields_equal(&SCENE_SHELL, &a->shell, &b->shell) &&
          densities_equal(&a->density, &b->density);
 }
 
@@ -80,10 +75,7 @@ int satf_scene_camera_equal(const satf_scene_camera *a,
                             const satf_scene_camera *b) {
   return floats_equal(a->position, b->position, 3) &&
          floats_equal(a->target, b->target, 3) &&
-         floats_equal(a->up, b->up, 3) &&
-         floats_equal(&a->fov_y, &b->fov_y, 1) &&
-         floats_equal(&a->near_clip, &b->near_clip, 1) &&
-         floats_equal(&a->far_clip, &b->far_clip, 1) &&
+         scene_fields_equal(&SCENE_CAMERA, a, b) &&
          a->automatic == b->automatic;
 }
 
@@ -91,8 +83,7 @@ int satf_scene_light_equal(const satf_scene_light *a,
                            const satf_scene_light *b) {
   return a->type == b->type && floats_equal(a->direction, b->direction, 3) &&
          floats_equal(a->position, b->position, 3) &&
-         floats_equal(a->color, b->color, 3) &&
-         floats_equal(&a->intensity, &b->intensity, 1);
+         scene_fields_equal(&SCENE_LIGHT, a, b);
 }
 
 /* ---- keyframes ---- */
@@ -212,23 +203,11 @@ static int animations_equal(const satf_scene *sa, const satf_scene *sb) {
 
 static int materials_equal(const satf_scene_material *a,
                            const satf_scene_material *b) {
-  const float va[] = {a->k_dif,      a->k_speI,      a->k_speII,
-                      a->exponent_I, a->exponent_II, a->shift_I,
-                      a->shift_II,   a->k_shadow,    a->noise};
-  const float vb[] = {b->k_dif,      b->k_speI,      b->k_speII,
-                      b->exponent_I, b->exponent_II, b->shift_I,
-                      b->shift_II,   b->k_shadow,    b->noise};
-  const float fa[] = {a->melanin,          a->redness,      a->roughness,
-                      a->radial_roughness, a->cuticle_tilt, a->ior};
-  const float fb[] = {b->melanin,          b->redness,      b->roughness,
-                      b->radial_roughness, b->cuticle_tilt, b->ior};
-  if (a->model != b->model || a->has_absorption != b->has_absorption ||
-      !floats_equal(fa, fb, 6) ||
-      (a->has_absorption && !floats_equal(a->absorption, b->absorption, 3)))
-    return 0;
-  return floats_equal(va, vb, 9) && floats_equal(a->f_dif, b->f_dif, 3) &&
-         floats_equal(a->f_speI, b->f_speI, 3) &&
-         floats_equal(a->f_speII, b->f_speII, 3);
+  return scene_fields_equal(&SCENE_MATERIAL, a, b) && a->model == b->model &&
+         floats_equal(&a->shift_I, &b->shift_I, 1) &&
+         floats_equal(&a->shift_II, &b->shift_II, 1) &&
+         a->has_absorption == b->has_absorption &&
+         (!a->has_absorption || floats_equal(a->absorption, b->absorption, 3));
 }
 
 static int meshes_equal(const satf_scene *a, const satf_scene *b) {
@@ -251,11 +230,11 @@ int satf_scene_equal(const satf_scene *a, const satf_scene *b) {
       a->n_macro_clusters != b->n_macro_clusters ||
       a->n_lights != b->n_lights ||
       !materials_equal(&a->material, &b->material) ||
-      memcmp(&a->effects, &b->effects, sizeof a->effects) != 0 ||
+      !scene_fields_equal(&SCENE_EFFECTS, &a->effects, &b->effects) ||
       !satf_scene_camera_equal(&a->camera, &b->camera) ||
       !floats_equal(a->background, b->background, 3) ||
-      a->image.width != b->image.width || a->image.height != b->image.height ||
-      a->image.samples != b->image.samples || !meshes_equal(a, b))
+      !scene_fields_equal(&SCENE_IMAGE, &a->image, &b->image) ||
+      !meshes_equal(a, b))
     return 0;
   for (int i = 0; i < a->n_macro_clusters; i++) {
     const satf_scene_macro_cluster *ma = &a->macro_clusters[i];

@@ -1,88 +1,61 @@
 /* scene_parse.c - the scene schema (samples/README.md is its reference)
  * apart from the hair (scene_parse_cluster.c, scene_parse_instance.c): the
  * root, material, effects, camera and lights with their keys, image and
- * meshes, with their defaults and allowed ranges. */
+ * meshes. The simple fields' keys, defaults and ranges are the tables of
+ * scene_fields.c; what is here is the rest. */
 #include "scene_parse.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "satf/fiber.h"
 #include "satf/math.h"
 #include "scene_check.h"
+#include "scene_fields.h"
 
 static const scene_range R_COORD = {-SATF_SCENE_MAX_COORD, SATF_SCENE_MAX_COORD,
                                     0, 0};
 static const scene_range R_UNIT = {0, 1, 0, 0};
-static const scene_range R_COEF = {0, 100, 0, 0};
 static const float BACKGROUND[3] = {0.1f, 0.1f, 0.12f};
 static const float SKIN[3] = {0.55f, 0.42f, 0.36f};
 /* ---- material (SATF eq. 9-12, Scheuermann 2004) ---- */
 
-/* The fibre of the physical model, with the meanings of Cycles' Principled
- * Hair, so a scene and a Cycles render given the same numbers show the same
- * hair; the defaults are satf_fiber_material_default's (satf/fiber.h). */
-static satf_status
-parse_fiber(scene_ctx *ctx, const cJSON *obj, const char *const *models,
-            const scene_range *r_tilt, const scene_range *r_ior,
-            const scene_range *r_absorption, const float *no_absorption,
-            satf_scene_material *m) {
-  int model;
-  satf_status s =
-      scene_key_enum(ctx, obj, "model", models, SATF_MATERIAL_MODEL_COUNT,
-                     SATF_MATERIAL_KK, &model);
-  m->model = (satf_material_model)model;
-  const satf_fiber_material def = satf_fiber_material_default();
-  if (s == SATF_OK)
-    s = scene_key_float(ctx, obj, "melanin", &R_UNIT, def.melanin, &m->melanin);
-  if (s == SATF_OK)
-    s = scene_key_float(ctx, obj, "redness", &R_UNIT, def.redness, &m->redness);
-  if (s == SATF_OK)
-    s = scene_key_float(ctx, obj, "roughness", &R_UNIT, def.roughness,
-                        &m->roughness);
-  if (s == SATF_OK)
-    s = scene_key_float(ctx, obj, "radial_roughness", &R_UNIT,
-                        def.radial_roughness, &m->radial_roughness);
-  if (s == SATF_OK) /* degrees in the scene, as Cycles' Offset */
-    s = scene_key_float(ctx, obj, "cuticle_tilt", r_tilt,
-                        round(def.cuticle_tilt * 180.0 / SATF_PI * 1e4) / 1e4,
-                        &m->cuticle_tilt);
-  if (s == SATF_OK)
-    s = scene_key_float(ctx, obj, "ior", r_ior, def.ior, &m->ior);
-  m->has_absorption =
-      cJSON_GetObjectItemCaseSensitive(obj, "absorption") != NULL;
-  if (s == SATF_OK)
-    s = scene_key_vec(ctx, obj, "absorption", 3, r_absorption, no_absorption,
-                      m->absorption);
-  return s;
+/* The material's keys that are more than a number: the shift both
+ * highlights default to, the shading model and the optional absorption. */
+static satf_status read_material_other(scene_ctx *ctx, const cJSON *obj,
+                                       const scene_field *row, void *base,
+                                       void *user) {
+  static const char *const models[] = {"kk", "physical"};
+  static const float no_absorption[3] = {0.0f, 0.0f, 0.0f};
+  satf_scene_material *m = base;
+  float *shift = user;
+  if (strcmp(row->key, "shift") == 0)
+    return scene_key_float(ctx, obj, row->key, &row->range, 0.1, shift);
+  if (strcmp(row->key, "shift_I") == 0)
+    return scene_key_float(ctx, obj, row->key, &row->range, *shift,
+                           &m->shift_I);
+  if (strcmp(row->key, "shift_II") == 0)
+    return scene_key_float(ctx, obj, row->key, &row->range, *shift,
+                           &m->shift_II);
+  if (strcmp(row->key, "model") == 0) {
+    int model;
+    satf_status s =
+        scene_key_enum(ctx, obj, row->key, models, SATF_MATERIAL_MODEL_COUNT,
+                       SATF_MATERIAL_KK, &model);
+    m->model = (satf_material_model)model;
+    return s;
+  }
+  /* absorption: replaces the melanin when given */
+  m->has_absorption = cJSON_GetObjectItemCaseSensitive(obj, row->key) != NULL;
+  return scene_key_vec(ctx, obj, row->key, 3, &row->range, no_absorption,
+                       m->absorption);
 }
 
+/* SATF eq. 9-12 and Scheuermann 2004; the fibre of the physical model with
+ * the meanings of Cycles' Principled Hair, so a scene and a Cycles render
+ * given the same numbers show the same hair (scene_fields.c). */
 static satf_status parse_material(scene_ctx *ctx, const cJSON *root,
                                   satf_scene_material *m) {
-  static const char *const keys[] = {"k_dif",        "k_speI",
-                                     "k_speII",      "exponent_I",
-                                     "exponent_II",  "shift",
-                                     "shift_I",      "shift_II",
-                                     "f_dif",        "f_speI",
-                                     "f_speII",      "k_shadow",
-                                     "noise",        "model",
-                                     "melanin",      "redness",
-                                     "roughness",    "radial_roughness",
-                                     "cuticle_tilt", "ior",
-                                     "absorption",   NULL};
-  static const char *const models[] = {"kk", "physical"};
-  static const scene_range r_tilt = {-45, 45, 0, 0};
-  static const scene_range r_ior = {1, 3, 1, 0};
-  static const scene_range r_absorption = {0, 1e3, 0, 0};
-  static const float no_absorption[3] = {0.0f, 0.0f, 0.0f};
-  static const scene_range r_exponent = {0, 1e4, 1, 0};
-  static const scene_range r_shift = {-1, 1, 0, 0};
-  static const float dark_brown[3] = {0.24f, 0.15f, 0.09f};
-  static const float white[3] = {1.0f, 1.0f, 1.0f};
-  /* The secondary highlight is light that went through the fibre, so it
-   * takes the hair's colour (SATF sec. 6.3); a brighter brown. */
-  static const float tinted[3] = {0.55f, 0.38f, 0.24f};
   static const cJSON empty = {0};
   const cJSON *obj;
   satf_status s = scene_key_object(ctx, root, "material", 0, &obj);
@@ -92,43 +65,14 @@ static satf_status parse_material(scene_ctx *ctx, const cJSON *root,
     obj = &empty;
   size_t previous = scene_push_key(ctx, "material");
   float shift = 0.1f;
-  if ((s = scene_check_keys(ctx, obj, keys)) == SATF_OK &&
-      (s = scene_key_float(ctx, obj, "k_dif", &R_COEF, 0.7, &m->k_dif)) ==
-          SATF_OK &&
-      (s = scene_key_float(ctx, obj, "k_speI", &R_COEF, 0.3, &m->k_speI)) ==
-          SATF_OK &&
-      (s = scene_key_float(ctx, obj, "k_speII", &R_COEF, 0.4, &m->k_speII)) ==
-          SATF_OK &&
-      (s = scene_key_float(ctx, obj, "exponent_I", &r_exponent, 80.0,
-                           &m->exponent_I)) == SATF_OK &&
-      (s = scene_key_float(ctx, obj, "exponent_II", &r_exponent, 24.0,
-                           &m->exponent_II)) == SATF_OK &&
-      (s = scene_key_float(ctx, obj, "shift", &r_shift, 0.1, &shift)) ==
-          SATF_OK &&
-      (s = scene_key_float(ctx, obj, "shift_I", &r_shift, shift,
-                           &m->shift_I)) == SATF_OK &&
-      (s = scene_key_float(ctx, obj, "shift_II", &r_shift, shift,
-                           &m->shift_II)) == SATF_OK &&
-      (s = scene_key_vec(ctx, obj, "f_dif", 3, &R_UNIT, dark_brown,
-                         m->f_dif)) == SATF_OK &&
-      (s = scene_key_vec(ctx, obj, "f_speI", 3, &R_UNIT, white, m->f_speI)) ==
-          SATF_OK &&
-      (s = scene_key_vec(ctx, obj, "f_speII", 3, &R_UNIT, tinted,
-                         m->f_speII)) == SATF_OK &&
-      (s = scene_key_float(ctx, obj, "k_shadow", &R_COEF, 0.6, &m->k_shadow)) ==
-          SATF_OK)
-    s = scene_key_float(ctx, obj, "noise", &R_UNIT, 0.5, &m->noise);
-  if (s == SATF_OK)
-    s = parse_fiber(ctx, obj, models, &r_tilt, &r_ior, &r_absorption,
-                    no_absorption, m);
+  s = scene_fields_read(ctx, obj, &SCENE_MATERIAL, m, read_material_other,
+                        &shift);
   scene_pop(ctx, previous);
   return s;
 }
 
 static satf_status parse_effects(scene_ctx *ctx, const cJSON *root,
                                  satf_scene_effects *e) {
-  static const char *const keys[] = {"satf", "secondary_highlight",
-                                     "self_shadow", "cluster_shadows", NULL};
   static const cJSON empty = {0};
   const cJSON *obj;
   satf_status s = scene_key_object(ctx, root, "effects", 0, &obj);
@@ -137,13 +81,7 @@ static satf_status parse_effects(scene_ctx *ctx, const cJSON *root,
   if (!obj)
     obj = &empty;
   size_t previous = scene_push_key(ctx, "effects");
-  if ((s = scene_check_keys(ctx, obj, keys)) == SATF_OK &&
-      (s = scene_key_bool(ctx, obj, "satf", 1, &e->satf)) == SATF_OK &&
-      (s = scene_key_bool(ctx, obj, "secondary_highlight", 1,
-                          &e->secondary_highlight)) == SATF_OK &&
-      (s = scene_key_bool(ctx, obj, "self_shadow", 1, &e->self_shadow)) ==
-          SATF_OK)
-    s = scene_key_bool(ctx, obj, "cluster_shadows", 1, &e->cluster_shadows);
+  s = scene_fields_read(ctx, obj, &SCENE_EFFECTS, e, NULL, NULL);
   scene_pop(ctx, previous);
   return s;
 }
@@ -177,7 +115,7 @@ static satf_status read_camera_key(scene_ctx *ctx, const cJSON *e, void *out,
                                      "up",    "fov_y",    NULL};
   static const char *const fixed[] = {"near", "far", NULL};
   static const char *const given[] = {"position", "target", "up", "fov_y"};
-  static const scene_range r_fov = {0.1, 179, 0, 0};
+  const scene_field *fov = scene_field_find(&SCENE_CAMERA, "fov_y");
   const satf_scene_camera *cam = user;
   scene_camera_key *key = out;
   satf_scene_camera tmp = *cam;
@@ -192,8 +130,8 @@ static satf_status read_camera_key(scene_ctx *ctx, const cJSON *e, void *out,
                          tmp.target)) != SATF_OK ||
       (s = scene_key_vec(ctx, e, "up", 3, &R_COORD, cam->up, tmp.up)) !=
           SATF_OK ||
-      (s = scene_key_float(ctx, e, "fov_y", &r_fov, cam->fov_y, &tmp.fov_y)) !=
-          SATF_OK ||
+      (s = scene_key_float(ctx, e, fov->key, &fov->range, cam->fov_y,
+                           &tmp.fov_y)) != SATF_OK ||
       (s = scene_check_camera_view(ctx, &tmp)) != SATF_OK)
     return s;
   /* The static up is normalized already; again could move its last bit. */
@@ -225,11 +163,6 @@ static satf_status parse_camera_keys(scene_ctx *ctx, const cJSON *obj,
 
 static satf_status parse_camera(scene_ctx *ctx, const cJSON *root,
                                 satf_scene_camera *cam) {
-  static const char *const keys[] = {"position", "target", "up",   "fov_y",
-                                     "near",     "far",    "keys", NULL};
-  static const scene_range r_fov = {0.1, 179, 0, 0};
-  static const scene_range r_clip = {0, SATF_SCENE_MAX_COORD * 10, 1, 0};
-  static const float y_up[3] = {0.0f, 1.0f, 0.0f};
   static const cJSON empty = {0};
   const cJSON *obj;
   satf_status s = scene_key_object(ctx, root, "camera", 0, &obj);
@@ -239,9 +172,10 @@ static satf_status parse_camera(scene_ctx *ctx, const cJSON *root,
     obj = &empty;
   size_t previous = scene_push_key(ctx, "camera");
   float auto_target[3], auto_position[3];
-  if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
-      (s = scene_key_float(ctx, obj, "fov_y", &r_fov, 40.0, &cam->fov_y)) !=
-          SATF_OK)
+  /* up, fov_y, near and far; then the target and the position, whose
+   * defaults follow from the bounds and fov_y */
+  if ((s = scene_fields_read(ctx, obj, &SCENE_CAMERA, cam, NULL, NULL)) !=
+      SATF_OK)
     goto done;
   frame_bounds(ctx->scene, cam->fov_y, auto_target, auto_position);
   cam->automatic = !cJSON_GetObjectItemCaseSensitive(obj, "position");
@@ -252,13 +186,7 @@ static satf_status parse_camera(scene_ctx *ctx, const cJSON *root,
   for (int k = 0; k < 3; k++)
     auto_position[k] += cam->target[k] - auto_target[k];
   if ((s = scene_key_vec(ctx, obj, "position", 3, &R_COORD, auto_position,
-                         cam->position)) != SATF_OK ||
-      (s = scene_key_vec(ctx, obj, "up", 3, &R_COORD, y_up, cam->up)) !=
-          SATF_OK ||
-      (s = scene_key_float(ctx, obj, "near", &r_clip, 0.0, &cam->near_clip)) !=
-          SATF_OK ||
-      (s = scene_key_float(ctx, obj, "far", &r_clip, 0.0, &cam->far_clip)) !=
-          SATF_OK)
+                         cam->position)) != SATF_OK)
     goto done;
   if ((s = scene_check_camera_view(ctx, cam)) != SATF_OK)
     goto done;
@@ -281,14 +209,15 @@ done:
 static satf_status parse_light_values(scene_ctx *ctx, const cJSON *obj,
                                       const satf_scene_light *def,
                                       satf_scene_light *light) {
-  static const scene_range r_intensity = {0, 1e6, 0, 0};
-  static const float white[3] = {1.0f, 1.0f, 1.0f};
+  const scene_field *color = scene_field_find(&SCENE_LIGHT, "color"),
+                    *intensity = scene_field_find(&SCENE_LIGHT, "intensity");
   satf_status s;
-  if ((s = scene_key_vec(ctx, obj, "color", 3, &R_UNIT,
-                         def ? def->color : white, light->color)) != SATF_OK ||
-      (s = scene_key_float(ctx, obj, "intensity", &r_intensity,
-                           def ? def->intensity : 1.0, &light->intensity)) !=
-          SATF_OK)
+  if ((s = scene_key_vec(ctx, obj, color->key, 3, &color->range,
+                         def ? def->color : color->def3, light->color)) !=
+          SATF_OK ||
+      (s = scene_key_float(ctx, obj, intensity->key, &intensity->range,
+                           def ? def->intensity : intensity->def,
+                           &light->intensity)) != SATF_OK)
     return s;
   if (light->type == SATF_SCENE_LIGHT_POINT)
     return scene_key_vec(ctx, obj, "position", 3, &R_COORD,
@@ -417,9 +346,6 @@ static satf_status parse_lights(scene_ctx *ctx, const cJSON *root) {
 
 static satf_status parse_image(scene_ctx *ctx, const cJSON *root,
                                satf_scene_image *image) {
-  static const char *const keys[] = {"width", "height", "samples", NULL};
-  static const scene_range r_side = {1, SATF_SCENE_MAX_IMAGE, 0, 1};
-  static const scene_range r_samples = {1, SATF_SCENE_MAX_SAMPLES, 0, 1};
   static const cJSON empty = {0};
   const cJSON *obj;
   satf_status s = scene_key_object(ctx, root, "image", 0, &obj);
@@ -428,12 +354,7 @@ static satf_status parse_image(scene_ctx *ctx, const cJSON *root,
   if (!obj)
     obj = &empty;
   size_t previous = scene_push_key(ctx, "image");
-  if ((s = scene_check_keys(ctx, obj, keys)) == SATF_OK &&
-      (s = scene_key_int(ctx, obj, "width", &r_side, 640, &image->width)) ==
-          SATF_OK)
-    s = scene_key_int(ctx, obj, "height", &r_side, 480, &image->height);
-  if (s == SATF_OK)
-    s = scene_key_int(ctx, obj, "samples", &r_samples, 1, &image->samples);
+  s = scene_fields_read(ctx, obj, &SCENE_IMAGE, image, NULL, NULL);
   scene_pop(ctx, previous);
   return s;
 }

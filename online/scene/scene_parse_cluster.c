@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "scene_check.h"
+#include "scene_fields.h"
 #include "scene_parse_instance.h"
 #include "scene_transform.h"
 
@@ -115,11 +116,6 @@ static satf_status parse_trajectory(scene_ctx *ctx, const cJSON *obj,
 
 static satf_status parse_shell(scene_ctx *ctx, const cJSON *cluster,
                                satf_scene_shell *shell) {
-  static const char *const keys[] = {"layers", "st", "su", "core", NULL};
-  static const scene_range r_layers = {1, SATF_SCENE_MAX_LAYERS, 0, 1};
-  static const scene_range r_st = {1, SATF_SCENE_MAX_ST, 0, 1};
-  static const scene_range r_su = {SATF_SCENE_MIN_SU, SATF_SCENE_MAX_SU, 0, 1};
-  static const scene_range r_core = {0, SATF_SCENE_MAX_CORE, 0, 0};
   const cJSON *obj;
   satf_status s = scene_key_object(ctx, cluster, "shell", 0, &obj);
   if (s != SATF_OK)
@@ -128,12 +124,7 @@ static satf_status parse_shell(scene_ctx *ctx, const cJSON *cluster,
   if (!obj)
     obj = &empty;
   size_t previous = scene_push_key(ctx, "shell");
-  if ((s = scene_check_keys(ctx, obj, keys)) == SATF_OK &&
-      (s = scene_key_int(ctx, obj, "layers", &r_layers, 3, &shell->layers)) ==
-          SATF_OK &&
-      (s = scene_key_int(ctx, obj, "st", &r_st, 32, &shell->st)) == SATF_OK &&
-      (s = scene_key_int(ctx, obj, "su", &r_su, 16, &shell->su)) == SATF_OK)
-    s = scene_key_float(ctx, obj, "core", &r_core, 0.5, &shell->core);
+  s = scene_fields_read(ctx, obj, &SCENE_SHELL, shell, NULL, NULL);
   scene_pop(ctx, previous);
   return s;
 }
@@ -147,73 +138,40 @@ const char *satf_scene_layout_name(satf_scene_layout layout) {
              : "unknown";
 }
 
-/* Layout parameters given for a layout that does not use them are almost
- * certainly a mistake in the file; say so. */
-static satf_status warn_unused_layout_keys(scene_ctx *ctx, const cJSON *obj,
-                                           satf_scene_layout layout) {
-  static const struct {
-    const char *key;
-    satf_scene_layout used_by;
-  } params[] = {{"clumps", SATF_SCENE_LAYOUT_CLUMPED},
-                {"clump_spread", SATF_SCENE_LAYOUT_CLUMPED},
-                {"holes", SATF_SCENE_LAYOUT_HOLES},
-                {"hole_radius", SATF_SCENE_LAYOUT_HOLES},
-                {"gradient", SATF_SCENE_LAYOUT_GRADIENT}};
-  for (size_t i = 0; i < sizeof params / sizeof params[0]; i++) {
-    if (layout == params[i].used_by ||
-        !cJSON_GetObjectItemCaseSensitive(obj, params[i].key))
-      continue;
-    size_t previous = scene_push_key(ctx, params[i].key);
-    satf_status s = scene_warn(ctx, "ignored: only used by layout \"%s\"",
-                               layout_names[params[i].used_by]);
-    scene_pop(ctx, previous);
-    if (s != SATF_OK)
-      return s;
-  }
+/* The procedural density's keys that are more than a number: its seed (up
+ * to 2^53) and layout; its type chose this reader. */
+typedef struct procedural_other {
+  double seed;
+  int layout;
+} procedural_other;
+
+static satf_status read_procedural_other(scene_ctx *ctx, const cJSON *obj,
+                                         const scene_field *row, void *base,
+                                         void *user) {
+  procedural_other *o = user;
+  (void)base;
+  if (strcmp(row->key, "seed") == 0)
+    return scene_key_number(ctx, obj, row->key, &row->range, 0, 1, &o->seed);
+  if (strcmp(row->key, "layout") == 0)
+    return scene_key_enum(ctx, obj, row->key, layout_names,
+                          SATF_SCENE_LAYOUT_COUNT, SATF_SCENE_LAYOUT_UNIFORM,
+                          &o->layout);
   return SATF_OK;
 }
 
 static satf_status parse_procedural(scene_ctx *ctx, const cJSON *obj,
                                     satf_scene_density *d) {
-  static const char *const keys[] = {
-      "type",   "strands",      "seed",  "layout",      "strand_width", "scale",
-      "clumps", "clump_spread", "holes", "hole_radius", "gradient",     NULL};
-  static const scene_range r_strands = {1, SATF_SCENE_MAX_STRANDS, 0, 1};
-  static const scene_range r_seed = {0, 9007199254740991.0, 0, 1};
-  static const scene_range r_width = {0, 0.5, 1, 0};
-  static const scene_range r_scale = {0, 100, 1, 0};
-  static const scene_range r_count = {1, SATF_SCENE_MAX_CLUMPS, 0, 1};
-  static const scene_range r_fraction = {0, 1, 1, 0};
-  static const scene_range r_gradient = {-1, 1, 0, 0};
-  double seed;
-  int layout;
-  satf_status s;
-  if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
-      (s = scene_key_int(ctx, obj, "strands", &r_strands, 1000, &d->strands)) !=
-          SATF_OK ||
-      (s = scene_key_number(ctx, obj, "seed", &r_seed, 0, 1, &seed)) !=
-          SATF_OK ||
-      (s = scene_key_enum(ctx, obj, "layout", layout_names,
-                          SATF_SCENE_LAYOUT_COUNT, SATF_SCENE_LAYOUT_UNIFORM,
-                          &layout)) != SATF_OK ||
-      (s = scene_key_float(ctx, obj, "strand_width", &r_width, 0.03,
-                           &d->strand_width)) != SATF_OK ||
-      (s = scene_key_float(ctx, obj, "scale", &r_scale, 1.0, &d->scale)) !=
-          SATF_OK ||
-      (s = scene_key_int(ctx, obj, "clumps", &r_count, 8, &d->clumps)) !=
-          SATF_OK ||
-      (s = scene_key_float(ctx, obj, "clump_spread", &r_fraction, 0.15,
-                           &d->clump_spread)) != SATF_OK ||
-      (s = scene_key_int(ctx, obj, "holes", &r_count, 4, &d->holes)) !=
-          SATF_OK ||
-      (s = scene_key_float(ctx, obj, "hole_radius", &r_fraction, 0.2,
-                           &d->hole_radius)) != SATF_OK ||
-      (s = scene_key_float(ctx, obj, "gradient", &r_gradient, 0.8,
-                           &d->gradient)) != SATF_OK)
+  procedural_other o = {0};
+  satf_status s = scene_fields_read(ctx, obj, &SCENE_PROCEDURAL, d,
+                                    read_procedural_other, &o);
+  if (s != SATF_OK)
     return s;
-  d->seed = (uint64_t)seed;
-  d->layout = (satf_scene_layout)layout;
-  return warn_unused_layout_keys(ctx, obj, d->layout);
+  d->seed = (uint64_t)o.seed;
+  d->layout = (satf_scene_layout)o.layout;
+  /* Layout parameters given for a layout that does not use them are almost
+   * certainly a mistake in the file; say so. */
+  return scene_fields_warn_unused(ctx, obj, &SCENE_PROCEDURAL, d->layout,
+                                  layout_names);
 }
 
 /* One track: [first slice, x0, y0, x1, y1, ...]; its pairs go to xy. */
@@ -306,27 +264,25 @@ static satf_status parse_widths(scene_ctx *ctx, const cJSON *obj,
 }
 
 /* "tracks": the cluster's own strands in its normalised cross-section. */
+/* The tracks' slice count, required (the other OTHER rows of
+ * SCENE_TRACKS are read after the walk). */
+static satf_status read_slices(scene_ctx *ctx, const cJSON *obj,
+                               const scene_field *row, void *base, void *user) {
+  (void)base;
+  if (strcmp(row->key, "slices") != 0)
+    return SATF_OK;
+  return scene_key_number(ctx, obj, row->key, &row->range, 1, 0, user);
+}
+
 static satf_status parse_tracks(scene_ctx *ctx, const cJSON *obj,
                                 satf_scene_density *d) {
-  static const char *const keys[] = {"type",   "slices", "strand_width",
-                                     "scale",  "tracks", "ends",
-                                     "widths", NULL};
-  static const scene_range r_slices = {2, SATF_SCENE_MAX_TRACK_SLICES, 0, 1};
-  /* up to 2: a one-strand cluster is as thin as its strand (satf-import
-   * floors its radius at half the strand's thickness), a diameter of 2 */
-  static const scene_range r_width = {0, 2, 1, 0};
-  static const scene_range r_scale = {0, 100, 1, 0};
   const cJSON *arr;
   int n = 0;
-  double slices;
+  double slices = 0;
   satf_status s;
-  if ((s = scene_check_keys(ctx, obj, keys)) != SATF_OK ||
-      (s = scene_key_number(ctx, obj, "slices", &r_slices, 1, 0, &slices)) !=
-          SATF_OK ||
-      (s = scene_key_float(ctx, obj, "strand_width", &r_width, 0.03,
-                           &d->strand_width)) != SATF_OK ||
-      (s = scene_key_float(ctx, obj, "scale", &r_scale, 1.0, &d->scale)) !=
-          SATF_OK ||
+  /* slices, strand_width and scale; then the tracks, ends and widths */
+  if ((s = scene_fields_read(ctx, obj, &SCENE_TRACKS, d, read_slices,
+                             &slices)) != SATF_OK ||
       (s = scene_key_array(ctx, obj, "tracks", 1, 1, SATF_SCENE_MAX_STRANDS,
                            &arr, &n)) != SATF_OK)
     return s;

@@ -10,6 +10,7 @@
 
 #include "scene_anim.h"
 #include "scene_check.h"
+#include "scene_fields.h"
 #include "scene_interp.h"
 #include "scene_report.h"
 #include "scene_transform.h"
@@ -142,6 +143,13 @@ static void clamp_all(float *v, int n, float lo, float hi) {
     v[i] = clampf(v[i], lo, hi);
 }
 
+/* Into the range the scene's table gives key (scene_fields.h). */
+static void clamp_field(const scene_table *t, const char *key, float *v,
+                        int n) {
+  const scene_field *row = scene_field_find(t, key);
+  clamp_all(v, n, (float)row->range.lo, (float)row->range.hi);
+}
+
 /* Blends one array-valued property: value(k) is key k's array. */
 #define BLEND(w, value, count, out)                                            \
   do {                                                                         \
@@ -244,9 +252,9 @@ static satf_status camera_at(scene_ctx *ctx, const scene_track *t,
 #undef POSITION
 #undef TARGET
 #undef FOV
-  clamp_all(cam->position, 3, -SATF_SCENE_MAX_COORD, SATF_SCENE_MAX_COORD);
-  clamp_all(cam->target, 3, -SATF_SCENE_MAX_COORD, SATF_SCENE_MAX_COORD);
-  cam->fov_y = clampf(cam->fov_y, 0.1f, 179.0f);
+  clamp_field(&SCENE_CAMERA, "position", cam->position, 3);
+  clamp_field(&SCENE_CAMERA, "target", cam->target, 3);
+  clamp_field(&SCENE_CAMERA, "fov_y", &cam->fov_y, 1);
   if (sets_position)
     cam->automatic = 0;
   float up[3];
@@ -273,9 +281,11 @@ static satf_status light_at(scene_ctx *ctx, const scene_track *t, double frame,
   BLEND(&w, INTENSITY, 1, &light->intensity);
 #undef COLOR
 #undef INTENSITY
-  clamp_all(vector, 3, -SATF_SCENE_MAX_COORD, SATF_SCENE_MAX_COORD);
-  clamp_all(light->color, 3, 0.0f, 1.0f);
-  light->intensity = clampf(light->intensity, 0.0f, 1e6f);
+  clamp_field(&SCENE_LIGHT,
+              light->type == SATF_SCENE_LIGHT_POINT ? "position" : "direction",
+              vector, 3);
+  clamp_field(&SCENE_LIGHT, "color", light->color, 3);
+  clamp_field(&SCENE_LIGHT, "intensity", &light->intensity, 1);
   if (light->type == SATF_SCENE_LIGHT_POINT) {
     memcpy(light->position, vector, sizeof vector);
     return SATF_OK;

@@ -17,6 +17,7 @@
 #include "satf/common.h"
 #include "scene_anim.h"
 #include "scene_check.h"
+#include "scene_fields.h"
 
 typedef struct writer {
   const char *base_dir; /* paths under it are written relative to it */
@@ -215,30 +216,60 @@ static void add_path(writer *w, cJSON *obj, const char *key, const char *path) {
   }
 }
 
+/* ---- the simple fields, from their tables (scene_fields.h) ---- */
+
+/* Writes an OTHER row of a table (nothing for a key the format derives). */
+typedef void (*write_other_fn)(writer *w, cJSON *o, const scene_field *row,
+                               const void *base);
+
+/* Adds t's keys of base to o in the table's order: the simple rows as
+ * numbers, flags and arrays, the OTHER rows through other. A row of
+ * another layout than layout (only_layout) would only draw a warning, and
+ * an above_default row not above its default means "unset" (a scene made
+ * in memory may hold 0 there): neither is written. */
+static void add_fields(writer *w, cJSON *o, const scene_table *t,
+                       const void *base, int layout, write_other_fn other) {
+  for (int i = 0; i < t->n; i++) {
+    const scene_field *row = &t->fields[i];
+    const void *at = scene_field_at_const(row, base);
+    if (row->only_layout != 0 && row->only_layout != 1 + layout)
+      continue;
+    switch (row->type) {
+    case SCENE_FIELD_FLOAT:
+      if (!row->above_default || *(const float *)at > (float)row->def)
+        add(w, o, row->key, num_float(w, *(const float *)at));
+      break;
+    case SCENE_FIELD_INT:
+      if (!row->above_default || *(const int *)at > (int)row->def)
+        add(w, o, row->key, num_int(w, *(const int *)at));
+      break;
+    case SCENE_FIELD_BOOL: add_bool(w, o, row->key, *(const int *)at); break;
+    case SCENE_FIELD_VEC3: add(w, o, row->key, floats(w, at, 3)); break;
+    case SCENE_FIELD_OTHER:
+      if (other)
+        other(w, o, row, base);
+      break;
+    }
+  }
+}
+
 /* ---- the hair ---- */
 
 static cJSON *shell(writer *w, const satf_scene_shell *s) {
   cJSON *o = object(w);
-  add(w, o, "layers", num_int(w, s->layers));
-  add(w, o, "st", num_int(w, s->st));
-  add(w, o, "su", num_int(w, s->su));
-  add(w, o, "core", num_float(w, s->core));
+  add_fields(w, o, &SCENE_SHELL, s, -1, NULL);
   return o;
 }
 
-static cJSON *density(writer *w, const satf_scene_density *d) {
-  cJSON *o = object(w);
-  if (d->type == SATF_SCENE_DENSITY_VDB) {
-    add_string(w, o, "type", "vdb");
-    add_path(w, o, "file", d->vdb_file);
-    add_string(w, o, "grid", d->vdb_grid ? d->vdb_grid : "density");
-    return o;
-  }
-  if (d->type == SATF_SCENE_DENSITY_TRACKS) {
+/* The keys of the tracks density that are more than a number. */
+static void tracks_other(writer *w, cJSON *o, const scene_field *row,
+                         const void *base) {
+  const satf_scene_density *d = base;
+  if (strcmp(row->key, "type") == 0) {
     add_string(w, o, "type", "tracks");
+  } else if (strcmp(row->key, "slices") == 0) {
     add(w, o, "slices", num_int(w, d->track_slices));
-    add(w, o, "strand_width", num_float(w, d->strand_width));
-    add(w, o, "scale", num_float(w, d->scale));
+  } else if (strcmp(row->key, "tracks") == 0) {
     cJSON *tracks = array(w);
     const float *xy = d->track_xy;
     for (int k = 0; k < d->n_tracks; k++) {
@@ -250,39 +281,46 @@ static cJSON *density(writer *w, const satf_scene_density *d) {
       append(w, tracks, t);
     }
     add(w, o, "tracks", tracks);
-    if (d->track_ends) {
-      cJSON *ends = array(w);
-      for (int k = 0; k < d->n_tracks; k++) {
-        cJSON *e = array(w);
-        for (int i = 0; i < 6; i++)
-          append(w, e, num_float(w, d->track_ends[6 * k + i]));
-        append(w, ends, e);
-      }
-      add(w, o, "ends", ends);
+  } else if (strcmp(row->key, "ends") == 0 && d->track_ends) {
+    cJSON *ends = array(w);
+    for (int k = 0; k < d->n_tracks; k++) {
+      cJSON *e = array(w);
+      for (int i = 0; i < 6; i++)
+        append(w, e, num_float(w, d->track_ends[6 * k + i]));
+      append(w, ends, e);
     }
-    if (d->track_width) {
-      cJSON *widths = array(w);
-      for (int k = 0; k < d->n_tracks; k++)
-        append(w, widths, num_float(w, d->track_width[k]));
-      add(w, o, "widths", widths);
-    }
-    return o;
+    add(w, o, "ends", ends);
+  } else if (strcmp(row->key, "widths") == 0 && d->track_width) {
+    cJSON *widths = array(w);
+    for (int k = 0; k < d->n_tracks; k++)
+      append(w, widths, num_float(w, d->track_width[k]));
+    add(w, o, "widths", widths);
   }
-  add_string(w, o, "type", "procedural");
-  add(w, o, "strands", num_int(w, d->strands));
-  add(w, o, "seed", num_int(w, (long long)d->seed));
-  add_string(w, o, "layout", satf_scene_layout_name(d->layout));
-  add(w, o, "strand_width", num_float(w, d->strand_width));
-  add(w, o, "scale", num_float(w, d->scale));
-  /* The parameters of other layouts would only draw warnings. */
-  if (d->layout == SATF_SCENE_LAYOUT_CLUMPED) {
-    add(w, o, "clumps", num_int(w, d->clumps));
-    add(w, o, "clump_spread", num_float(w, d->clump_spread));
-  } else if (d->layout == SATF_SCENE_LAYOUT_HOLES) {
-    add(w, o, "holes", num_int(w, d->holes));
-    add(w, o, "hole_radius", num_float(w, d->hole_radius));
-  } else if (d->layout == SATF_SCENE_LAYOUT_GRADIENT) {
-    add(w, o, "gradient", num_float(w, d->gradient));
+}
+
+/* The keys of the procedural density that are more than a number. */
+static void procedural_other(writer *w, cJSON *o, const scene_field *row,
+                             const void *base) {
+  const satf_scene_density *d = base;
+  if (strcmp(row->key, "type") == 0)
+    add_string(w, o, "type", "procedural");
+  else if (strcmp(row->key, "seed") == 0)
+    add(w, o, "seed", num_int(w, (long long)d->seed));
+  else if (strcmp(row->key, "layout") == 0)
+    add_string(w, o, "layout", satf_scene_layout_name(d->layout));
+}
+
+static cJSON *density(writer *w, const satf_scene_density *d) {
+  cJSON *o = object(w);
+  if (d->type == SATF_SCENE_DENSITY_VDB) {
+    add_string(w, o, "type", "vdb");
+    add_path(w, o, "file", d->vdb_file);
+    add_string(w, o, "grid", d->vdb_grid ? d->vdb_grid : "density");
+  } else if (d->type == SATF_SCENE_DENSITY_TRACKS) {
+    add_fields(w, o, &SCENE_TRACKS, d, -1, tracks_other);
+  } else {
+    /* the parameters of other layouts would only draw warnings */
+    add_fields(w, o, &SCENE_PROCEDURAL, d, (int)d->layout, procedural_other);
   }
   return o;
 }
@@ -503,39 +541,31 @@ static cJSON *lights(writer *w, const satf_scene *scene) {
   return a;
 }
 
+/* The material's keys that are more than a number ("shift" is only the
+ * default of shift_I and shift_II, which are written). */
+static void material_other(writer *w, cJSON *o, const scene_field *row,
+                           const void *base) {
+  static const char *const models[] = {"kk", "physical"};
+  const satf_scene_material *m = base;
+  if (strcmp(row->key, "shift_I") == 0)
+    add(w, o, "shift_I", num_float(w, m->shift_I));
+  else if (strcmp(row->key, "shift_II") == 0)
+    add(w, o, "shift_II", num_float(w, m->shift_II));
+  else if (strcmp(row->key, "model") == 0)
+    add_string(w, o, "model", models[m->model]);
+  else if (strcmp(row->key, "absorption") == 0 && m->has_absorption)
+    add(w, o, "absorption", floats(w, m->absorption, 3));
+}
+
 static cJSON *material(writer *w, const satf_scene_material *m) {
   cJSON *o = object(w);
-  add(w, o, "k_dif", num_float(w, m->k_dif));
-  add(w, o, "k_speI", num_float(w, m->k_speI));
-  add(w, o, "k_speII", num_float(w, m->k_speII));
-  add(w, o, "exponent_I", num_float(w, m->exponent_I));
-  add(w, o, "exponent_II", num_float(w, m->exponent_II));
-  add(w, o, "shift_I", num_float(w, m->shift_I));
-  add(w, o, "shift_II", num_float(w, m->shift_II));
-  add(w, o, "f_dif", floats(w, m->f_dif, 3));
-  add(w, o, "f_speI", floats(w, m->f_speI, 3));
-  add(w, o, "f_speII", floats(w, m->f_speII, 3));
-  add(w, o, "k_shadow", num_float(w, m->k_shadow));
-  add(w, o, "noise", num_float(w, m->noise));
-  static const char *const models[] = {"kk", "physical"};
-  add_string(w, o, "model", models[m->model]);
-  add(w, o, "melanin", num_float(w, m->melanin));
-  add(w, o, "redness", num_float(w, m->redness));
-  add(w, o, "roughness", num_float(w, m->roughness));
-  add(w, o, "radial_roughness", num_float(w, m->radial_roughness));
-  add(w, o, "cuticle_tilt", num_float(w, m->cuticle_tilt));
-  add(w, o, "ior", num_float(w, m->ior));
-  if (m->has_absorption)
-    add(w, o, "absorption", floats(w, m->absorption, 3));
+  add_fields(w, o, &SCENE_MATERIAL, m, -1, material_other);
   return o;
 }
 
 static cJSON *effects(writer *w, const satf_scene_effects *e) {
   cJSON *o = object(w);
-  add_bool(w, o, "satf", e->satf);
-  add_bool(w, o, "secondary_highlight", e->secondary_highlight);
-  add_bool(w, o, "self_shadow", e->self_shadow);
-  add_bool(w, o, "cluster_shadows", e->cluster_shadows);
+  add_fields(w, o, &SCENE_EFFECTS, e, -1, NULL);
   return o;
 }
 
@@ -567,10 +597,7 @@ static cJSON *animation(writer *w, const satf_scene_animation *anim) {
 
 static cJSON *image(writer *w, const satf_scene_image *im) {
   cJSON *o = object(w);
-  add(w, o, "width", num_int(w, im->width));
-  add(w, o, "height", num_int(w, im->height));
-  if (im->samples > 1)
-    add(w, o, "samples", num_int(w, im->samples));
+  add_fields(w, o, &SCENE_IMAGE, im, -1, NULL); /* samples: when not 1 */
   return o;
 }
 

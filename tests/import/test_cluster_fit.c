@@ -19,11 +19,11 @@
 
 #include <cmocka.h>
 
+#include "import_internal.h"
 #include "satf/common.h"
 #include "satf/db.h"
 #include "satf/density.h"
 #include "satf/geometry.h"
-#include "satf/import.h"
 #include "test_util.h"
 
 #define PI 3.14159265358979

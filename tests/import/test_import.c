@@ -14,8 +14,8 @@
 
 #include <cmocka.h>
 
+#include "import_internal.h"
 #include "satf/common.h"
-#include "satf/import.h"
 #include "test_util.h"
 
 #define PI_F 3.14159265358979f

@@ -21,8 +21,8 @@
 
 #include <cmocka.h>
 
+#include "import_internal.h"
 #include "satf/common.h"
-#include "satf/import.h"
 #include "test_util.h"
 
 typedef struct bytes_job {

@@ -13,7 +13,7 @@
 
 #include <cmocka.h>
 
-#include "satf/import.h"
+#include "import_internal.h"
 #include "satf/math.h"
 #include "test_util.h"
 

@@ -23,10 +23,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "import_internal.h"
 #include "mat4.h"
 #include "renderer_internal.h"
 #include "satf/geometry.h"
-#include "satf/import.h"
 #include "satf/math.h"
 #include "satf/scene.h"
 

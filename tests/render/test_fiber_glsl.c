@@ -1,6 +1,6 @@
 /* test_fiber_glsl.c - the GLSL twin of the fibre model
  * (online/render/glsl/fiber.glsl, satf_glsl_fiber, what the strand shader
- * compiles) evaluated on the GL driver and compared with common/fiber.c:
+ * compiles) evaluated on the GL driver and compared with fiber/fiber.c:
  * the single-scattering BCSDF (fiber_single against satf_fiber_eval) and
  * the dual-scattering shading (fiber_dual_shade against
  * satf_fiber_dual_shade, the tables uploaded as the renderer does), over

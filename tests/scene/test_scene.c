@@ -670,6 +670,26 @@ static void apply(const satf_scene *scene, int i, float x, float y, float z,
   satf_scene_instance_apply(&scene->macro_clusters[0].instances[i], p, out);
 }
 
+/* The strand width the density assumes: strand_width x the cluster radius
+ * x the instance's scale, the median over the instances. */
+static void test_density_strand_width(void **state) {
+  (void)state;
+  satf_scene *one = scene_with_instances("{}");
+  assert_float_equal(satf_scene_density_strand_width(one), 0.03f, 1e-7f);
+  satf_scene_destroy(one);
+  satf_scene *three =
+      scene_with_instances("{\"scale\": 2}, {\"scale\": 3}, {}");
+  assert_float_equal(satf_scene_density_strand_width(three), 0.06f, 1e-6f);
+  satf_scene_destroy(three);
+  satf_scene *tracks = parse_ok(
+      "{\"macro_clusters\": [{\"prototype\": {\"trajectory\": "
+      "[[0,0,0],[0,1,0]], \"a\": 1, \"density\": {\"type\": \"tracks\", "
+      "\"slices\": 2, \"tracks\": [[0, 0, 0, 0, 0]]}}}]}",
+      "t.json");
+  assert_true(satf_scene_density_strand_width(tracks) == 0.0f);
+  satf_scene_destroy(tracks);
+}
+
 static void test_instance_transforms(void **state) {
   (void)state;
   satf_scene *scene = scene_with_instances(
@@ -839,6 +859,7 @@ int main(void) {
       cmocka_unit_test(test_unknown_keys_warn),
       cmocka_unit_test(test_relative_paths),
       cmocka_unit_test(test_instance_transforms),
+      cmocka_unit_test(test_density_strand_width),
       cmocka_unit_test(test_fuzz_replay),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

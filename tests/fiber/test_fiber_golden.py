@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Golden values for tests/common/test_fiber.c, worked independently of the
+"""Golden values for tests/fiber/test_fiber.c, worked independently of the
 C code from the papers' formulas in double precision (mpmath for the Bessel
 function and the hyperbolic sine, no log-form shortcut):
   M_p: d'Eon 2011 eq. 7, csch(1/v)/(2v) exp(-sin_i sin_o/v) I0(cos_i cos_o/v)
