@@ -2,6 +2,7 @@
  * what no generalized cylinder fits: real files hold strands whose points
  * all coincide (a 48 K-strand fur has hundreds), which would give a cluster
  * a trajectory of no length. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,6 +73,17 @@ static void apply(const float *m, const float p[3], float out[3]) {
                : p[r];
 }
 
+/* Equal within a few float steps at their distance from the origin: the
+ * same point written twice, whatever the units. */
+static int coincide(const float a[3], const float b[3]) {
+  for (int c = 0; c < 3; c++) {
+    float mag = fmaxf(fabsf(a[c]), fabsf(b[c]));
+    if (fabsf(a[c] - b[c]) > 4.0f * FLT_EPSILON * mag)
+      return 0;
+  }
+  return 1;
+}
+
 /* The cube root of the 3x3 part's determinant: how much the transform
  * scales a width on average. */
 static float mean_scale(const float *m) {
@@ -102,13 +114,6 @@ satf_status import_prepare_strands(satf_strand_set **s, const float *m,
     return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
   }
   float k = mean_scale(m);
-  /* coincident: closer than float precision at the hair's size */
-  float lo[3], hi[3];
-  satf_strand_set_bounds(in, lo, hi);
-  double diag2 = 0.0;
-  for (int c = 0; c < 3; c++)
-    diag2 += ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
-  double eps2 = 1e-12 * diag2;
   int kept = 0;
   size_t at = 0;
   for (int i = 0; i < n; i++) {
@@ -118,11 +123,7 @@ satf_status import_prepare_strands(satf_strand_set **s, const float *m,
     size_t start = at;
     int last = 0; /* the last point kept */
     for (int j = 0; j < cnt; j++) {
-      double d2 = 0.0;
-      for (int c = 0; c < 3; c++)
-        d2 += ((double)p[3 * j + c] - p[3 * last + c]) *
-              ((double)p[3 * j + c] - p[3 * last + c]);
-      if (clean && at > start && d2 <= eps2) {
+      if (clean && at > start && coincide(p + 3 * j, p + 3 * last)) {
         (*merged)++;
         continue;
       }
