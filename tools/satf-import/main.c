@@ -71,13 +71,11 @@ static void usage(FILE *out) {
       "                         cluster length (default 0.05; 0 = off)\n"
       "  --db PATH              HRIR database to name in the scene "
       "(default: the\n"
-      "                         project's out/satf-default.hrirdb.exr, or\n"
-      "                         out/satf-fiber.hrirdb.exr with --shading\n"
-      "                         physical, when "
-      "this\n"
-      "                         program runs from a build in the project "
-      "and it\n"
-      "                         exists); --database is the same\n"
+      "                         installed PREFIX/share/satf/satf-default.\n"
+      "                         hrirdb.exr, or satf-fiber.hrirdb.exr with\n"
+      "                         --shading physical; from a build in the\n"
+      "                         project, its out/ ones); --database is the\n"
+      "                         same\n"
       "  --no-strands           do not write the strands beside the scene "
       "(default:\n"
       "                         SCENE.strands-XXXXXXXX.hair, cyHair, in scene\n"
@@ -367,13 +365,16 @@ static int check_files(const satf_import_options *o) {
   return 0;
 }
 
-/* The database the project's main command builds (scripts/main.sh) for
- * the shading: PROJECT/out/satf-default.hrirdb.exr (Phong records) or,
+/* The installed default database for the shading (satf_data_dir), else
+ * the one the project's main command builds (scripts/main.sh):
+ * PROJECT/out/satf-default.hrirdb.exr (Phong records) or,
  * for --shading physical, PROJECT/out/satf-fiber.hrirdb.exr, where this
  * program runs as PROJECT/BUILD/bin/satf-import. NULL when it is not
  * there. */
 static const char *default_database(int physical) {
   static char path[PATH_MAX];
+  if (satf_default_database(physical, path, sizeof path))
+    return path; /* installed (satf_data_dir) */
   char exe[PATH_MAX];
   ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
   if (n <= 0)
