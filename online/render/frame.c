@@ -535,8 +535,22 @@ void frame_light_view(satf_renderer *r) {
 /* The camera's view-projection; without explicit clip planes they hug the
  * scene bounds. */
 void frame_camera(const satf_renderer *r, float viewproj[16]) {
+  float view[16], proj[16];
+  frame_view_proj(r, view, proj);
+  /* the anti-aliasing sample's sub-pixel offset (samples.c), as a shift of
+   * normalised device coordinates: x_ndc += 2 dx / width */
+  float dx = 2.0f * r->jitter[0] / (float)r->width;
+  float dy = 2.0f * r->jitter[1] / (float)r->height;
+  for (int k = 0; k < 4; k++) {
+    proj[k] += dx * proj[12 + k];
+    proj[4 + k] += dy * proj[12 + k];
+  }
+  satf_mat4_mul(proj, view, viewproj);
+}
+
+void frame_view_proj(const satf_renderer *r, float view[16], float proj[16]) {
   const satf_scene_camera *cam = &r->camera;
-  float c[3], rad = scene_radius(r, c), view[16], proj[16];
+  float c[3], rad = scene_radius(r, c);
   float n = cam->near_clip, f = cam->far_clip;
   if (!(n > 0.0f && f > n)) {
     float d = sqrtf(distance2(cam->position, c));
@@ -548,15 +562,6 @@ void frame_camera(const satf_renderer *r, float viewproj[16]) {
   satf_mat4_look_at(cam->position, cam->target, cam->up, view);
   satf_mat4_perspective(cam->fov_y, (float)r->width / (float)r->height, n, f,
                         proj);
-  /* the anti-aliasing sample's sub-pixel offset (samples.c), as a shift of
-   * normalised device coordinates: x_ndc += 2 dx / width */
-  float dx = 2.0f * r->jitter[0] / (float)r->width;
-  float dy = 2.0f * r->jitter[1] / (float)r->height;
-  for (int k = 0; k < 4; k++) {
-    proj[k] += dx * proj[12 + k];
-    proj[4 + k] += dy * proj[12 + k];
-  }
-  satf_mat4_mul(proj, view, viewproj);
 }
 
 /* The whole frame when a corner of the bounds is behind the eye. */

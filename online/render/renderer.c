@@ -2,6 +2,7 @@
  * and destroying it, switching scenes and image sizes, its interactive
  * state, and rendering frames and images by running the per-frame CPU work
  * (frame.c) and the GPU passes (passes.c) in order. */
+#include "mat4.h"
 #include "renderer_internal.h"
 
 #include <math.h>
@@ -360,6 +361,10 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
     return st;
   }
   satf_image_set_background(img, r->scene->background);
+  float view[16], proj[16], viewproj[16];
+  frame_view_proj(r, view, proj);
+  satf_mat4_mul(proj, view, viewproj);
+  satf_image_set_camera(img, view, viewproj);
   *out = img;
   return SATF_OK;
 }

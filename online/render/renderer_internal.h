@@ -265,6 +265,8 @@ satf_status frame_instance_data(satf_renderer *r, satf_error *err);
 /* Bytes of one instance's view in r->inst_shading. */
 size_t frame_instance_view_bytes(void);
 void frame_camera(const satf_renderer *r, float viewproj[16]);
+/* The camera's view and projection without the sample's jitter. */
+void frame_view_proj(const satf_renderer *r, float view[16], float proj[16]);
 /* r->light_viewproj and r->dom_slab for the key light's deep opacity map. */
 void frame_light_view(satf_renderer *r);
 /* Pixel rectangle (x, y, w, h) the scene bounds can cover. */
