@@ -7,6 +7,8 @@
 
 #include "satf/common.h"
 #include "satf/db.h"
+#include <signal.h>
+
 #include "satf/scene.h"
 
 #ifdef __cplusplus
@@ -315,10 +317,14 @@ typedef struct satf_sequence_opts {
   int quiet;
   int background_in_exr; /* frames' R, G, B flattened over the background
                             (satf_image_flatten) before the EXR is written */
+  /* when non-NULL and set (by a signal handler), the batch stops before
+   * its next frame: satf_sequence_stats.interrupted, and SATF_OK */
+  const volatile sig_atomic_t *stop;
 } satf_sequence_opts;
 
 typedef struct satf_sequence_stats {
   int rendered, skipped;
+  int interrupted; /* 1: opts.stop ended the batch before its last frame */
   double seconds;
   satf_frame_timing mean; /* over rendered frames */
 } satf_sequence_stats;
