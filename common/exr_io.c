@@ -241,19 +241,51 @@ static satf_status open_checked(const char *path, long long fsize,
   return SATF_OK;
 }
 
-/* Every requested channel is present at full resolution. */
+/* Whether the file's channel `have` is the one asked for as `want`: the
+ * same name, or, in a file of one view layer written as Blender and Nuke
+ * write them (LAYER.PASS.CHANNEL, satf/render.h), LAYER.want, or
+ * LAYER.Combined.want / LAYER.Depth.want for an unlayered want. */
+static int channel_matches(const char *have, const char *want) {
+  if (strcmp(have, want) == 0)
+    return 1;
+  const char *dot = strchr(have, '.');
+  if (!dot || dot == have)
+    return 0;
+  const char *rest = dot + 1;
+  if (strcmp(rest, want) == 0)
+    return 1;
+  if (strchr(want, '.'))
+    return 0;
+  static const char *const passes[2] = {"Combined.", "Depth."};
+  for (int k = 0; k < 2; k++) {
+    size_t n = strlen(passes[k]);
+    if (strncmp(rest, passes[k], n) == 0 && strcmp(rest + n, want) == 0)
+      return 1;
+  }
+  return 0;
+}
+
+/* Every requested channel is present at full resolution: resolved[i] is
+ * the file's name for names[i] (an exact match first). */
 static satf_status check_channels(const char *path, exr_const_context_t ctx,
                                   const char *const *names, int nnames,
-                                  satf_error *err) {
+                                  const char **resolved, satf_error *err) {
   const exr_attr_chlist_t *chlist = NULL;
   if (exr_get_channels(ctx, 0, &chlist) != EXR_ERR_SUCCESS)
     return satf_error_set(err, SATF_ERR_FORMAT, "%s: no channel list", path);
   for (int i = 0; i < nnames; i++) {
     int found = 0;
-    for (int c = 0; c < chlist->num_channels; c++)
-      if (strcmp(chlist->entries[c].name.str, names[i]) == 0)
-        found = chlist->entries[c].x_sampling == 1 &&
-                chlist->entries[c].y_sampling == 1;
+    resolved[i] = NULL;
+    for (int exact = 1; exact >= 0 && !resolved[i]; exact--)
+      for (int c = 0; c < chlist->num_channels && !resolved[i]; c++) {
+        const char *have = chlist->entries[c].name.str;
+        if (exact ? strcmp(have, names[i]) == 0
+                  : channel_matches(have, names[i])) {
+          resolved[i] = have;
+          found = chlist->entries[c].x_sampling == 1 &&
+                  chlist->entries[c].y_sampling == 1;
+        }
+      }
     if (!found)
       return satf_error_set(err, SATF_ERR_FORMAT,
                             "%s: channel '%s' is missing or subsampled", path,
@@ -356,18 +388,23 @@ static satf_status exr_read(const char *path, const char *const *names,
   long long h = (long long)dw.max.y - dw.min.y + 1;
   if (st == SATF_OK && attrs)
     st = attrs(attrs_ctx, ctx, 0, (int)w, (int)h, err);
+  const char **resolved =
+      malloc((size_t)(nnames > 0 ? nnames : 1) * sizeof *resolved);
+  if (st == SATF_OK && !resolved)
+    st = satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
   if (st == SATF_OK)
-    st = check_channels(path, ctx, names, nnames, err);
+    st = check_channels(path, ctx, names, nnames, resolved, err);
   for (int i = 0; i < nnames && st == SATF_OK; i++) {
     planes[i] = malloc((size_t)(w * h) * sizeof(float));
     if (!planes[i])
       st = satf_error_set(err, SATF_ERR_NOMEM,
                           "%s: cannot allocate %lldx%lld pixels", path, w, h);
   }
-  decode_target dt = {names, nnames, planes, w, NULL, 0};
+  decode_target dt = {resolved, nnames, planes, w, NULL, 0};
   if (st == SATF_OK)
     st = decode_all(path, ctx, &dw, msg, &dt, err);
   free(dt.scratch);
+  free(resolved);
   exr_finish(&ctx);
   if (st != SATF_OK)
     return st;

@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-10}
-targets=(fuzz_db fuzz_scene fuzz_hair fuzz_tfx fuzz_ply fuzz_data fuzz_vdb)
+targets=(fuzz_db fuzz_scene fuzz_hair fuzz_tfx fuzz_ply fuzz_data fuzz_obj fuzz_vdb)
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSATF_FUZZ=ON >/dev/null
 cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"

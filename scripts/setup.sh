@@ -10,6 +10,7 @@ PACKAGES=(
   libglfw3-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   xvfb xauth libcjson-dev libcmocka-dev clang clang-format libclang-rt-dev python3
   libopenmpi-dev openmpi-bin
+  blender openimageio-tools python3-openimageio
 )
 
 missing=()

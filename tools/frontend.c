@@ -6,6 +6,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "frontend.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -66,6 +67,17 @@ satf_status satf_frontend_create_renderer(const satf_frontend *fe, int width,
   return st;
 }
 
+/* The installed default database's path, malloc'ed; NULL when none. */
+static char *installed_database(void) {
+  char path[PATH_MAX];
+  if (!satf_default_database(0, path, sizeof path))
+    return NULL;
+  char *copy = malloc(strlen(path) + 1);
+  if (copy)
+    strcpy(copy, path);
+  return copy;
+}
+
 /* Half the machine's physical memory (2 GB when it cannot be read). */
 static double default_budget(void) {
   long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
@@ -101,10 +113,15 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
       fprintf(stderr, "%s: warning: %s\n", prog,
               satf_scene_warning(fe->scene, i));
     const char *db = db_path ? db_path : fe->scene->database;
+    /* neither names one: the installed default (satf_data_dir), whose
+     * fibre database lies beside it for the physical shading */
+    if (!db)
+      db = fe->db_path_owned = installed_database();
     if (!db)
       st = satf_error_set(&err, SATF_ERR_ARGUMENT,
                           "%s: no database: give --db DB.exr or a "
-                          "\"database\" key in the scene",
+                          "\"database\" key in the scene, or install the "
+                          "default ones (satf-build --install-default)",
                           scene_path);
     else
       st = satf_db_read(db, &fe->db, &err);

@@ -133,6 +133,20 @@ long long satf_file_size(const char *path);
 satf_status satf_read_file(const char *path, size_t max_bytes, void **data,
                            size_t *size, satf_error *err);
 
+/* ---- Installed data (data_dir.c) ---------------------------------------- */
+
+/* The folder the installed tools keep their data in: $SATF_DATA_DIR when
+ * set, else PREFIX/share/satf for a program installed as PREFIX/bin/NAME
+ * (where `cmake --install` and `satf-build --install-default` put the
+ * default databases). Writes it to out; -1 when it cannot be known or does
+ * not fit. */
+int satf_data_dir(char *out, size_t size);
+
+/* The installed default database: satf_data_dir()/satf-default.hrirdb.exr
+ * (Phong records) or, with fiber, satf-fiber.hrirdb.exr. Its path is
+ * written to out and returned when it is a regular file; else NULL. */
+const char *satf_default_database(int fiber, char *out, size_t size);
+
 /* One file named on a command line: what it is ("the scene", "-o") and
  * whether the program writes it. */
 typedef struct satf_file_role {

@@ -136,12 +136,13 @@ float satf_strand_set_root_spacing(const satf_strand_set *s);
 /* ---- PLY strands (strands_ply*.c) --------------------------------------- */
 
 /* A `vertex` element with x, y, z (other properties skipped) and either a
- * strand element (`strand`, `strands`, `hair` or `curve`) with each
- * strand's point count (property `vertex_count`, `vertices`,
- * `num_vertices`, `nverts`, `num_points`, `points` or `count`) or segment
- * count (`segments`, `num_segments`, `segment_count`), the strands' points
- * in vertex order; or an `edge` element (`vertex1`, `vertex2`) chained into
- * polylines, each from its lower-numbered end. ascii,
+ * strand element (`strand`, `strands`, `hair` or `curve`, or any other
+ * element with such a property) with each strand's point count (property
+ * `vertex_count`, `vertices`, `num_vertices`, `nverts`, `num_points`,
+ * `points` or `count`) or segment count (`segments`, `num_segments`,
+ * `segment_count`, `nsegs`, `num_segs`), the strands' points in vertex
+ * order; or, where no element holds counts, an `edge` element (`vertex1`,
+ * `vertex2`) chained into polylines, each from its lower-numbered end. ascii,
  * binary_little_endian and binary_big_endian. Strands of one point are
  * skipped; branching or looping edges are refused. */
 satf_status satf_ply_parse(const void *data, size_t size, const char *name,
@@ -160,6 +161,18 @@ satf_status satf_usc_parse(const void *data, size_t size, const char *name,
 satf_status satf_usc_read(const char *path, satf_strand_set **out,
                           satf_error *err);
 
+/* ---- Wavefront OBJ polylines (strands_obj.c) ---------------------------- */
+
+/* `v x y z` vertices (a weight or an r g b colour after them is accepted
+ * and dropped) and `l` polylines of 1-based or negative indices (`i/t`
+ * allowed), their segments chained into strands as PLY edges are (each
+ * from its lower-numbered end); faces and everything else are skipped, so
+ * a groom exported with its head reads as its hair. */
+satf_status satf_obj_parse(const void *data, size_t size, const char *name,
+                           satf_strand_set **out, satf_error *err);
+satf_status satf_obj_read(const char *path, satf_strand_set **out,
+                          satf_error *err);
+
 /* ---- Which format a strand file is (strands_detect.c) ------------------- */
 
 typedef enum satf_strands_format {
@@ -167,14 +180,15 @@ typedef enum satf_strands_format {
   SATF_STRANDS_HAIR, /* "HAIR" */
   SATF_STRANDS_TFX,  /* a TressFX version 1..6 in the first float */
   SATF_STRANDS_PLY,  /* "ply" line */
-  SATF_STRANDS_USC   /* strand and point counts that fill the file exactly */
+  SATF_STRANDS_USC,  /* strand and point counts that fill the file exactly */
+  SATF_STRANDS_OBJ   /* text whose first statement is an OBJ one */
 } satf_strands_format;
 
 /* The format the bytes say, or UNKNOWN. */
 satf_strands_format satf_strands_detect(const void *data, size_t size);
-/* The format a file name's extension names (.hair .tfx .ply .data). */
+/* The format a file name's extension names (.hair .tfx .ply .data .obj). */
 satf_strands_format satf_strands_format_of_name(const char *path);
-/* "cyHair", "TressFX", "PLY", "USC-HairSalon .data" or "unknown". */
+/* "cyHair", "TressFX", "PLY", "USC-HairSalon .data", "OBJ" or "unknown". */
 const char *satf_strands_format_name(satf_strands_format f);
 
 /* ---- The whole import (import_run.c, import_sequence.c) ---------------- */
@@ -268,6 +282,11 @@ typedef struct satf_import_options {
    * default (samples/README.md) */
   double melanin, redness, roughness, radial_roughness;
   int shading; /* satf_material_model, or -1: the scene's default */
+  /* 1: the inputs (strands and mesh) are Z-up, as Blender's: turned to the
+   * scene's Y-up by (x, y, z) -> (x, z, -y) before the transforms below */
+  int up_z;
+  /* where the hair goes (after up_z), as mesh_* for the mesh */
+  double hair_translate[3], hair_axis[3], hair_angle_deg, hair_scale[3];
 } satf_import_options;
 
 /* The command line's defaults: control 8, follow -1, follow_radius -1,
@@ -302,6 +321,10 @@ typedef struct satf_import_result {
   /* 1 when --mesh was given and no strand root lies in or near the
    * transformed mesh's bounds (the head is probably misplaced) */
   int mesh_apart;
+  /* strands dropped because all their points coincide (no length), and
+   * points merged into an equal one before them */
+  int dropped_strands;
+  size_t merged_points;
   /* the side files as published (satf_import_stage_side), "" when none */
   char vdb_file[4096], strands_file[4096];
   /* seconds from the start to the end of each step, and peak memory */

@@ -7,6 +7,8 @@
 
 #include "satf/common.h"
 #include "satf/db.h"
+#include <signal.h>
+
 #include "satf/scene.h"
 
 #ifdef __cplusplus
@@ -65,6 +67,22 @@ satf_status satf_image_store_interleaved(satf_image *img, const float *src,
                                          int src_channels,
                                          const char *const *names,
                                          satf_row_order order, satf_error *err);
+
+/* The view layer of an EXR with AOVs: its channels are written as
+ * satf.Combined.R/G/B/A, satf.Depth.Z, satf.diffuse.R, ... (LAYER.PASS.
+ * CHANNEL, what Blender's compositor and Nuke read as one named layer);
+ * an image without AOVs is written as R G B A (Z) unchanged. */
+#define SATF_IMAGE_VIEW_LAYER "satf"
+
+/* The camera the image was seen from, row-major column-vector matrices
+ * (p' = M p): world to camera (the camera looking down -Z) and world to
+ * OpenGL normalised device coordinates (clip space, before the divide).
+ * The EXR writers store them as the standard worldToCamera and worldToNDC
+ * attributes. satf_image_camera returns 0 (leaving them) when unset. */
+void satf_image_set_camera(satf_image *img, const float world_to_camera[16],
+                           const float world_to_ndc[16]);
+int satf_image_camera(const satf_image *img, float world_to_camera[16],
+                      float world_to_ndc[16]);
 
 /* Writes every channel as HALF with ZIP compression. */
 satf_status satf_image_write_exr(const satf_image *img, const char *path,
@@ -299,10 +317,14 @@ typedef struct satf_sequence_opts {
   int quiet;
   int background_in_exr; /* frames' R, G, B flattened over the background
                             (satf_image_flatten) before the EXR is written */
+  /* when non-NULL and set (by a signal handler), the batch stops before
+   * its next frame: satf_sequence_stats.interrupted, and SATF_OK */
+  const volatile sig_atomic_t *stop;
 } satf_sequence_opts;
 
 typedef struct satf_sequence_stats {
   int rendered, skipped;
+  int interrupted; /* 1: opts.stop ended the batch before its last frame */
   double seconds;
   satf_frame_timing mean; /* over rendered frames */
 } satf_sequence_stats;

@@ -483,8 +483,9 @@ satf_status satf_import_check_budget(const satf_import_options *o,
                                      const char *what, size_t points,
                                      satf_error *err);
 
-/* Reads one strand file by its signature ("HAIR" or a .hair name: cyHair;
- * otherwise TressFX, with o's follow strands added). */
+/* Reads one strand file by its signature (or, where the bytes have none,
+ * its name's extension; TressFX gets o's follow strands) and moves it into
+ * the scene's axes as o's up_z and hair_* say. */
 satf_status satf_import_read_strands(const char *path,
                                      const satf_import_options *o,
                                      satf_strand_set **out, satf_error *err);

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "import_internal.h"
+#include "import_prepare.h"
 #include "satf/common.h"
 #include "satf/math.h"
 
@@ -71,13 +72,7 @@ static satf_status check_mesh(run *u, satf_error *err) {
   satf_error why;
   if (satf_mesh_read(o->mesh, &probe, &why) != SATF_OK)
     return satf_error_set(err, why.status, "--mesh: %s", why.message);
-  double axis[3] = {o->mesh_axis[0], o->mesh_axis[1], o->mesh_axis[2]};
-  double len = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-  for (int c = 0; c < 3; c++)
-    axis[c] = len > 0.0 ? axis[c] / len : (c == 1);
-  satf_scene_matrix_trs(o->mesh_translate, axis,
-                        o->mesh_angle_deg * SATF_PI / 180.0, o->mesh_scale,
-                        u->mesh_m);
+  import_mesh_matrix(o, u->mesh_m);
   float lo[3], hi[3];
   satf_mesh_bounds(probe, lo, hi);
   transformed_bounds(u->mesh_m, lo, hi, u->mesh_lo, u->mesh_hi);
@@ -101,9 +96,18 @@ static satf_status read_inputs(run *u, satf_error *err) {
     satf_strand_set *s, *both;
     satf_status st = satf_import_read_strands(
         o->sequence ? first_frame : o->inputs[i], o, &s, err);
-    if (st != SATF_OK)
+    int dropped = 0;
+    size_t merged = 0;
+    if (st == SATF_OK && !o->sequence) /* a sequence keeps its strands */
+      st = import_prepare_strands(&s, NULL, 1, o->inputs[i], &dropped, &merged,
+                                  err);
+    if (st != SATF_OK) {
+      satf_strand_set_destroy(s);
       return st;
-    /* The budget, before anything grows with the points (the memory budget). */
+    }
+    u->r->dropped_strands += dropped;
+    u->r->merged_points += merged;
+    /* The budget, before anything grows with the points. */
     size_t total = satf_strand_set_point_count(s) +
                    (u->all ? satf_strand_set_point_count(u->all) : 0);
     char what[PATH_MAX + 32];
@@ -700,6 +704,12 @@ void satf_import_print_summary(FILE *out, const char *prog,
   fprintf(out, "%s: %s\n", prog, o->output);
   fprintf(out, "  strands          %d (%zu points, from %d file%s)\n",
           r->n_strands, r->n_points, o->n_inputs, o->n_inputs > 1 ? "s" : "");
+  if (r->dropped_strands || r->merged_points)
+    fprintf(out,
+            "  dropped          %d strand%s of zero length (all points "
+            "coincide), %zu coincident point%s merged\n",
+            r->dropped_strands, r->dropped_strands == 1 ? "" : "s",
+            r->merged_points, r->merged_points == 1 ? "" : "s");
   if (o->clusters)
     fprintf(out, "  clusters         %d (as asked; k-means RMS %.4g)\n",
             r->n_clusters, r->rms);
@@ -756,6 +766,7 @@ void satf_import_print_summary(FILE *out, const char *prog,
   if (r->mesh_apart)
     fprintf(out,
             "%s: warning: no strand root meets the mesh %s (its bounds "
-            "after --mesh-transform); place it with --mesh-transform\n",
-            prog, o->mesh);
+            "after --mesh-transform); place it with --mesh-transform%s\n",
+            prog, o->mesh,
+            o->up_z ? "" : ", or give --up z if the files are Z-up");
 }

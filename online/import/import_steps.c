@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "import_internal.h"
+#include "import_prepare.h"
 #include "satf/common.h"
 
 satf_import_options satf_import_options_default(void) {
@@ -18,8 +19,9 @@ satf_import_options satf_import_options_default(void) {
   o.macro_tol = 0.05;
   o.seed = 1;
   o.memory_budget = SATF_IMPORT_DEFAULT_BUDGET;
-  o.mesh_axis[1] = 1.0;
+  o.mesh_axis[1] = o.hair_axis[1] = 1.0;
   o.mesh_scale[0] = o.mesh_scale[1] = o.mesh_scale[2] = 1.0;
+  o.hair_scale[0] = o.hair_scale[1] = o.hair_scale[2] = 1.0;
   o.melanin = o.redness = o.roughness = o.radial_roughness = -1.0;
   o.shading = -1;
   return o;
@@ -89,6 +91,8 @@ static satf_status parse_as(satf_strands_format f, const void *data,
     return satf_ply_parse(data, size, path, out, err);
   if (f == SATF_STRANDS_USC)
     return satf_usc_parse(data, size, path, out, err);
+  if (f == SATF_STRANDS_OBJ)
+    return satf_obj_parse(data, size, path, out, err);
   satf_tfx_info info;
   satf_strand_set *guides;
   satf_status st = satf_tfx_parse(data, size, path, &info, &guides, err);
@@ -116,9 +120,19 @@ static satf_status parse_as(satf_strands_format f, const void *data,
   return st;
 }
 
+static const char *extension_of(satf_strands_format f) {
+  return f == SATF_STRANDS_HAIR  ? ".hair"
+         : f == SATF_STRANDS_PLY ? ".ply"
+         : f == SATF_STRANDS_USC ? ".data"
+         : f == SATF_STRANDS_OBJ ? ".obj"
+                                 : ".tfx";
+}
+
 /* The format is what the bytes say; the name only decides when they say
- * nothing (then TressFX, whose parser says what is wrong). A name that
- * promises another format than the bytes is refused, naming both. */
+ * nothing (a .tfx then goes to its parser, which says what is wrong). A
+ * name that promises another format than the bytes is refused, naming
+ * both; bytes and a name that say nothing are refused with the formats
+ * satf reads (never read as TressFX, whose version would be any float). */
 satf_status satf_import_read_strands(const char *path,
                                      const satf_import_options *o,
                                      satf_strand_set **out, satf_error *err) {
@@ -137,17 +151,25 @@ satf_status satf_import_read_strands(const char *path,
                         "%s: this is a %s file, not %s (rename it to end in "
                         "%s)",
                         path, satf_strands_format_name(is),
-                        satf_strands_format_name(named),
-                        is == SATF_STRANDS_HAIR  ? ".hair"
-                        : is == SATF_STRANDS_PLY ? ".ply"
-                        : is == SATF_STRANDS_USC ? ".data"
-                                                 : ".tfx");
+                        satf_strands_format_name(named), extension_of(is));
+  else if (is == SATF_STRANDS_UNKNOWN && named == SATF_STRANDS_UNKNOWN)
+    st = satf_error_set(err, SATF_ERR_FORMAT,
+                        "%s: unrecognised format; satf reads .hair, .tfx "
+                        "3.x/4.x, .ply, .obj, .data",
+                        path);
   else
-    st = parse_as(is != SATF_STRANDS_UNKNOWN      ? is
-                  : named != SATF_STRANDS_UNKNOWN ? named
-                                                  : SATF_STRANDS_TFX,
-                  data, size, path, o, out, err);
+    st = parse_as(is != SATF_STRANDS_UNKNOWN ? is : named, data, size, path, o,
+                  out, err);
   free(data);
+  float m[16];
+  int dropped;
+  size_t merged;
+  if (st == SATF_OK && import_hair_matrix(o, m))
+    st = import_prepare_strands(out, m, 0, path, &dropped, &merged, err);
+  if (st != SATF_OK) {
+    satf_strand_set_destroy(*out);
+    *out = NULL;
+  }
   return st;
 }
 

@@ -2,7 +2,8 @@
  * read by what it is and one with a misleading name is called by its
  * format. Each test is cheap and the formats' signatures exclude each
  * other: "HAIR", "ply\n", a TressFX version float (a .data strand count
- * read as a float is a denormal), and .data counts that fill the file. */
+ * read as a float is a denormal), .data counts that fill the file, and OBJ
+ * text (its first statement one of OBJ's keywords). */
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
@@ -30,6 +31,33 @@ static int usc_plausible(const unsigned char *b, size_t size) {
   return at == size;
 }
 
+/* Text whose first line that is neither blank nor a comment starts with an
+ * OBJ statement; the bytes up to there must be printable. */
+static int obj_plausible(const unsigned char *b, size_t size) {
+  static const char *const kw[] = {"v ",      "vn ",     "vt ", "l ",
+                                   "f ",      "o ",      "g ",  "s ",
+                                   "mtllib ", "usemtl ", NULL};
+  size_t at = 0, scan = size < 65536 ? size : 65536;
+  while (at < scan) {
+    while (at < scan &&
+           (b[at] == ' ' || b[at] == '\t' || b[at] == '\r' || b[at] == '\n'))
+      at++;
+    if (at < scan && b[at] == '#') { /* a comment: to its end of line */
+      for (; at < scan && b[at] != '\n'; at++)
+        if (b[at] < 0x09 || b[at] == 0x7f)
+          return 0;
+      continue;
+    }
+    for (int k = 0; kw[k]; k++) {
+      size_t n = strlen(kw[k]);
+      if (size - at >= n && memcmp(b + at, kw[k], n) == 0)
+        return 1;
+    }
+    return 0;
+  }
+  return 0;
+}
+
 satf_strands_format satf_strands_detect(const void *data, size_t size) {
   const unsigned char *b = data;
   if (size >= 4 && memcmp(b, "HAIR", 4) == 0)
@@ -45,6 +73,8 @@ satf_strands_format satf_strands_detect(const void *data, size_t size) {
   }
   if (usc_plausible(b, size))
     return SATF_STRANDS_USC;
+  if (obj_plausible(b, size))
+    return SATF_STRANDS_OBJ;
   return SATF_STRANDS_UNKNOWN;
 }
 
@@ -58,6 +88,7 @@ satf_strands_format satf_strands_format_of_name(const char *path) {
          : has_suffix(path, ".tfx")  ? SATF_STRANDS_TFX
          : has_suffix(path, ".ply")  ? SATF_STRANDS_PLY
          : has_suffix(path, ".data") ? SATF_STRANDS_USC
+         : has_suffix(path, ".obj")  ? SATF_STRANDS_OBJ
                                      : SATF_STRANDS_UNKNOWN;
 }
 
@@ -67,6 +98,7 @@ const char *satf_strands_format_name(satf_strands_format f) {
   case SATF_STRANDS_TFX: return "TressFX";
   case SATF_STRANDS_PLY: return "PLY";
   case SATF_STRANDS_USC: return "USC-HairSalon .data";
+  case SATF_STRANDS_OBJ: return "OBJ";
   default: return "unknown";
   }
 }

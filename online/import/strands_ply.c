@@ -5,8 +5,8 @@
  *     one integer per strand: its point count (property `vertex_count`,
  *     `vertices`, `num_vertices`, `nverts`, `num_points`, `points` or
  *     `count`) or its segment count (`segments`, `num_segments`,
- *     `segment_count`: one point more), the strands' points following each
- *     other in vertex order; or
+ *     `segment_count`, `nsegs`, `num_segs`: one point more), the strands'
+ *     points following each other in vertex order; or
  *   - an `edge` element of vertex index pairs (`vertex1`, `vertex2`, as
  *     MeshLab and Blender write them), chained into polylines: each chain
  *     runs from its lower-numbered end.
@@ -27,8 +27,8 @@
 static const char *const COUNT_NAMES[] = {
     "vertex_count", "vertices", "num_vertices", "nverts",
     "num_points",   "points",   "count",        NULL};
-static const char *const SEGMENT_NAMES[] = {"segments", "num_segments",
-                                            "segment_count", NULL};
+static const char *const SEGMENT_NAMES[] = {
+    "segments", "num_segments", "segment_count", "nsegs", "num_segs", NULL};
 static const char *const STRAND_ELEMENTS[] = {"strand", "strands", "hair",
                                               "curve", NULL};
 
@@ -131,6 +131,17 @@ static satf_status plan_strands(const char *name, const ply_header *h,
     else if (strcmp(en, "edge") == 0 && pl->edge < 0)
       pl->edge = i;
   }
+  /* an element of another name whose property is a count is the strands'
+   * too (writers name it as they like; the property names are the sign) */
+  for (int i = 0; i < h->n_elements && pl->strand < 0; i++) {
+    const ply_element *e = &h->elements[i];
+    if (i == pl->vertex || i == pl->edge || strcmp(e->name, "face") == 0)
+      continue;
+    for (int p = 0; p < e->n_props; p++)
+      if (!e->props[p].is_list && (in_list(e->props[p].name, SEGMENT_NAMES) ||
+                                   in_list(e->props[p].name, COUNT_NAMES)))
+        pl->strand = i;
+  }
   satf_status st = plan_vertex(name, h, pl, err);
   if (st != SATF_OK)
     return st;
@@ -144,15 +155,17 @@ static satf_status plan_strands(const char *name, const ply_header *h,
         pl->plus = seg;
       }
     }
-    if (pl->count_prop < 0)
+    if (pl->count_prop >= 0)
+      return SATF_OK;
+    if (pl->edge < 0)
       return satf_error_set(err, SATF_ERR_FORMAT,
                             "%s: the `%s` element has no point count "
                             "property (vertex_count, vertices, num_vertices, "
                             "nverts, num_points, points, count) nor a "
                             "segment count (segments, num_segments, "
-                            "segment_count)",
+                            "segment_count, nsegs, num_segs)",
                             name, s->name);
-    return SATF_OK;
+    pl->strand = -1; /* no counts: the edges say which points join */
   }
   if (pl->edge >= 0) {
     const ply_element *e = &h->elements[pl->edge];

@@ -16,6 +16,9 @@ struct satf_image {
   char *names[SATF_IMAGE_MAX_CHANNELS];
   float *data;         /* nchannels planes of width * height, top row first */
   float background[3]; /* behind the premultiplied R, G, B */
+  /* the camera it was seen from (satf_image_set_camera), row-major */
+  int has_camera;
+  float world_to_camera[16], world_to_ndc[16];
 };
 
 static size_t plane_size(const satf_image *img) {
@@ -177,14 +180,75 @@ void satf_image_flatten(satf_image *img) {
 
 /* ---- OpenEXR ----------------------------------------------------------- */
 
+void satf_image_set_camera(satf_image *img, const float world_to_camera[16],
+                           const float world_to_ndc[16]) {
+  memcpy(img->world_to_camera, world_to_camera, sizeof img->world_to_camera);
+  memcpy(img->world_to_ndc, world_to_ndc, sizeof img->world_to_ndc);
+  img->has_camera = 1;
+}
+
+int satf_image_camera(const satf_image *img, float world_to_camera[16],
+                      float world_to_ndc[16]) {
+  if (img->has_camera) {
+    memcpy(world_to_camera, img->world_to_camera, sizeof img->world_to_camera);
+    memcpy(world_to_ndc, img->world_to_ndc, sizeof img->world_to_ndc);
+  }
+  return img->has_camera;
+}
+
+/* The camera as the standard header attributes (OpenEXR's standard
+ * attributes, as Nuke and Blender write them): Imath matrices multiply row
+ * vectors, so they are the transposes of the column-vector matrices the
+ * renderer keeps. */
+static satf_status camera_attrs(void *ctx, exr_context_t exr, int part,
+                                satf_error *err) {
+  const satf_image *img = ctx;
+  if (!img->has_camera)
+    return SATF_OK;
+  const float *m[2] = {img->world_to_camera, img->world_to_ndc};
+  static const char *const names[2] = {"worldToCamera", "worldToNDC"};
+  for (int k = 0; k < 2; k++) {
+    exr_attr_m44f_t t;
+    for (int i = 0; i < 4; i++)
+      for (int j = 0; j < 4; j++)
+        t.m[4 * i + j] = m[k][4 * j + i];
+    if (exr_attr_set_m44f(exr, part, names[k], &t) != EXR_ERR_SUCCESS)
+      return satf_error_set(err, SATF_ERR_IO, "cannot write the %s attribute",
+                            names[k]);
+  }
+  return SATF_OK;
+}
+
+/* The channel's name in a file of layers (AOVs): every channel of one
+ * view layer, LAYER.PASS.CHANNEL, as Blender and Nuke write multilayer
+ * files, the beauty as its "Combined" pass and Z as "Depth" (a compositor
+ * lists a channel without a layer under an unnamed layer, which Blender's
+ * image node cannot select). A file without layers keeps R G B A Z. */
+static void file_channel_name(const char *name, int layered, char *out,
+                              size_t size) {
+  if (!layered)
+    snprintf(out, size, "%s", name);
+  else if (strchr(name, '.'))
+    snprintf(out, size, "%s.%s", SATF_IMAGE_VIEW_LAYER, name);
+  else
+    snprintf(out, size, "%s.%s.%s", SATF_IMAGE_VIEW_LAYER,
+             strcmp(name, "Z") == 0 ? "Depth" : "Combined", name);
+}
+
 static satf_status write_exr(const satf_image *img, const char *path,
                              exr_pixel_type_t type, satf_error *err) {
   satf_exr_channel channels[SATF_IMAGE_MAX_CHANNELS];
+  char names[SATF_IMAGE_MAX_CHANNELS][SATF_IMAGE_MAX_NAME + 32];
+  int layered = 0;
+  for (int c = 0; c < img->nchannels; c++)
+    layered |= strchr(img->names[c], '.') != NULL;
   for (int c = 0; c < img->nchannels; c++) {
-    channels[c].name = img->names[c];
+    file_channel_name(img->names[c], layered, names[c], sizeof names[c]);
+    channels[c].name = names[c];
     channels[c].data = satf_image_const_plane(img, c);
   }
-  satf_exr_write_opts opts = {type, EXR_COMPRESSION_ZIP, NULL, NULL, 0};
+  satf_exr_write_opts opts = {type, EXR_COMPRESSION_ZIP, camera_attrs,
+                              (void *)img, 0};
   return satf_exr_write(path, img->width, img->height, channels, img->nchannels,
                         &opts, err);
 }

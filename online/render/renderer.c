@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mat4.h"
 #include "path.h"
 #include "satf/common.h"
 #include "shaders.h"
@@ -311,6 +312,11 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
     return st;
   }
   satf_image_set_background(img, r->scene->background);
+  /* the camera as a compositor reads it (worldToCamera, worldToNDC) */
+  float look[16], proj[16], viewproj[16];
+  view_matrices(&r->view, look, proj);
+  satf_mat4_mul(proj, look, viewproj);
+  satf_image_set_camera(img, look, viewproj);
   *out = img;
   return SATF_OK;
 }

@@ -257,6 +257,10 @@ satf_status satf_sequence_render(satf_renderer *r, const satf_scene *scene,
   double t0 = satf_now_seconds();
   satf_scene *snap = NULL;
   for (int f = o->first; f <= o->last && st == SATF_OK; f++) {
+    if (o->stop && *o->stop) {
+      stats->interrupted = 1;
+      break;
+    }
     char exr[4096] = "", png[4096] = "";
     if (o->exr_pattern)
       frame_path(o->exr_pattern, f, exr, sizeof exr);

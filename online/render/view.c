@@ -95,9 +95,9 @@ void view_key_light(const view *v, float viewproj[16], float *radius) {
   *radius = rad;
 }
 
-void view_camera(const view *v, float viewproj[16]) {
+void view_matrices(const view *v, float look[16], float proj[16]) {
   const satf_scene_camera *cam = &v->camera;
-  float c[3], rad = view_radius(v, c), look[16], proj[16];
+  float c[3], rad = view_radius(v, c);
   float n = cam->near_clip, f = cam->far_clip;
   if (!(n > 0.0f && f > n)) {
     float d = sqrtf(distance2(cam->position, c));
@@ -109,6 +109,11 @@ void view_camera(const view *v, float viewproj[16]) {
   satf_mat4_look_at(cam->position, cam->target, cam->up, look);
   satf_mat4_perspective(cam->fov_y, (float)v->width / (float)v->height, n, f,
                         proj);
+}
+
+void view_camera(const view *v, float viewproj[16]) {
+  float look[16], proj[16];
+  view_matrices(v, look, proj);
   /* the anti-aliasing sample's sub-pixel offset (samples.c), as a shift of
    * normalised device coordinates: x_ndc += 2 dx / width */
   float dx = 2.0f * v->jitter[0] / (float)v->width;

@@ -30,6 +30,10 @@ void view_light_local(const float inv[16], const satf_scene_light *l,
 void view_light_colors(const view *v, float *col);
 /* Centre and radius (a little more) of the scene bounds. */
 float view_radius(const view *v, float centre[3]);
+/* The camera's view (world to camera) and projection, without the
+ * sample's jitter; without explicit clip planes they hug the scene
+ * bounds. */
+void view_matrices(const view *v, float look[16], float proj[16]);
 /* The camera's view-projection with the sample's jitter; without explicit
  * clip planes they hug the scene bounds. */
 void view_camera(const view *v, float viewproj[16]);

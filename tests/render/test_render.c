@@ -356,6 +356,28 @@ static int standard_channel(const char *name) {
          (!dot || dot > name);
 }
 
+/* The file's worldToCamera and worldToNDC: the image's camera, transposed
+ * (Imath multiplies row vectors). */
+static void exr_expect_camera(const char *path, const satf_image *img) {
+  float view[16], ndc[16];
+  assert_true(satf_image_camera(img, view, ndc));
+  exr_context_t ctx = NULL;
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  assert_int_equal(exr_start_read(&ctx, path, &init), EXR_ERR_SUCCESS);
+  static const char *const names[2] = {"worldToCamera", "worldToNDC"};
+  const float *want[2] = {view, ndc};
+  for (int k = 0; k < 2; k++) {
+    const exr_attribute_t *a = NULL;
+    assert_int_equal(exr_get_attribute_by_name(ctx, 0, names[k], &a),
+                     EXR_ERR_SUCCESS);
+    assert_int_equal(a->type, EXR_ATTR_M44F);
+    for (int i = 0; i < 4; i++)
+      for (int j = 0; j < 4; j++)
+        assert_true(a->m44f->m[4 * i + j] == want[k][4 * j + i]);
+  }
+  exr_finish(&ctx);
+}
+
 /* EXR conventions: every channel is named with a
  * standard token, the beauty is R, G, B, A, colour is premultiplied over
  * transparent black (alpha 0: RGB 0), and the PNG preview is that colour
@@ -373,14 +395,21 @@ static void test_exr_premultiplied_and_named(void **state) {
   assert_int_equal(satf_image_write_png_rgb(img, png, &err), SATF_OK);
   char names[NCHANNELS + 4][64];
   assert_int_equal(exr_channel_names(exr, names, NCHANNELS + 4), NCHANNELS);
+  /* one named view layer (Blender's image node lists an unnamed one as no
+   * layer at all): satf.Combined.R for R, satf.diffuse.R for diffuse.R */
   for (int c = 0; c < NCHANNELS; c++) {
+    char want[80];
+    snprintf(want, sizeof want, "satf.%s%s",
+             strchr(all_channels[c], '.') ? "" : "Combined.", all_channels[c]);
     int found = 0;
     for (int k = 0; k < NCHANNELS; k++)
-      found |= strcmp(names[k], all_channels[c]) == 0;
-    if (!found || !standard_channel(names[c]))
-      fail_msg("channel '%s' missing or '%s' not LAYER.TOKEN", all_channels[c],
+      found |= strcmp(names[k], want) == 0;
+    if (!found || !standard_channel(names[c]) ||
+        strncmp(names[c], "satf.", 5) != 0)
+      fail_msg("channel '%s' missing or '%s' not satf.PASS.TOKEN", want,
                names[c]);
   }
+  exr_expect_camera(exr, img);
   float *p[4] = {NULL};
   int w = 0, h = 0;
   assert_int_equal(

@@ -250,12 +250,12 @@ static void resume_finishes_a_killed_batch(void **state) {
     snprintf(old, sizeof old, "%s/f_%03d.exr", dir_b, k);
     remove(old);
   }
-  satf_sequence_opts full = {1, 5, pat_a, NULL, NULL, 0, 0, 1, 0};
+  satf_sequence_opts full = {1, 5, pat_a, NULL, NULL, 0, 0, 1, 0, NULL};
   satf_sequence_stats st;
   assert_int_equal(satf_sequence_render(r, anim, &full, &st, &err), SATF_OK);
   assert_int_equal(st.rendered, 5);
   /* the "killed" batch: frames 1-2 complete, frame 3 cut short */
-  satf_sequence_opts part = {1, 2, pat_b, NULL, NULL, 0, 0, 1, 0};
+  satf_sequence_opts part = {1, 2, pat_b, NULL, NULL, 0, 0, 1, 0, NULL};
   assert_int_equal(satf_sequence_render(r, anim, &part, &st, &err), SATF_OK);
   char f3a[700], f3b[700];
   snprintf(f3a, sizeof f3a, "%s/f_003.exr", dir_a);
@@ -267,7 +267,7 @@ static void resume_finishes_a_killed_batch(void **state) {
   fwrite(bytes, 1, n / 2, f);
   fclose(f);
   free(bytes);
-  satf_sequence_opts resume = {1, 5, pat_b, NULL, sheet, 1, 0, 1, 0};
+  satf_sequence_opts resume = {1, 5, pat_b, NULL, sheet, 1, 0, 1, 0, NULL};
   assert_int_equal(satf_sequence_render(r, anim, &resume, &st, &err), SATF_OK);
   assert_int_equal(st.skipped, 2);
   assert_int_equal(st.rendered, 3);

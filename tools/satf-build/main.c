@@ -51,6 +51,11 @@ static void usage(FILE *out) {
       "                      shard file: independent tasks of a farm queue;\n"
       "                      satf-db merge joins the N shards into the\n"
       "                      database this command writes without --shard\n"
+      "  --install-default   write the tools' default database where they\n"
+      "                      look when nothing names one: PREFIX/share/satf\n"
+      "                      beside this program's bin/ ($SATF_DATA_DIR when\n"
+      "                      set); without --kind both the Phong\n"
+      "                      (satf-default) and fibre (satf-fiber) ones\n"
       "  -q, --quiet         no progress output\n"
       "  -h, --help          this help\n"
       "\n"
@@ -73,6 +78,9 @@ typedef struct options {
   long shard, shards; /* --shard I/N; shards 0: the whole build */
   int width_set;      /* --width given: --kind fiber keeps it */
   int samples_set;    /* --samples given: --kind fiber keeps it */
+  int kind_set;       /* --kind given */
+  int install;        /* --install-default: -o is the installed default */
+  char install_path[4096];
 } options;
 
 /* --levels A,B,...: ascending absorption levels. */
@@ -118,6 +126,7 @@ static int parse_fiber_option(satf_cli_args *it, options *o) {
               val);
       return -1;
     }
+    o->kind_set = 1;
     return 0;
   }
   if (satf_cli_is(it, NULL, "--levels"))
@@ -208,7 +217,9 @@ static int parse_option(satf_cli_args *it, options *o) {
   int fo = parse_fiber_option(it, o);
   if (fo != 1)
     return fo;
-  if (satf_cli_is(it, NULL, "--no-shadow")) {
+  if (satf_cli_is(it, NULL, "--install-default")) {
+    o->install = 1;
+  } else if (satf_cli_is(it, NULL, "--no-shadow")) {
     p->trace.self_shadow = 0;
   } else if (satf_cli_is(it, "-q", "--quiet")) {
     o->quiet = 1;
@@ -234,6 +245,58 @@ static int parse_option(satf_cli_args *it, options *o) {
     satf_cli_unknown(it);
     return -1;
   }
+  return 0;
+}
+
+/* mkdir -p path; 0 when it is a folder at the end. */
+static int make_dirs(const char *path) {
+  char buf[4096];
+  int len = snprintf(buf, sizeof buf, "%s", path);
+  if (len <= 0 || (size_t)len >= sizeof buf)
+    return -1;
+  for (char *c = buf + 1; *c; c++)
+    if (*c == '/') {
+      *c = '\0';
+      (void)mkdir(buf, 0755); /* an existing one is checked below */
+      *c = '/';
+    }
+  struct stat sb;
+  return mkdir(buf, 0755) == 0 || (stat(buf, &sb) == 0 && S_ISDIR(sb.st_mode))
+             ? 0
+             : -1;
+}
+
+/* --install-default: the output is the installed default of the kind, in
+ * the folder every tool looks in when nothing names a database. */
+static int install_output(options *o) {
+  char dir[4096];
+  if (o->out) {
+    fprintf(stderr, "%s: give -o or --install-default, not both\n", PROG);
+    return -1;
+  }
+  if (o->shards > 0) {
+    fprintf(stderr,
+            "%s: --install-default builds whole databases, not a "
+            "--shard\n",
+            PROG);
+    return -1;
+  }
+  if (satf_data_dir(dir, sizeof dir) != 0 || make_dirs(dir) != 0) {
+    fprintf(stderr,
+            "%s: --install-default: cannot make the data folder %s: "
+            "%s\n",
+            PROG, dir, strerror(errno));
+    return -1;
+  }
+  int len =
+      snprintf(o->install_path, sizeof o->install_path, "%s/%s", dir,
+               o->p.kind == SATF_RECORD_FIBER ? "satf-fiber.hrirdb.exr"
+                                              : "satf-default.hrirdb.exr");
+  if (len <= 0 || (size_t)len >= sizeof o->install_path) {
+    fprintf(stderr, "%s: --install-default: %s: path too long\n", PROG, dir);
+    return -1;
+  }
+  o->out = o->install_path;
   return 0;
 }
 
@@ -263,8 +326,12 @@ static int parse_args(int argc, char **argv, options *o) {
             "--angles with at least %d lights\n",
             PROG, o->p.n_light, (double)o->p.fiber.beta_n,
             satf_fiber_trace_min_lights(o->p.fiber.beta_n));
+  if (o->install && install_output(o) != 0)
+    return 2;
   if (!o->out) {
-    fprintf(stderr, "%s: no output file: give -o DATABASE.exr (see --help)\n",
+    fprintf(stderr,
+            "%s: no output file: give -o DATABASE.exr or --install-default "
+            "(see --help)\n",
             PROG);
     return 2;
   }
@@ -477,6 +544,29 @@ static int build_here(const options *o, int nthreads) {
   return 0;
 }
 
+/* --install-default without --kind: the fibre database after the Phong
+ * one, with the same options. */
+static int install_fiber_too(int argc, char **argv) {
+  char **args = malloc(((size_t)argc + 3) * sizeof *args);
+  if (!args) {
+    fprintf(stderr, "%s: out of memory\n", PROG);
+    return 1;
+  }
+  memcpy(args, argv, (size_t)argc * sizeof *args);
+  static char kind[] = "--kind", fiber[] = "fiber";
+  args[argc] = kind;
+  args[argc + 1] = fiber;
+  args[argc + 2] = NULL;
+  options o;
+  int rc = parse_args(argc + 2, args, &o);
+  if (rc < 0)
+    rc = check_options(&o);
+  if (rc < 0)
+    rc = build_here(&o, o.threads > 0 ? (int)o.threads : satf_cpu_count());
+  free(args);
+  return rc;
+}
+
 int main(int argc, char **argv) {
 #ifdef SATF_MPI
   satf_mpi m;
@@ -490,14 +580,25 @@ int main(int argc, char **argv) {
   if (rc < 0)
     rc = check_options(&o);
   int nthreads = o.threads > 0 ? (int)o.threads : satf_cpu_count();
+  int ranks = 1;
 #ifdef SATF_MPI
   satf_mpi_unmute(muted);
   rc = satf_mpi_share_status(&m, rc); /* rank 0's output check decides */
+  ranks = m.size;
   if (rc < 0 && m.size > 1)
     rc = build_mpi(&m, &o, nthreads);
   satf_mpi_stop(&m);
 #endif
   if (rc < 0)
     rc = build_here(&o, nthreads);
+  if (rc == 0 && o.install && !o.kind_set && ranks > 1) {
+    fprintf(stderr,
+            "%s: under mpirun --install-default builds one kind: "
+            "run it again with --kind fiber\n",
+            PROG);
+    return rc;
+  }
+  if (rc == 0 && o.install && !o.kind_set)
+    rc = install_fiber_too(argc, argv);
   return rc;
 }

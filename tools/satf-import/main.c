@@ -25,9 +25,10 @@ static void usage(FILE *out) {
       "\n"
       "Imports strand hair (cyHair .hair, TressFX 3.x/4.x .tfx, strand "
       ".ply with\n"
-      "a strand element of point counts or edges, USC-HairSalon .data; "
-      "the format\n"
-      "is read from the bytes; several files go into one scene) as SATF\n"
+      "a strand element of point counts or edges, OBJ `l` polylines,\n"
+      "USC-HairSalon .data; the format is read from the bytes; several "
+      "files go\n"
+      "into one scene) as SATF\n"
       "clusters: k-means on the strands, a\n"
       "generalized cylinder fitted to each cluster, macro-clusters for\n"
       "clusters that match after a similarity transform, and density.\n"
@@ -70,13 +71,11 @@ static void usage(FILE *out) {
       "                         cluster length (default 0.05; 0 = off)\n"
       "  --db PATH              HRIR database to name in the scene "
       "(default: the\n"
-      "                         project's out/satf-default.hrirdb.exr, or\n"
-      "                         out/satf-fiber.hrirdb.exr with --shading\n"
-      "                         physical, when "
-      "this\n"
-      "                         program runs from a build in the project "
-      "and it\n"
-      "                         exists); --database is the same\n"
+      "                         installed PREFIX/share/satf/satf-default.\n"
+      "                         hrirdb.exr, or satf-fiber.hrirdb.exr with\n"
+      "                         --shading physical; from a build in the\n"
+      "                         project, its out/ ones); --database is the\n"
+      "                         same\n"
       "  --no-strands           do not write the strands beside the scene "
       "(default:\n"
       "                         SCENE.strands-XXXXXXXX.hair, cyHair, in scene\n"
@@ -86,6 +85,11 @@ static void usage(FILE *out) {
       "  --mesh-transform T     where the mesh goes, e.g. 'scale=0.2;\n"
       "                         rotate=1,0,0,-90;translate=0,-2,0' (scaled,\n"
       "                         rotated about the axis by degrees, moved)\n"
+      "  --up y|z               the inputs' up axis: z for Blender's and\n"
+      "                         other Z-up files, turned upright by\n"
+      "                         (x, y, z) -> (x, z, -y) before the\n"
+      "                         transforms (default y)\n"
+      "  --transform T          where the hair goes, as --mesh-transform\n"
       "  --frames A-B           INPUT is a per-frame pattern "
       "(frame_%%04d.hair):\n"
       "                         frame A defines the clusters, every frame is\n"
@@ -154,36 +158,37 @@ static int parse_numbers(const char *text, int n, double *v) {
   return 0;
 }
 
-/* --mesh-transform "translate=X,Y,Z;rotate=AX,AY,AZ,DEG;scale=S|SX,SY,SZ",
- * parts in any order, each at most once; composed as a scene mesh's
- * "transform" (scale, then rotate, then translate). */
-static int parse_mesh_transform(const char *text, satf_import_options *o) {
+/* --mesh-transform or --transform
+ * "translate=X,Y,Z;rotate=AX,AY,AZ,DEG;scale=S|SX,SY,SZ", parts in any
+ * order; composed as a scene mesh's "transform" (scale, then rotate, then
+ * translate) into t, axis, deg and scale. */
+static int parse_transform(const char *flag, const char *text, double t[3],
+                           double axis[3], double *deg, double scale[3]) {
   char buf[512];
   snprintf(buf, sizeof buf, "%s", text);
   int ok = strlen(text) < sizeof buf && *text;
   for (char *part = strtok(buf, ";"); part && ok; part = strtok(NULL, ";")) {
     double v[4];
     if (!strncmp(part, "translate=", 10) && !parse_numbers(part + 10, 3, v))
-      memcpy(o->mesh_translate, v, sizeof o->mesh_translate);
+      memcpy(t, v, 3 * sizeof *t);
     else if (!strncmp(part, "rotate=", 7) && !parse_numbers(part + 7, 4, v) &&
              v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > 0.0) {
-      memcpy(o->mesh_axis, v, sizeof o->mesh_axis);
-      o->mesh_angle_deg = v[3];
+      memcpy(axis, v, 3 * sizeof *axis);
+      *deg = v[3];
     } else if (!strncmp(part, "scale=", 6) && !parse_numbers(part + 6, 1, v) &&
                v[0] > 0.0)
-      o->mesh_scale[0] = o->mesh_scale[1] = o->mesh_scale[2] = v[0];
+      scale[0] = scale[1] = scale[2] = v[0];
     else if (!strncmp(part, "scale=", 6) && !parse_numbers(part + 6, 3, v) &&
              v[0] > 0.0 && v[1] > 0.0 && v[2] > 0.0)
-      memcpy(o->mesh_scale, v, sizeof o->mesh_scale);
+      memcpy(scale, v, 3 * sizeof *scale);
     else
       ok = 0;
   }
   if (!ok)
     fprintf(stderr,
-            "%s: --mesh-transform: expected translate=X,Y,Z;rotate=AX,AY,AZ,"
-            "DEG;scale=S (any of them, positive scale, non-zero axis), got "
-            "'%s'\n",
-            PROG, text);
+            "%s: %s: expected translate=X,Y,Z;rotate=AX,AY,AZ,DEG;scale=S "
+            "(any of them, positive scale, non-zero axis), got '%s'\n",
+            PROG, flag, text);
   return ok ? 0 : 2;
 }
 
@@ -219,7 +224,28 @@ static int value_option(satf_cli_args *it, satf_import_options *o) {
   if (satf_cli_is(it, NULL, "--mesh"))
     return satf_cli_value(it, &o->mesh) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--mesh-transform"))
-    return satf_cli_value(it, &val) ? 2 : parse_mesh_transform(val, o);
+    return satf_cli_value(it, &val)
+               ? 2
+               : parse_transform("--mesh-transform", val, o->mesh_translate,
+                                 o->mesh_axis, &o->mesh_angle_deg,
+                                 o->mesh_scale);
+  if (satf_cli_is(it, NULL, "--transform"))
+    return satf_cli_value(it, &val)
+               ? 2
+               : parse_transform("--transform", val, o->hair_translate,
+                                 o->hair_axis, &o->hair_angle_deg,
+                                 o->hair_scale);
+  if (satf_cli_is(it, NULL, "--up")) {
+    if (satf_cli_value(it, &val))
+      return 2;
+    if ((val[0] == 'y' || val[0] == 'z') && !val[1]) {
+      o->up_z = val[0] == 'z';
+      return 0;
+    }
+    fprintf(stderr, "%s: --up '%s': y (the default) or z (Blender's)\n", PROG,
+            val);
+    return 2;
+  }
   if (satf_cli_is(it, NULL, "--db") || satf_cli_is(it, NULL, "--database"))
     return satf_cli_value(it, &o->database) ? 2 : 0;
   if (satf_cli_is(it, NULL, "--clusters"))
@@ -339,13 +365,16 @@ static int check_files(const satf_import_options *o) {
   return 0;
 }
 
-/* The database the project's main command builds (scripts/main.sh) for
- * the shading: PROJECT/out/satf-default.hrirdb.exr (Phong records) or,
+/* The installed default database for the shading (satf_data_dir), else
+ * the one the project's main command builds (scripts/main.sh):
+ * PROJECT/out/satf-default.hrirdb.exr (Phong records) or,
  * for --shading physical, PROJECT/out/satf-fiber.hrirdb.exr, where this
  * program runs as PROJECT/BUILD/bin/satf-import. NULL when it is not
  * there. */
 static const char *default_database(int physical) {
   static char path[PATH_MAX];
+  if (satf_default_database(physical, path, sizeof path))
+    return path; /* installed (satf_data_dir) */
   char exe[PATH_MAX];
   ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
   if (n <= 0)

@@ -1,8 +1,11 @@
 /* satf-render - headless SATF rendering to OpenEXR (and PNG) through EGL. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "frontend.h"
 #include "satf/common.h"
@@ -75,6 +78,7 @@ typedef struct options {
   const char *scene_path, *db_path, *exr, *png, *mesh_path, *frames, *sheet;
   long w, h, bench, threads, samples;
   int resume, aov, quiet, composite, bg_in_exr, strands, lod;
+  int interrupted;   /* --frames stopped by a signal (render_frames) */
   float shadow_move; /* --shadow-move, -1: off, NAN: not given */
   float strand_width;
   double budget;      /* --memory-budget, bytes (0: the default) */
@@ -256,19 +260,57 @@ static satf_status render_range(const options *o, satf_renderer *r,
   return satf_sequence_render(r, scene, so, ss, err);
 }
 
+/* Ctrl-C (or a TERM) during --frames: the batch stops after the frame it
+ * is on, which is written whole, and says where it got to; a second one
+ * ends the program at once. */
+static volatile sig_atomic_t stop_frames;
+
+static void on_stop(int sig) {
+  (void)sig;
+  stop_frames = 1;
+  static const char msg[] =
+      "\nsatf-render: stopping after this frame (again to quit now)\n";
+  ssize_t w = write(STDERR_FILENO, msg, sizeof msg - 1);
+  (void)w;
+}
+
+static void catch_stop(void) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_stop;
+  sa.sa_flags = SA_RESETHAND; /* the second signal takes the default */
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+}
+
 /* --frames: the range through the sequence renderer; -o and --png were
  * patterns and are done afterwards. */
 static satf_status render_frames(options *o, satf_renderer *r,
                                  const satf_scene *scene, satf_error *err) {
-  satf_sequence_opts so = {0,         0,      o->exr,   o->png,      o->sheet,
-                           o->resume, o->aov, o->quiet, o->bg_in_exr};
+  satf_sequence_opts so = {
+      0,         0,      o->exr,   o->png,       o->sheet,
+      o->resume, o->aov, o->quiet, o->bg_in_exr, &stop_frames};
   satf_sequence_stats ss;
   satf_status st =
       satf_frontend_frame_range(scene, o->frames, &so.first, &so.last, err);
+  catch_stop();
   if (st == SATF_OK)
     st = render_range(o, r, scene, &so, &ss, err);
   if (st != SATF_OK)
     return st;
+  if (ss.interrupted) { /* what is done is on disk: the job ends there */
+    int total = so.last - so.first + 1, done = ss.rendered + ss.skipped;
+    fprintf(stderr,
+            "%s: interrupted: frames %d-%d: %d of %d finished (%d rendered "
+            "now, %d already complete), %d left; the same command with "
+            "--resume continues from there\n",
+            PROG, so.first, so.last, done, total, ss.rendered, ss.skipped,
+            total - done);
+    o->interrupted = 1;
+    o->exr = o->png = NULL;
+    return SATF_OK;
+  }
   if (!o->quiet)
     printf("%s: frames %d-%d: %d rendered, %d already complete, %.1f s "
            "(%.1f ms a frame: I %.1f C %.1f M %.1f L %.1f S %.1f)\n",
@@ -426,6 +468,8 @@ static int render_job(options *o) {
   if (run(o, &fe, &err) != SATF_OK) {
     fprintf(stderr, "%s: %s\n", PROG, err.message);
     rc = 1;
+  } else if (o->interrupted) {
+    rc = 130; /* as a shell reports a job ended by Ctrl-C */
   }
   satf_frontend_free(&fe);
   return rc;

@@ -19,13 +19,7 @@ static void usage(FILE *out) {
       "usage: %s SCENE.json [--db DB.exr] [options]\n"
       "\n"
       "Interactive SATF hair preview.\n"
-      "  mouse: left drag orbit, wheel zoom, right drag move the key light\n"
-      "  keys:  1 SATF maps  2 secondary highlight  3 self-shadow\n"
-      "         space pause/play the animation, left/right step a frame\n"
-      "         4 cluster shadows  O exact/ordered compositing\n"
-      "         S save frame (EXR + PNG)  R reset view\n"
-      "         T the source strands (the reference) / the clusters\n"
-      "         Q / Esc quit\n"
+      "%s"
       "\n"
       "options:\n"
       "  --db PATH            HRIR database (default: the scene's)\n"
@@ -43,7 +37,7 @@ static void usage(FILE *out) {
       "                       the same Table 1 row and exit\n"
       "%s%s%s%s%s"
       "  -h, --help           this help\n",
-      PROG, satf_frontend_shading_help, satf_frontend_effect_help,
+      PROG, viewer_keys, satf_frontend_shading_help, satf_frontend_effect_help,
       satf_frontend_strand_help, satf_frontend_sparse_help,
       satf_frontend_budget_help);
 }

@@ -12,6 +12,20 @@
 
 static const char *PROG = "satf-view";
 
+const char viewer_keys[] =
+    "  mouse: left drag orbit, wheel zoom, right drag move the key light\n"
+    "  keys:  1 SATF maps  2 secondary highlight  3 self-shadow\n"
+    "         space pause/play the animation, left/right step a frame\n"
+    "         4 cluster shadows  O exact/ordered compositing\n"
+    "         S save frame (EXR + PNG)  R reset view\n"
+    "         T the source strands (the reference) / the clusters\n"
+    "         H these keys (here and in the title)  Q / Esc quit\n";
+
+static void print_keys(void) {
+  printf("satf-view:\n%s", viewer_keys);
+  fflush(stdout);
+}
+
 typedef struct viewer {
   satf_renderer *r;
   satf_scene_camera home;
@@ -37,6 +51,7 @@ typedef struct viewer {
    * clusters, to judge the preview against what it approximates */
   satf_frontend *fe;
   int toggle_strands;
+  int show_keys; /* H: the title lists the keys */
 } viewer;
 
 static void place_camera(viewer *v) {
@@ -97,6 +112,11 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods) {
                                           : SATF_COMPOSITE_EXACT);
     break;
   case GLFW_KEY_R: reset_view(v); break;
+  case GLFW_KEY_H:
+    v->show_keys = !v->show_keys;
+    if (v->show_keys)
+      print_keys();
+    break;
   case GLFW_KEY_SPACE: v->paused = !v->paused; break;
   case GLFW_KEY_RIGHT:
     v->paused = 1;
@@ -311,6 +331,12 @@ static void update_title(viewer *v, GLFWwindow *gw) {
            satf_renderer_composite(v->r) == SATF_COMPOSITE_EXACT ? "exact"
                                                                  : "ordered",
            satf_renderer_strand_count(v->r) > 0 ? "strands" : "clusters");
+  if (v->show_keys)
+    snprintf(title, sizeof title,
+             "satf-view keys (H hides them): drag orbit, wheel zoom, right "
+             "drag light | 1 maps 2 specII 3 self-shadow 4 cluster shadows O "
+             "compositing T strands | S save R reset space play left/right "
+             "step Q quit");
   glfwSetWindowTitle(gw, title);
 }
 
@@ -414,6 +440,8 @@ satf_status viewer_run(satf_gl_window *win, satf_frontend *fe,
     satf_renderer_destroy(v.r);
     return st;
   }
+  if (st == SATF_OK)
+    print_keys();
   long frame = 0;
   int done = 0;
   while (st == SATF_OK && !done && !satf_gl_window_should_close(win)) {

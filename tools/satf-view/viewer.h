@@ -6,6 +6,9 @@
 #include "frontend.h"
 #include "satf/gl.h"
 
+/* The mouse and keys, as --help, the start and the H key list them. */
+extern const char viewer_keys[];
+
 typedef struct viewer_opts {
   satf_scene_effects off; /* effects switched off on the command line */
   int composite;          /* satf_composite */
