@@ -204,6 +204,12 @@ const char *satf_strands_format_name(satf_strands_format f);
  * 4,000 strands: 0.04-0.06). */
 #define SATF_IMPORT_SHELL_STRAND_WIDTH 0.08
 
+/* The width (a diameter) of strands whose files give none, in units of
+ * the hair's bounding-box diagonal: a hair fibre (70 um across a head of
+ * hair some 7 cm deep and 60 cm long at its longest), the width the
+ * measuring reference draws them at. */
+#define SATF_IMPORT_FIBRE_WIDTH 1e-3
+
 /* Called now and then from the calling thread; may be NULL. */
 typedef void (*satf_import_progress_fn)(void *ctx, size_t done, size_t total);
 
@@ -440,14 +446,16 @@ typedef struct satf_import_fit_stats {
   float area_per_strand[3];
   float aspect[3]; /* p50, p10 and min: low is bad */
   int worst_trajectory, worst_aspect;
-  int rings;       /* clusters shorter than their diameter, drawn as shells */
-  int over;        /* clusters over the tolerance (when one was given) */
-  int single;      /* clusters of one strand */
-  int as_strands;  /* clusters the renderer draws as their strands by
-                      default (satf_scene_tracks_as_strands) */
-  int tufts;       /* those of them with more than SATF_SCENE_SPARSE_STRANDS
-                      strands: tufts of short strands */
-  float tolerance; /* 0: none */
+  int rings;      /* clusters shorter than their diameter, drawn as shells */
+  int over;       /* clusters over the tolerance (when one was given) */
+  int single;     /* clusters of one strand */
+  int as_strands; /* clusters the renderer draws as their strands by
+                     default (satf_scene_tracks_as_strands) */
+  int tufts;      /* those of them with more than SATF_SCENE_SPARSE_STRANDS
+                     strands: tufts of short strands */
+  long long strands, shell_strands; /* strands in all clusters, and in
+                                       those drawn as shells */
+  float tolerance;                  /* 0: none */
 } satf_import_fit_stats;
 
 void satf_import_fit_stats_compute(const satf_import_fit *fits, int n,
@@ -498,8 +506,8 @@ satf_status satf_import_spacing_widths(const satf_strand_set *s, int threads,
  * widened to fill the cluster. A one-strand cluster narrower than its
  * strand grows round it instead (A and B up, its tracks down by as much:
  * the strand stays in place) and takes strand_width 2. Nothing changes
- * without thickness (satf_import_run gives strands without one a width
- * from their spacing: satf_import_spacing_widths). */
+ * without thickness (satf_import_run gives strands without one a hair
+ * fibre's width, SATF_IMPORT_FIBRE_WIDTH). */
 void satf_import_width_from_thickness(const satf_strand_set *s,
                                       const int *members, int n,
                                       satf_import_fit *fit);
@@ -699,15 +707,15 @@ typedef struct satf_import_options {
   satf_import_quality quality;
   double tolerance;
   const char *fit_report; /* per-cluster fit measures written here, or NULL */
-  long follow;            /* TressFX followers per guide; -1: the file's */
-  long control;           /* trajectory control points */
-  long threads;           /* 0: all cores */
-  double voxel;           /* VDB voxel size; 0: from the clusters */
-  double follow_radius;   /* < 0: the guides' mean root spacing */
+  long follow;  /* TressFX followers per guide; -1: satf_import_follow_count */
+  long control; /* trajectory control points */
+  long threads; /* 0: all cores */
+  double voxel; /* VDB voxel size; 0: from the clusters */
+  double follow_radius; /* < 0: the guides' mean root spacing */
   double tip_separation;
   /* > 0: the width (a diameter, in the input's units) of every strand whose
-   * file gives none; 0: twice the spacing of neighbouring strands
-   * (satf_import_spacing_widths) */
+   * file gives none; 0: a hair fibre's, SATF_IMPORT_FIBRE_WIDTH of the
+   * hair's bounding-box diagonal */
   double strand_width;
   double macro_tol; /* 0: no macro-clusters */
   uint64_t seed;
@@ -747,6 +755,22 @@ satf_status satf_import_check_budget(const satf_import_options *o,
 satf_status satf_import_read_strands(const char *path,
                                      const satf_import_options *o,
                                      satf_strand_set **out, satf_error *err);
+/* The same; *followers receives the follow strands added per TressFX
+ * guide (satf_import_follow_count), -1 for the other formats. */
+satf_status satf_import_read_strands_followed(const char *path,
+                                              const satf_import_options *o,
+                                              satf_strand_set **out,
+                                              int *followers, satf_error *err);
+
+/* Follow strands per guide when the header names none: what AMD's TressFX
+ * loader (TressFXAsset) grows around each guide unless the engine asks
+ * otherwise, so a guide file draws as dense as in TressFX's own viewer. */
+#define SATF_IMPORT_TFX_FOLLOW 4
+
+/* Followers per TressFX guide: --follow's (o->follow >= 0), else the
+ * header's numFollowStrandsPerGuide when it names some, else
+ * SATF_IMPORT_TFX_FOLLOW. */
+int satf_import_follow_count(const satf_import_options *o, int header_follow);
 
 /* Fits every cluster of labels (in parallel) and estimates its density:
  * fits[c] for c < n_clusters. On failure the message is the first
@@ -786,11 +810,14 @@ typedef struct satf_import_result {
   /* what the strands were multiplied by to fit the scene limits (1: not
    * rescaled; satf_import_run) */
   double scale;
-  /* strands without thickness: the width given them (from their spacing,
-   * or --strand-width), p10 / p50 / p90 over the strands (0 when the files
+  /* strands without thickness: the width given them (a hair fibre's, or
+   * --strand-width), p10 / p50 / p90 over the strands (0 when the files
    * give a thickness) */
   float spacing_width[3];
   int strand_width_given; /* 1: they are --strand-width's */
+  /* TressFX inputs: follow strands grown per guide (the first such file's)
+   * and the guides they grew from; follow -1 when no input is TressFX */
+  int follow, guides;
   /* 1 when --mesh was given and no strand root lies in or near the
    * transformed mesh's bounds (the head is probably misplaced) */
   int mesh_apart;
