@@ -205,9 +205,10 @@ const char *satf_strands_format_name(satf_strands_format f);
 #define SATF_IMPORT_SHELL_STRAND_WIDTH 0.08
 
 /* The width (a diameter) of strands whose files give none, in units of
- * the hair's bounding-box diagonal: a hair fibre (70 um across a head of
- * hair some 7 cm deep and 60 cm long at its longest), the width the
- * measuring reference draws them at. */
+ * the hair's bounding-box diagonal: what the measuring reference draws
+ * (Cycles' hair at a radius of 5e-4 of the diagonal), under a pixel when
+ * the default camera frames the hair, as fibres are (the shared
+ * ponytail's: 0.18 units, 0.6 pixels at 640x480). */
 #define SATF_IMPORT_FIBRE_WIDTH 1e-3
 
 /* Called now and then from the calling thread; may be NULL. */
@@ -446,16 +447,16 @@ typedef struct satf_import_fit_stats {
   float area_per_strand[3];
   float aspect[3]; /* p50, p10 and min: low is bad */
   int worst_trajectory, worst_aspect;
-  int rings;      /* clusters shorter than their diameter, drawn as shells */
-  int over;       /* clusters over the tolerance (when one was given) */
-  int single;     /* clusters of one strand */
-  int as_strands; /* clusters the renderer draws as their strands by
-                     default (satf_scene_tracks_as_strands) */
-  int tufts;      /* those of them with more than SATF_SCENE_SPARSE_STRANDS
-                     strands: tufts of short strands */
-  long long strands, shell_strands; /* strands in all clusters, and in
-                                       those drawn as shells */
-  float tolerance;                  /* 0: none */
+  int rings;       /* clusters shorter than their diameter, drawn as shells */
+  int over;        /* clusters over the tolerance (when one was given) */
+  int single;      /* clusters of one strand */
+  int as_strands;  /* clusters the renderer draws as their strands by
+                      default (satf_scene_tracks_as_strands) */
+  int tufts;       /* those of them with more than SATF_SCENE_SPARSE_STRANDS
+                      strands: tufts of short strands */
+  float tolerance; /* 0: none */
+  /* strands in all clusters, and in those drawn as shells */
+  long long strands, shell_strands;
 } satf_import_fit_stats;
 
 void satf_import_fit_stats_compute(const satf_import_fit *fits, int n,
@@ -707,11 +708,11 @@ typedef struct satf_import_options {
   satf_import_quality quality;
   double tolerance;
   const char *fit_report; /* per-cluster fit measures written here, or NULL */
-  long follow;  /* TressFX followers per guide; -1: satf_import_follow_count */
-  long control; /* trajectory control points */
-  long threads; /* 0: all cores */
-  double voxel; /* VDB voxel size; 0: from the clusters */
-  double follow_radius; /* < 0: the guides' mean root spacing */
+  long follow;            /* TressFX followers per guide; -1: default */
+  long control;           /* trajectory control points */
+  long threads;           /* 0: all cores */
+  double voxel;           /* VDB voxel size; 0: from the clusters */
+  double follow_radius;   /* < 0: the guides' mean root spacing */
   double tip_separation;
   /* > 0: the width (a diameter, in the input's units) of every strand whose
    * file gives none; 0: a hair fibre's, SATF_IMPORT_FIBRE_WIDTH of the
