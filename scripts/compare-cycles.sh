@@ -1,36 +1,49 @@
 #!/usr/bin/env bash
-# satf's shading against Blender Cycles' Principled Hair (path traced) on
-# the shared ponytail: the physical mode and the paper's kk mode, front-lit
-# (the importer's key and fill lights) and back-lit, at 640x480 with the
-# same camera, lights and material (melanin 0.6, redness 0, roughness 0.3,
-# radial roughness 0.3, offset 2, ior 1.55), Cycles drawing the strands at
-# the width satf's clusters assume. Prints satf-compare's figures (those of
-# ../shared/tools/fidelity.py) and writes reference | satf | difference
-# PNGs into OUT_DIR (the README's gallery). Also the strand reference
-# (`satf-render --strands`, the same fibre shading on the source strands)
-# and a lighter brown (melanin 0.2) front-lit. The strand reference is
-# drawn at Cycles' one strand width (twice its radius), as the clusters
-# are (the import's --strand-width): against hair of another width SSIM
-# measures the widths, not the shading.
-# SAMPLES is satf's anti-aliasing (--samples; Cycles filters every pixel
-# over its SPP samples): 8 adds 0.02 to the strand reference's SSIM and
-# 0.01 to the clusters'. Cycles takes minutes a
-# frame: with REF_DIR its frames are kept there and reused by later runs
-# of the same strand radius and SPP (delete them when the camera, lights or
-# material change). A measuring tool, not a test: it needs `apt-get install
-# blender` and the data in ../shared/data/hair.
+# satf against Blender Cycles' Principled Hair (path traced) on what the
+# hair looks like: Cycles renders exactly the strands satf imported (the
+# strands file satf-import writes beside the scene, followers included) at
+# a hair fibre's radius, 5e-4 of the strands' bounding-box diagonal (the
+# default of ../shared/tools/peer_cycles.py), with the same camera and
+# lights and the physical shading on both sides (melanin 0.6, redness 0,
+# roughness 0.3, radial roughness 0.3). The hairs: the shared ponytail and
+# Bangs_100, and generated fur (40K strands of 4 points), curls and a
+# straight curtain (20K strands). For the generated ones the ceiling is
+# Cycles rendering the same generator with --seed 2 against the --seed 1
+# frame: different random strands of the same statistics, what no method
+# but drawing the same strands can beat (SSIM4 is the figure to read).
+# Prints satf-compare's figures (IoU, SSIM, SSIM4, luminance, chroma; those
+# of ../shared/tools/fidelity.py) and the import's shells line and time,
+# and writes reference | satf | difference PNGs into OUT_DIR (the README's
+# gallery): cycles_HAIR.png. Also satf's own strand path (`satf-render
+# --strands`, every fibre drawn as a strand) against the same Cycles frame
+# and against satf's shells: the first measures the picture, the second
+# the shells alone. The ponytail is also rendered back-lit, and with the
+# paper's kk shading (the default database), as before.
+# RES and SPP default to the reference's 640x480 and 64 spp; Cycles takes
+# minutes a frame on two cores: with REF_DIR its frames are kept there and
+# reused by later runs of the same strands file, size and SPP (delete them
+# when the camera, lights or material change). A measuring tool, not a
+# test: it needs `apt-get install blender` and ../shared/data/hair
+# (SATF_SHARED names another place for ../shared).
 # usage: compare-cycles.sh [BUILD_DIR] [OUT_DIR] [SPP] [REF_DIR] [SAMPLES]
+#        [RES] [HAIRS]   (HAIRS: a space-separated subset of
+#        "ponytail bangs fur curls straight")
 set -euo pipefail
 build=${1:-build}
 out=${2:-docs/gallery}
-spp=${3:-32}
+spp=${3:-64}
 refs=${4:-}
 samples=${5:-1}
+res=${6:-640x480}
+hairs=${7:-ponytail bangs fur curls straight}
 cd "$(dirname "$0")/.."
-data=../shared/data/hair
-peer=../shared/tools/peer_cycles.py
-for need in blender "$data/ponytail_tail.tfx" "$peer" out/satf-fiber.hrirdb.exr \
-  out/satf-default.hrirdb.exr; do
+shared=${SATF_SHARED:-../shared} # where the shared data and tools are
+data=$shared/data/hair
+peer=$shared/tools/peer_cycles.py
+kk=
+case " $hairs " in *" ponytail "*) kk=out/satf-default.hrirdb.exr ;; esac
+for need in blender "$data/ponytail_tail.tfx" "$data/Bangs_100.hair" "$peer" \
+  out/satf-fiber.hrirdb.exr $kk; do
   if ! command -v "$need" >/dev/null 2>&1 && [ ! -e "$need" ]; then
     echo "compare-cycles: $need is missing (blender: apt-get install blender;" \
       "databases: bash scripts/main.sh)" >&2
@@ -44,68 +57,103 @@ mkdir -p "$out"
 material=(--redness 0 --roughness 0.3 --radial-roughness 0.3)
 [ -n "$refs" ] && mkdir -p "$refs"
 refs=${refs:-$work}
-# TressFX gives no thickness: satf-import gives each strand twice its
-# neighbours' spacing (p10-p90 0.34-1.18 on the ponytail), Cycles draws one
-# radius; the scene takes their median for every strand (--strand-width), so
-# both renderers draw the same strands
-width=$("$bin/satf-import" "$data"/ponytail_*.tfx -o "$work/probe.json" \
-  --no-strands 2>/dev/null | sed -n 's/^  strand width *\([0-9.e+-]*\) .*/\1/p')
-"$bin/satf-import" "$data"/ponytail_*.tfx -o "$work/pony.json" -q \
-  --shading physical --melanin 0.6 "${material[@]}" --strand-width "$width"
-# black background (the EXRs are premultiplied over black anyway), and a
-# back-lit copy with one light travelling from behind the hair to the camera;
-# the strands' median width for Cycles' radius
-radius=$(python3 - "$work" <<'PY'
-import glob, json, math, struct, sys
-w = sys.argv[1]
-s = json.load(open(w + "/pony.json"))
+
+# cycles NAME SCENE STRANDS MELANIN: Cycles' frame of STRANDS under SCENE's
+# camera and lights into $refs/NAME.exr, kept while the strands file, size
+# and SPP stay the same
+cycles() {
+  local key
+  key="$(cksum <"$3" | cut -d' ' -f1) $res $spp $4"
+  if [ ! -e "$refs/$1.exr" ] || [ "$(cat "$refs/$1.txt" 2>/dev/null)" != "$key" ]; then
+    blender -b --factory-startup --python "$peer" -- "$3" --scene "$2" --exr \
+      --out "$refs/$1.exr" --spp "$spp" --res "$res" --threads 2 \
+      --melanin "$4" "${material[@]}" | grep '^cycles:' || true
+    echo "$key" >"$refs/$1.txt"
+  fi
+}
+
+# scene_copy IN OUT [back]: IN over black without meshes (the EXRs are
+# premultiplied over black anyway); "back": one light travelling from behind
+# the hair to the camera; prints the strands file's absolute path
+scene_copy() {
+  python3 - "$@" <<'PY'
+import json, math, os, sys
+src, dst = sys.argv[1], sys.argv[2]
+s = json.load(open(src))
 s["background"] = [0, 0, 0]
-json.dump(s, open(w + "/front.json", "w"))
-c = s["camera"]
-d = [a - b for a, b in zip(c["position"], c["target"])]
-n = math.sqrt(sum(x * x for x in d))
-s["lights"] = [{"type": "directional", "color": [1, 1, 1], "intensity": 1,
-                "direction": [d[0] / n, d[1] / n - 0.15, d[2] / n]}]
-json.dump(s, open(w + "/back.json", "w"))
-f = json.load(open(w + "/front.json"))
-f["material"]["melanin"] = 0.2
-json.dump(f, open(w + "/front_blond.json", "w"))
-b = open(glob.glob(w + "/pony.strands-*.hair")[0], "rb").read()
-nh, npt, flags = struct.unpack_from("<3I", b, 4)
-off = 128 + (2 * nh if flags & 1 else 0) + 12 * npt
-th = sorted(struct.unpack_from(f"<{npt}f", b, off)) if flags & 4 else [1.0]
-print(th[len(th) // 2] / 2)
+s.pop("meshes", None)
+base = os.path.dirname(os.path.abspath(src))
+for k in ("strands", "database", "vdb"):
+    if isinstance(s.get(k), str) and not os.path.isabs(s[k]):
+        s[k] = os.path.join(base, s[k])
+if len(sys.argv) > 3 and sys.argv[3] == "back":
+    c = s["camera"]
+    d = [a - b for a, b in zip(c["position"], c["target"])]
+    n = math.sqrt(sum(x * x for x in d))
+    s["lights"] = [{"type": "directional", "color": [1, 1, 1], "intensity": 1,
+                    "direction": [d[0] / n, d[1] / n - 0.15, d[2] / n]}]
+json.dump(s, open(dst, "w"))
+print(s["strands"])
 PY
-)
-for light in front back front_blond; do
-  melanin=0.6
-  [ "$light" = front_blond ] && melanin=0.2
-  # a kept frame is reused only for the same strand radius and SPP (the
-  # import decides the strands' widths)
-  key="radius $radius spp $spp"
-  if [ ! -e "$refs/cycles_$light.exr" ] ||
-    [ "$(cat "$refs/cycles_$light.txt" 2>/dev/null)" != "$key" ]; then
-    blender -b --factory-startup --python "$peer" -- "$data"/ponytail_*.tfx \
-      --scene "$work/$light.json" --exr --out "$refs/cycles_$light.exr" \
-      --spp "$spp" --threads 2 --radius "$radius" --melanin "$melanin" \
-      "${material[@]}" >/dev/null
-    echo "$key" >"$refs/cycles_$light.txt"
+}
+
+compare() { # compare TITLE REF TEST PNG
+  echo "== $1"
+  "$bin/satf-compare" "$2" "$3" ${4:+--png "$4"} | grep -E 'IoU|SSIM|ratio|chroma'
+}
+
+for hair in $hairs; do
+  seed2=
+  case $hair in
+  ponytail) inputs=("$data"/ponytail_*.tfx) ;;
+  bangs) inputs=("$data/Bangs_100.hair") ;;
+  fur | curls | straight)
+    gen=(fur --strands 40000 --points 4)
+    [ "$hair" = curls ] && gen=(curls)
+    [ "$hair" = straight ] && gen=(straight --strands 20000 --points 32)
+    python3 scripts/gen-strands.py "${gen[@]}" -q -o "$work/$hair.hair"
+    python3 scripts/gen-strands.py "${gen[@]}" -q --seed 2 -o "$work/$hair.seed2.hair"
+    inputs=("$work/$hair.hair")
+    seed2=$work/$hair.seed2.hair
+    ;;
+  *) echo "compare-cycles: unknown hair $hair" >&2 && exit 2 ;;
+  esac
+  "$bin/satf-import" "${inputs[@]}" -o "$work/$hair.json" --shading physical \
+    --melanin 0.6 "${material[@]}" 2>/dev/null |
+    grep -E '^  (strands  |shells|followers|strand width|time)' || true
+  strands=$(scene_copy "$work/$hair.json" "$work/${hair}_front.json")
+  cycles "cycles_$hair" "$work/${hair}_front.json" "$strands" 0.6
+  start=$(date +%s%N)
+  "$bin/satf-render" "$work/${hair}_front.json" --db out/satf-fiber.hrirdb.exr \
+    -q --size "$res" --samples "$samples" -o "$work/${hair}_satf.exr"
+  echo "satf-render: $(((($(date +%s%N) - start) / 1000000))) ms, set-up included"
+  "$bin/satf-render" "$work/${hair}_front.json" --strands --shading physical \
+    -q --size "$res" --samples "$samples" -o "$work/${hair}_strands.exr"
+  compare "$hair: satf against Cycles ($res, $spp spp, fibre radius 5e-4 of the diagonal)" \
+    "$refs/cycles_$hair.exr" "$work/${hair}_satf.exr" "$out/cycles_$hair.png"
+  compare "$hair: satf's strand path against Cycles" \
+    "$refs/cycles_$hair.exr" "$work/${hair}_strands.exr" "$out/cycles_${hair}_strands.png"
+  compare "$hair: satf against its own strand path (the shells alone)" \
+    "$work/${hair}_strands.exr" "$work/${hair}_satf.exr" ""
+  if [ -n "$seed2" ]; then
+    cycles "cycles_${hair}_seed2" "$work/${hair}_front.json" "$seed2" 0.6
+    compare "$hair: ceiling, Cycles --seed 2 against --seed 1" \
+      "$refs/cycles_$hair.exr" "$refs/cycles_${hair}_seed2.exr" ""
   fi
-  "$bin/satf-render" "$work/$light.json" --db out/satf-fiber.hrirdb.exr -q \
-    --samples "$samples" -o "$work/physical_$light.exr"
-  "$bin/satf-render" "$work/$light.json" --strands --shading physical -q \
-    --strand-width "$(python3 -c "print(2 * $radius)")" \
-    --samples "$samples" -o "$work/strands_$light.exr"
-  modes=(physical strands)
-  if [ "$light" != front_blond ]; then
-    "$bin/satf-render" "$work/$light.json" --db out/satf-default.hrirdb.exr -q \
-      --shading kk --samples "$samples" -o "$work/kk_$light.exr"
-    modes+=(kk)
-  fi
-  for mode in "${modes[@]}"; do
-    echo "== $mode, ${light%_blond}-lit, melanin $melanin, against Cycles ($spp spp," \
-      "strand radius $radius), satf $samples samples"
-    "$bin/satf-compare" "$refs/cycles_$light.exr" "$work/${mode}_$light.exr" \
-      --png "$out/cycles_${mode}_$light.png"
-  done
 done
+
+# the ponytail back-lit (physical), and front-lit with the paper's kk
+# shading of the default database
+case " $hairs " in *" ponytail "*)
+  strands=$(scene_copy "$work/ponytail.json" "$work/ponytail_back.json" back)
+  cycles cycles_ponytail_back "$work/ponytail_back.json" "$strands" 0.6
+  "$bin/satf-render" "$work/ponytail_back.json" --db out/satf-fiber.hrirdb.exr \
+    -q --size "$res" --samples "$samples" -o "$work/ponytail_back.exr"
+  compare "ponytail back-lit: satf against Cycles" "$refs/cycles_ponytail_back.exr" \
+    "$work/ponytail_back.exr" "$out/cycles_ponytail_back.png"
+  "$bin/satf-render" "$work/ponytail_front.json" --db out/satf-default.hrirdb.exr \
+    -q --shading kk --size "$res" --samples "$samples" -o "$work/ponytail_kk.exr"
+  compare "ponytail, kk shading: satf against Cycles" "$refs/cycles_ponytail.exr" \
+    "$work/ponytail_kk.exr" "$out/cycles_ponytail_kk.png"
+  ;;
+esac

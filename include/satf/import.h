@@ -218,6 +218,8 @@ typedef struct satf_import_fit_stats {
   int tufts;       /* those of them with more than SATF_SCENE_SPARSE_STRANDS
                       strands: tufts of short strands */
   float tolerance; /* 0: none */
+  /* strands in all clusters, and in those drawn as shells */
+  long long strands, shell_strands;
 } satf_import_fit_stats;
 
 #define SATF_IMPORT_MAX_INPUTS 64
@@ -256,15 +258,15 @@ typedef struct satf_import_options {
   satf_import_quality quality;
   double tolerance;
   const char *fit_report; /* per-cluster fit measures written here, or NULL */
-  long follow;            /* TressFX followers per guide; -1: the file's */
+  long follow;            /* TressFX followers per guide; -1: default */
   long control;           /* trajectory control points */
   long threads;           /* 0: all cores */
   double voxel;           /* VDB voxel size; 0: from the clusters */
   double follow_radius;   /* < 0: the guides' mean root spacing */
   double tip_separation;
   /* > 0: the width (a diameter, in the input's units) of every strand whose
-   * file gives none; 0: twice the spacing of neighbouring strands
-   * (satf_import_spacing_widths) */
+   * file gives none; 0: a hair fibre's, SATF_IMPORT_FIBRE_WIDTH of the
+   * hair's bounding-box diagonal */
   double strand_width;
   double macro_tol; /* 0: no macro-clusters */
   uint64_t seed;
@@ -313,11 +315,14 @@ typedef struct satf_import_result {
   /* what the strands were multiplied by to fit the scene limits (1: not
    * rescaled; satf_import_run) */
   double scale;
-  /* strands without thickness: the width given them (from their spacing,
-   * or --strand-width), p10 / p50 / p90 over the strands (0 when the files
+  /* strands without thickness: the width given them (a hair fibre's, or
+   * --strand-width), p10 / p50 / p90 over the strands (0 when the files
    * give a thickness) */
   float spacing_width[3];
   int strand_width_given; /* 1: they are --strand-width's */
+  /* TressFX inputs: follow strands grown per guide (the first such file's)
+   * and the guides they grew from; follow -1 when no input is TressFX */
+  int follow, guides;
   /* 1 when --mesh was given and no strand root lies in or near the
    * transformed mesh's bounds (the head is probably misplaced) */
   int mesh_apart;

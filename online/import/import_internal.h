@@ -40,6 +40,13 @@
  * 0.04-0.06). */
 #define SATF_IMPORT_SHELL_STRAND_WIDTH 0.08
 
+/* The width (a diameter) of strands whose files give none, in units of
+ * the hair's bounding-box diagonal: what the measuring reference draws
+ * (Cycles' hair at a radius of 5e-4 of the diagonal), under a pixel when
+ * the default camera frames the hair, as fibres are (the shared
+ * ponytail's: 0.18 units, 0.6 pixels at 640x480). */
+#define SATF_IMPORT_FIBRE_WIDTH 1e-3
+
 /* Called now and then from the calling thread; may be NULL. */
 typedef void (*satf_import_progress_fn)(void *ctx, size_t done, size_t total);
 
@@ -307,8 +314,8 @@ satf_status satf_import_spacing_widths(const satf_strand_set *s, int threads,
  * widened to fill the cluster. A one-strand cluster narrower than its
  * strand grows round it instead (A and B up, its tracks down by as much:
  * the strand stays in place) and takes strand_width 2. Nothing changes
- * without thickness (satf_import_run gives strands without one a width
- * from their spacing: satf_import_spacing_widths). */
+ * without thickness (satf_import_run gives strands without one a hair
+ * fibre's width, SATF_IMPORT_FIBRE_WIDTH). */
 void satf_import_width_from_thickness(const satf_strand_set *s,
                                       const int *members, int n,
                                       satf_import_fit *fit);
@@ -489,6 +496,22 @@ satf_status satf_import_check_budget(const satf_import_options *o,
 satf_status satf_import_read_strands(const char *path,
                                      const satf_import_options *o,
                                      satf_strand_set **out, satf_error *err);
+/* The same; *followers receives the follow strands added per TressFX
+ * guide (satf_import_follow_count), -1 for the other formats. */
+satf_status satf_import_read_strands_followed(const char *path,
+                                              const satf_import_options *o,
+                                              satf_strand_set **out,
+                                              int *followers, satf_error *err);
+
+/* Follow strands per guide when the header names none: what AMD's TressFX
+ * loader (TressFXAsset) grows around each guide unless the engine asks
+ * otherwise, so a guide file draws as dense as in TressFX's own viewer. */
+#define SATF_IMPORT_TFX_FOLLOW 4
+
+/* Followers per TressFX guide: --follow's (o->follow >= 0), else the
+ * header's numFollowStrandsPerGuide when it names some, else
+ * SATF_IMPORT_TFX_FOLLOW. */
+int satf_import_follow_count(const satf_import_options *o, int header_follow);
 
 /* Fits every cluster of labels (in parallel) and estimates its density:
  * fits[c] for c < n_clusters. On failure the message is the first

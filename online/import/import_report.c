@@ -53,6 +53,8 @@ void satf_import_fit_stats_compute(const satf_import_fit *fits, int n,
         satf_scene_tracks_as_strands(f->track_slices, f->n_tracks,
                                      f->track_count, SATF_SCENE_SPARSE_STRANDS);
     out->as_strands += strands;
+    out->strands += f->strands;
+    out->shell_strands += strands ? 0 : f->strands;
     out->tufts += strands && f->strands > SATF_SCENE_SPARSE_STRANDS;
     /* a cluster drawn as its strands is no ring however short */
     out->rings += m->aspect < 1.0f && !strands;
@@ -113,6 +115,11 @@ void satf_import_fit_stats_print(FILE *out, const char *prog,
           "(%d tufts of short strands), %d as shells\n",
           st->as_strands, st->clusters, st->tufts,
           st->clusters - st->as_strands);
+  /* the share SATF's shells draw: the method's own, against what falls
+   * back to the strand path */
+  fprintf(out, "  shells           %lld%% of %lld strands in %d clusters\n",
+          st->strands > 0 ? 100 * st->shell_strands / st->strands : 0,
+          st->strands, st->clusters - st->as_strands);
   if (st->rings > 0)
     fprintf(out,
             "%s: warning: %d of %d clusters are shorter than their diameter "

@@ -92,10 +92,12 @@ static satf_status read_inputs(run *u, satf_error *err) {
     snprintf(first_frame, sizeof first_frame, o->inputs[0], (int)o->first);
 #pragma GCC diagnostic pop
   }
+  u->r->follow = -1;
   for (int i = 0; i < o->n_inputs; i++) {
     satf_strand_set *s, *both;
-    satf_status st = satf_import_read_strands(
-        o->sequence ? first_frame : o->inputs[i], o, &s, err);
+    int followers;
+    satf_status st = satf_import_read_strands_followed(
+        o->sequence ? first_frame : o->inputs[i], o, &s, &followers, err);
     int dropped = 0;
     size_t merged = 0;
     if (st == SATF_OK && !o->sequence) /* a sequence keeps its strands */
@@ -107,6 +109,11 @@ static satf_status read_inputs(run *u, satf_error *err) {
     }
     u->r->dropped_strands += dropped;
     u->r->merged_points += merged;
+    if (followers >= 0) {
+      if (u->r->follow < 0)
+        u->r->follow = followers;
+      u->r->guides += satf_strand_set_count(s) / (followers + 1);
+    }
     /* The budget, before anything grows with the points. */
     size_t total = satf_strand_set_point_count(s) +
                    (u->all ? satf_strand_set_point_count(u->all) : 0);
@@ -184,36 +191,39 @@ static satf_status rebuild_strands(run *u, double k, const float *width,
   return st;
 }
 
-/* Strands whose files give no thickness get one from the hairstyle's
- * spacing (import_spacing.c), before clustering: the strand file, the
- * reference, lone strands and the density then assume the same strands
- * at every --quality. A sequence keeps its keyframes' own widths. */
-static satf_status spacing_thickness(run *u, satf_error *err) {
+/* Strands whose files give no thickness get a hair fibre's,
+ * SATF_IMPORT_FIBRE_WIDTH of the hair's bounding-box diagonal (or
+ * --strand-width's), before clustering: the strand file, the reference,
+ * lone strands and the density then assume the same strands at every
+ * --quality. Real hair is some thousand fibres across the hairstyle; a
+ * width from the spacing of the file's strands drew a few thousand guides
+ * as ribbons 3 to 14 times a fibre's width (the shared ponytail: 0.625
+ * units against 0.18). A sequence keeps its keyframes' own widths. */
+static satf_status default_thickness(run *u, satf_error *err) {
   int n = satf_strand_set_count(u->all);
   if (n == 0 || u->o->sequence || satf_strand_set_thickness(u->all, 0))
     return SATF_OK;
   float *w = malloc((size_t)n * sizeof *w);
   if (!w)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  satf_status st = SATF_OK;
   u->r->strand_width_given = u->o->strand_width > 0.0;
-  if (u->o->strand_width > 0.0) /* the user's, in the input's units */
-    for (int i = 0; i < n; i++)
-      w[i] = (float)(u->o->strand_width * u->r->scale);
-  else
-    st = satf_import_spacing_widths(u->all, (int)u->o->threads, w, err);
-  if (st == SATF_OK) {
-    float *sorted = malloc((size_t)n * sizeof *sorted);
-    if (sorted) {
-      memcpy(sorted, w, (size_t)n * sizeof *w);
-      qsort(sorted, (size_t)n, sizeof *sorted, cmp_float);
-      u->r->spacing_width[0] = sorted[n / 10];
-      u->r->spacing_width[1] = sorted[n / 2];
-      u->r->spacing_width[2] = sorted[(n - 1) - n / 10];
-      free(sorted);
-    }
-    st = rebuild_strands(u, 1.0, w, err);
-  }
+  float lo[3], hi[3];
+  satf_strand_set_bounds(u->all, lo, hi);
+  double diag = 0.0;
+  for (int c = 0; c < 3; c++)
+    diag += ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
+  diag = sqrt(diag);
+  /* the user's, in the input's units; a hairstyle of one point (no
+   * diagonal) keeps a width of 1 */
+  float width =
+      (float)(u->o->strand_width > 0.0 ? u->o->strand_width * u->r->scale
+              : diag > 0.0             ? SATF_IMPORT_FIBRE_WIDTH * diag
+                                       : 1.0);
+  for (int i = 0; i < n; i++)
+    w[i] = width;
+  u->r->spacing_width[0] = u->r->spacing_width[1] = u->r->spacing_width[2] =
+      width;
+  satf_status st = rebuild_strands(u, 1.0, w, err);
   free(w);
   return st;
 }
@@ -643,7 +653,7 @@ static satf_status steps(run *u, satf_error *err) {
       (u->o->mesh && (st = check_mesh(u, err)) != SATF_OK) ||
       (st = read_inputs(u, err)) != SATF_OK ||
       (st = fit_units(u, err)) != SATF_OK ||
-      (st = spacing_thickness(u, err)) != SATF_OK)
+      (st = default_thickness(u, err)) != SATF_OK)
     return st;
   r->t_read = satf_now_seconds() - u->t0;
   if (u->o->mesh)
@@ -732,15 +742,30 @@ void satf_import_print_summary(FILE *out, const char *prog,
           "  density          mean strand width %.3g cluster radii; %d of "
           "%d clusters \"gradient\", the rest \"uniform\"\n",
           r->width_sum / r->n_clusters, r->gradient, r->n_clusters);
-  if (r->spacing_width[1] > 0.0f)
+  if (r->follow >= 0 && o->follow >= 0)
     fprintf(out,
-            "  strand width     %.3g (p10 %.3g, p90 %.3g): the files give "
-            "none, so %s\n",
-            (double)r->spacing_width[1], (double)r->spacing_width[0],
-            (double)r->spacing_width[2],
-            r->strand_width_given ? "--strand-width's"
-                                  : "twice the spacing of neighbouring "
-                                    "strands (--strand-width sets one)");
+            "  followers        %d per TressFX guide (--follow's): %d "
+            "guides drawn as %d fibres\n",
+            r->follow, r->guides, r->guides * (r->follow + 1));
+  else if (r->follow >= 0)
+    fprintf(out,
+            "  followers        %d per TressFX guide (the header's "
+            "numFollowStrandsPerGuide, or TressFX's default of %d where it "
+            "names none; --follow N sets another): %d guides drawn as %d "
+            "fibres\n",
+            r->follow, SATF_IMPORT_TFX_FOLLOW, r->guides,
+            r->guides * (r->follow + 1));
+  if (r->spacing_width[1] > 0.0f && r->strand_width_given)
+    fprintf(out,
+            "  strand width     %.3g: the files give none, so "
+            "--strand-width's\n",
+            (double)r->spacing_width[1]);
+  else if (r->spacing_width[1] > 0.0f)
+    fprintf(out,
+            "  strand width     %.3g: the files give none, so a hair "
+            "fibre's, %g of the hair's bounding-box diagonal "
+            "(--strand-width sets one)\n",
+            (double)r->spacing_width[1], SATF_IMPORT_FIBRE_WIDTH);
   if (r->scale != 1.0)
     fprintf(out,
             "  scale            x%g (the hair's units were too %s for a "

@@ -79,12 +79,18 @@ static void follow_progress(void *ctx, size_t done, size_t total) {
   satf_progress_update(ctx, done, total);
 }
 
+int satf_import_follow_count(const satf_import_options *o, int header_follow) {
+  return o->follow >= 0      ? (int)o->follow
+         : header_follow > 0 ? header_follow
+                             : SATF_IMPORT_TFX_FOLLOW;
+}
+
 /* The parser of format f on the file's bytes; TressFX guides get their
- * follow strands as o asks. */
+ * follow strands as o asks (*followers: how many per guide). */
 static satf_status parse_as(satf_strands_format f, const void *data,
                             size_t size, const char *path,
                             const satf_import_options *o, satf_strand_set **out,
-                            satf_error *err) {
+                            int *followers, satf_error *err) {
   if (f == SATF_STRANDS_HAIR)
     return satf_hair_parse(data, size, path, out, err);
   if (f == SATF_STRANDS_PLY)
@@ -99,7 +105,8 @@ static satf_status parse_as(satf_strands_format f, const void *data,
   if (st != SATF_OK)
     return st;
   satf_follow_params fp;
-  fp.count = o->follow >= 0 ? (int)o->follow : info.follow_per_guide;
+  fp.count = satf_import_follow_count(o, info.follow_per_guide);
+  *followers = fp.count;
   fp.radius = o->follow_radius >= 0.0 ? (float)o->follow_radius
                                       : satf_strand_set_root_spacing(guides);
   fp.tip_separation = (float)o->tip_separation;
@@ -136,7 +143,16 @@ static const char *extension_of(satf_strands_format f) {
 satf_status satf_import_read_strands(const char *path,
                                      const satf_import_options *o,
                                      satf_strand_set **out, satf_error *err) {
+  int followers;
+  return satf_import_read_strands_followed(path, o, out, &followers, err);
+}
+
+satf_status satf_import_read_strands_followed(const char *path,
+                                              const satf_import_options *o,
+                                              satf_strand_set **out,
+                                              int *followers, satf_error *err) {
   *out = NULL;
+  *followers = -1;
   void *data;
   size_t size;
   satf_status st =
@@ -159,7 +175,7 @@ satf_status satf_import_read_strands(const char *path,
                         path);
   else
     st = parse_as(is != SATF_STRANDS_UNKNOWN ? is : named, data, size, path, o,
-                  out, err);
+                  out, followers, err);
   free(data);
   float m[16];
   int dropped;

@@ -645,6 +645,75 @@ static void follow_strands_within_budget(void **state) {
   assert_int_equal(satf_import_check_budget(&o, path, 33587200, &err), SATF_OK);
 }
 
+/* TressFX guides draw as TressFX draws them: the header's follow strands
+ * per guide, SATF_IMPORT_TFX_FOLLOW (AMD's loader's default) where it
+ * names none, --follow's when given. */
+static void tressfx_followers_default(void **state) {
+  (void)state;
+  char path[512];
+  test_path(path, sizeof path, "followers.tfx");
+  satf_import_options o = satf_import_options_default();
+  satf_strand_set *s = NULL;
+  satf_error err;
+  const int header[3] = {0, 2, 0}, given[3] = {-1, -1, 0};
+  const int expect[3] = {SATF_IMPORT_TFX_FOLLOW, 2, 0};
+  for (int k = 0; k < 3; k++) {
+    write_tfx_guides(path, 64, 8, header[k]);
+    o.follow = given[k];
+    int followers = -7;
+    assert_int_equal(
+        satf_import_read_strands_followed(path, &o, &s, &followers, &err),
+        SATF_OK);
+    assert_int_equal(followers, expect[k]);
+    assert_int_equal(satf_strand_set_count(s), 64 * (expect[k] + 1));
+    satf_strand_set_destroy(s);
+  }
+  assert_int_equal(SATF_IMPORT_TFX_FOLLOW, 4);
+}
+
+/* Strands whose file gives no thickness are drawn as hair fibres,
+ * SATF_IMPORT_FIBRE_WIDTH of the hair's bounding-box diagonal (followers
+ * included), whatever their spacing; the summary's figures count them. */
+static void default_width_is_a_fibre(void **state) {
+  (void)state;
+  char path[512], out[512];
+  test_path(path, sizeof path, "fibre_width.tfx");
+  test_path(out, sizeof out, "fibre_width.json");
+  write_tfx_guides(path, 256, 16, 0);
+  satf_import_options o = satf_import_options_default();
+  satf_strand_set *s = NULL;
+  satf_error err;
+  int followers;
+  assert_int_equal(
+      satf_import_read_strands_followed(path, &o, &s, &followers, &err),
+      SATF_OK);
+  float lo[3], hi[3];
+  satf_strand_set_bounds(s, lo, hi);
+  double diag = 0.0;
+  for (int c = 0; c < 3; c++)
+    diag += ((double)hi[c] - lo[c]) * ((double)hi[c] - lo[c]);
+  diag = sqrt(diag);
+  satf_strand_set_destroy(s);
+  o.inputs[0] = path;
+  o.n_inputs = 1;
+  o.output = out;
+  o.quiet = 1;
+  o.threads = 2;
+  o.no_strands = 1;
+  satf_import_result r;
+  satf_status st = satf_import_run(&o, &r, &err);
+  if (st != SATF_OK)
+    print_error("%s\n", err.message);
+  assert_int_equal(st, SATF_OK);
+  assert_int_equal(r.follow, SATF_IMPORT_TFX_FOLLOW);
+  assert_int_equal(r.guides, 256);
+  assert_int_equal(r.n_strands, 256 * (SATF_IMPORT_TFX_FOLLOW + 1));
+  assert_float_equal(r.spacing_width[1], 1e-3 * diag, 1e-6 * diag);
+  assert_false(r.strand_width_given);
+  assert_int_equal(r.fit.strands, r.n_strands);
+  assert_true(r.fit.shell_strands >= 0 && r.fit.shell_strands <= r.fit.strands);
+}
+
 /* Strands read from files are held to the budget before anything grows
  * with them: a whole import stops after reading, fast, naming the file. */
 static void import_within_budget(void **state) {
@@ -655,6 +724,7 @@ static void import_within_budget(void **state) {
   remove(out);
   write_tfx_guides(path, 256, 32, 0); /* 8192 points, about 1 MB */
   satf_import_options o = satf_import_options_default();
+  o.follow = 0; /* the guides alone */
   o.inputs[0] = path;
   o.n_inputs = 1;
   o.output = out;
@@ -772,6 +842,8 @@ static void widths_from_spacing(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(follow_strands_within_budget),
+      cmocka_unit_test(tressfx_followers_default),
+      cmocka_unit_test(default_width_is_a_fibre),
       cmocka_unit_test(import_within_budget),
       cmocka_unit_test(fit_recovers_known_cylinder),
       cmocka_unit_test(fit_recovers_twisted_ribbon),

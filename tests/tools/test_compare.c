@@ -173,6 +173,35 @@ static void different_structure_lowers_ssim(void **state) {
   free(a), free(b), free(c);
 }
 
+/* SSIM4 averages 4x4 pixel blocks first: a one-pixel checkerboard against
+ * its negative is anti-correlated pixel by pixel (SSIM well below zero)
+ * but the same grey at a wisp's scale (SSIM4 1), while squares of 8
+ * pixels against their negative stay anti-correlated at both scales. */
+static void ssim4_sees_blocks_not_pixels(void **state) {
+  (void)state;
+  for (int size = 1; size <= 8; size += 7) {
+    img *a = make("a.exr"), *b = make("b.exr");
+    for (int y = 0; y < H; y++)
+      for (int x = 0; x < W; x++) {
+        int i = y * W + x;
+        float v = ((x / size + y / size) % 2) ? 0.8f : 0.2f;
+        a->a[i] = b->a[i] = 1.0f;
+        a->r[i] = a->g[i] = a->b[i] = v;
+        b->r[i] = b->g[i] = b->b[i] = 1.0f - v;
+      }
+    compare_result r;
+    measure(a, b, &r);
+    assert_true(r.ssim < -0.5);
+    if (size == 1)
+      assert_near(r.ssim4, 1.0, 1e-6);
+    else
+      assert_true(r.ssim4 < -0.5);
+    measure(a, a, &r);
+    assert_near(r.ssim4, 1.0, 1e-12);
+    free(a), free(b);
+  }
+}
+
 static void mismatched_sizes_are_refused(void **state) {
   (void)state;
   img *a = patch("ref.exr"), *b = copy(a, "small.exr");
@@ -301,6 +330,7 @@ int main(void) {
       cmocka_unit_test(brightness_scale_shows_in_ratio_not_ssim),
       cmocka_unit_test(hue_shift_gives_its_angle),
       cmocka_unit_test(different_structure_lowers_ssim),
+      cmocka_unit_test(ssim4_sees_blocks_not_pixels),
       cmocka_unit_test(mismatched_sizes_are_refused),
       cmocka_unit_test(empty_frames_and_nan_are_reported),
       cmocka_unit_test(white_point_is_numpy_percentile),

@@ -68,7 +68,7 @@ static void usage(FILE *out) {
       "                          where covered; grey: neither covers)\n"
       "  --json                  print the figures as one JSON object "
       "(keys iou,\n"
-      "                          alpha, ssim, lum, chroma, ...)\n"
+      "                          alpha, ssim, ssim4, lum, chroma, ...)\n"
       "  --smooth-bound R        also print REFERENCE against itself "
       "blurred by a\n"
       "                          (2R+1)x(2R+1) box (R 1-16): the IoU and "
@@ -82,6 +82,8 @@ static void usage(FILE *out) {
       "                          bound_iou, bound_ssim\n"
       "  --min-iou X             fail (exit 1) when coverage IoU < X\n"
       "  --min-ssim X            fail when luminance SSIM < X\n"
+      "  --min-ssim4 X           fail when SSIM4 (over 4x4 pixel blocks) < "
+      "X\n"
       "  --max-alpha-error X     fail when alpha error > X\n"
       "  --max-lum-error X       fail when |luminance ratio - 1| > X\n"
       "  --max-chroma DEG        fail when chroma angle > DEG\n"
@@ -103,7 +105,7 @@ typedef struct threshold {
   double value;
 } threshold;
 
-enum { T_IOU, T_SSIM, T_ALPHA, T_LUM, T_CHROMA, T_COUNT };
+enum { T_IOU, T_SSIM, T_SSIM4, T_ALPHA, T_LUM, T_CHROMA, T_COUNT };
 
 typedef struct options {
   const char *ref, *test, *png;
@@ -117,6 +119,7 @@ static int parse(int argc, char **argv, options *o) {
   static const threshold defaults[T_COUNT] = {
       {"--min-iou", "iou", 1, 0, 0},
       {"--min-ssim", "ssim", 1, 0, 0},
+      {"--min-ssim4", "ssim4", 1, 0, 0},
       {"--max-alpha-error", "alpha", 0, 0, 0},
       {"--max-lum-error", "lum", 0, 0, 0},
       {"--max-chroma", "chroma", 0, 0, 0}};
@@ -215,6 +218,7 @@ static double figure(const compare_result *r, int k) {
   switch (k) {
   case T_IOU: return r->iou;
   case T_SSIM: return r->ssim;
+  case T_SSIM4: return r->ssim4;
   case T_ALPHA: return r->alpha_error;
   case T_LUM: return fabs(r->lum_ratio - 1.0);
   default: return r->chroma_deg;
@@ -261,6 +265,7 @@ static void print_json(const options *o, const compare_image *img,
   json_number("iou", r->iou);
   json_number("alpha", r->alpha_error);
   json_number("ssim", r->ssim);
+  json_number("ssim4", r->ssim4);
   json_number("lum", r->lum_ratio);
   json_number("chroma", r->chroma_deg);
   printf(", \"union_pixels\": %lld, \"both_pixels\": %lld", r->union_px,
@@ -292,6 +297,9 @@ static void print_table(const options *o, const compare_image *img,
   printf("luminance SSIM   %.4f   test luminance x %.4g, 7x7 window over "
          "the covered box\n",
          r->ssim, r->exposure);
+  printf("SSIM4            %.4f   the same over 4x4 pixel block means (a "
+         "wisp's scale)\n",
+         r->ssim4);
   if (isfinite(r->lum_ratio))
     printf("luminance ratio  %.4f   mean test / mean reference where either "
            "covers\n",

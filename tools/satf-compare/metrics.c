@@ -11,6 +11,11 @@
  *           1e-9) over the union (exposure normalisation) and w =
  *           max(99.5th percentile of L_A in the union, 1e-6); the mean of
  *           the SSIM map (0 when the union is empty)
+ *   ssim4   the same SSIM of x and y after averaging both over 4x4 pixel
+ *           blocks (the box's top-left floor(w/4) x floor(h/4) blocks;
+ *           ssim itself when fewer than 4 blocks span either side): the
+ *           look at a wisp's scale, without the placement of single
+ *           sub-pixel strands
  *   chroma  angle in degrees between sum RGB_A and sum RGB_B over "both"
  *           (90 when no pixel is covered by both)
  *
@@ -135,6 +140,22 @@ static double angle_deg(const double a[3], const double b[3]) {
   return atan2(cross, dot) * (180.0 / 3.14159265358979323846);
 }
 
+/* Replaces the first bw x bh values of v (row-major, bw wide) by the means
+ * of the COMPARE_BLOCK^2 blocks of v (w wide) they stand for. Block k
+ * writes v[k] after reading pixels at indices >= k only, so this works in
+ * place. */
+static void block_mean(double *v, int w, int bw, int bh) {
+  const int b = COMPARE_BLOCK;
+  for (int j = 0; j < bh; j++)
+    for (int i = 0; i < bw; i++) {
+      double s = 0.0;
+      for (int dy = 0; dy < b; dy++)
+        for (int dx = 0; dx < b; dx++)
+          s += v[(size_t)(b * j + dy) * (size_t)w + (size_t)(b * i + dx)];
+      v[(size_t)j * (size_t)bw + (size_t)i] = s / (double)(b * b);
+    }
+}
+
 /* The SSIM term: exposure-normalised, white point from the reference. */
 static satf_status ssim_term(const compare_image *ref,
                              const compare_image *test, const double *lum_ref,
@@ -165,6 +186,14 @@ static satf_status ssim_term(const compare_image *ref,
       y[(size_t)j * (size_t)w + (size_t)i] = vy < 0 ? 0 : vy > 1 ? 1 : vy;
     }
   satf_status st = ssim_mean(x, y, w, h, &res->ssim, err);
+  res->ssim4 = res->ssim;
+  if (st == SATF_OK && w >= 4 * COMPARE_BLOCK && h >= 4 * COMPARE_BLOCK) {
+    /* in place: block (i, j) reads only pixels at or after its own index */
+    int bw = w / COMPARE_BLOCK, bh = h / COMPARE_BLOCK;
+    block_mean(x, w, bw, bh);
+    block_mean(y, w, bw, bh);
+    st = ssim_mean(x, y, bw, bh, &res->ssim4, err);
+  }
   free(inside), free(x), free(y);
   return st;
 }

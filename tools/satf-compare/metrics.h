@@ -20,6 +20,9 @@
 #define COMPARE_COVERED 0.05
 /* SSIM window: a (2r+1)^2 = 7x7 box, edges clamped (fidelity.py's box()). */
 #define COMPARE_SSIM_RADIUS 3
+/* SSIM4's blocks: 4x4 pixels averaged before the SSIM (fidelity.py's
+ * ssim4); at least 4 blocks a side, else ssim4 is ssim. */
+#define COMPARE_BLOCK 4
 
 /* Linear RGBA planes, width * height floats each, row-major; colour
  * premultiplied by alpha. name (a file name) is quoted in messages. */
@@ -33,6 +36,7 @@ typedef struct compare_result {
   double iou;         /* sum min(alpha) / sum max(alpha) */
   double alpha_error; /* mean |alpha_ref - alpha_test| over the union */
   double ssim;        /* luminance SSIM over the union's bounding box */
+  double ssim4;       /* the same over 4x4 pixel block means */
   double lum_ratio;   /* mean lum test / mean lum ref over the union; NaN
                          when the union is empty */
   double chroma_deg;  /* angle between the summed colours where both cover */
