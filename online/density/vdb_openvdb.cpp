@@ -785,6 +785,10 @@ satf_status satf_vdb_read(const char *path, const char *grid_name,
 
 void satf_vdb_grid_destroy(satf_vdb_grid *g) { delete g; }
 
+satf_vdb_grid *satf_vdb_grid_share(const satf_vdb_grid *g) {
+  return g ? wrap_grid(g->grid) : nullptr;
+}
+
 float satf_vdb_sample(const satf_vdb_grid *g, const float world_xyz[3]) {
   openvdb::FloatGrid::ConstUnsafeAccessor acc =
       g->grid->getConstUnsafeAccessor();
