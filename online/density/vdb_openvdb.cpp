@@ -294,14 +294,23 @@ satf_status check_vdb_layout(ByteReader &r, uint32_t version, const char *path,
  * truncated before OpenVDB itself parses them, so those cases get precise
  * statuses and never reach OpenVDB's unchecked buffer reads. */
 satf_status check_vdb_file(const char *path, int64_t *size, satf_error *err) {
-  FILE *f = std::fopen(path, "rb");
-  if (!f)
+  /* O_NONBLOCK: opening a FIFO for reading would wait for a writer
+   * forever; it is refused below with every other non-regular file. */
+  const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0)
     return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
                           std::strerror(errno));
   struct stat st_buf;
-  if (fstat(fileno(f), &st_buf) != 0 || !S_ISREG(st_buf.st_mode)) {
-    std::fclose(f);
+  if (fstat(fd, &st_buf) != 0 || !S_ISREG(st_buf.st_mode)) {
+    close(fd);
     return satf_error_set(err, SATF_ERR_IO, "%s: not a regular file", path);
+  }
+  FILE *f = fdopen(fd, "rb");
+  if (!f) {
+    const int e = errno;
+    close(fd);
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
+                          std::strerror(e));
   }
   ByteReader r{f, 0, 0, true};
   if (fseeko(f, 0, SEEK_END) != 0 || (r.size = ftello(f)) < 0 ||
