@@ -165,10 +165,17 @@ satf_status satf_read_file(const char *path, size_t max_bytes, void **data,
                            size_t *size, satf_error *err) {
   *data = NULL;
   *size = 0;
-  FILE *f = fopen(path, "rb");
-  if (!f)
+  /* O_NONBLOCK: opening a FIFO for reading would wait for a writer
+   * forever; it is refused below with every other non-regular file. */
+  int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
+  if (!f) {
+    int e = errno;
+    if (fd >= 0)
+      close(fd);
     return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
-                          strerror(errno));
+                          strerror(e));
+  }
   /* fstat the open file, not the path, so the checks hold for what is read */
   struct stat st;
   satf_status s = SATF_OK;
