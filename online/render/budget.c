@@ -18,13 +18,18 @@
 /* A VDB grid in memory over its file's size: the file stores leaves
  * compressed and the tree adds its internal nodes. */
 #define VDB_MEMORY_PER_FILE_BYTE 3.0
+/* Per HSV of a cluster with VDB density, on top of BYTES_PER_HSV: world-
+ * space density gives every instance its own features and neighbour
+ * cache (hierarchy.c). */
+#define BYTES_PER_VDB_HSV 1000.0
 /* What any renderer takes whatever the scene: the GL driver, shaders,
  * the database's textures and the program itself. */
-#define BYTES_FIXED 250e6
+#define BYTES_FIXED 270e6
 
-/* Bytes of the distinct VDB files the clusters name (the renderer reads
- * each once however many clusters name it). */
-static double vdb_file_bytes(const satf_scene *scene) {
+/* What VDB density adds: the grids of the distinct files the clusters name
+ * (the renderer reads each once however many clusters name it) and the
+ * per-instance features of its clusters. */
+static double vdb_bytes(const satf_scene *scene) {
   double sum = 0.0;
   for (int m = 0; m < scene->n_macro_clusters; m++) {
     const satf_scene_density *d = &scene->macro_clusters[m].prototype.density;
@@ -39,7 +44,10 @@ static double vdb_file_bytes(const satf_scene *scene) {
     }
     struct stat st;
     if (!seen && stat(d->vdb_file, &st) == 0)
-      sum += (double)st.st_size;
+      sum += VDB_MEMORY_PER_FILE_BYTE * (double)st.st_size;
+    sum += BYTES_PER_VDB_HSV * (double)scene->macro_clusters[m].n_instances *
+           (double)satf_scene_cluster_hsv_count(
+               &scene->macro_clusters[m].prototype);
   }
   return sum;
 }
@@ -52,7 +60,7 @@ double satf_render_memory_estimate(const satf_scene *scene, long width,
     m.hsvs = BYTES_PER_HSV * (double)satf_scene_hsv_count(scene);
     m.strands = BYTES_PER_STRAND * (double)satf_scene_strand_count(scene);
     m.pixels = BYTES_PER_PIXEL * (double)width * (double)height;
-    m.vdb = VDB_MEMORY_PER_FILE_BYTE * vdb_file_bytes(scene);
+    m.vdb = vdb_bytes(scene);
     m.fixed = BYTES_FIXED;
     m.total = m.hsvs + m.strands + m.pixels + m.vdb + m.fixed;
   }
