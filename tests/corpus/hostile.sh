@@ -57,6 +57,32 @@ for f in db_half db_head db_empty db_flip; do
   expect refuse 30 "render_$f" -- "$B/satf-render" \
     "$src/samples/cluster_6a.json" --db "$f.exr" --size 32x24 -o x.exr -q
 done
+# damage a reader gets past with the pixels intact, which verify must still
+# find: bytes after the last chunk, a zeroed offset table, another line order
+python3 - <<'PY'
+import struct
+data = open('db.exr', 'rb').read()
+open('db_tail.exr', 'wb').write(data + bytes(range(256)) * 3)
+at = 8  # magic and version, then attributes until an empty name
+order = None
+while data[at] != 0:
+    name_end = data.index(b'\0', at)
+    type_end = data.index(b'\0', name_end + 1)
+    size, = struct.unpack_from('<i', data, type_end + 1)
+    if data[at:name_end] == b'lineOrder':
+        order = type_end + 5
+    at = type_end + 5 + size
+table = at + 1
+b = bytearray(data)
+b[table:table + 64] = bytes(64)
+open('db_table.exr', 'wb').write(b)
+b = bytearray(data)
+b[order] = 1
+open('db_order.exr', 'wb').write(b)
+PY
+for f in db_tail db_table db_order; do
+  expect refuse 20 "verify_$f" -- "$B/satf-db" verify "$f.exr"
+done
 mkfifo db_fifo.exr
 expect refuse 10 verify_db_fifo -- "$B/satf-db" verify db_fifo.exr
 
