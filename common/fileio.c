@@ -38,14 +38,50 @@ static void remove_stale_temps(const char *path) {
   globfree(&g);
 }
 
+/* The file an output path names: path itself, or where its chain of
+ * symbolic links ends (the last target need not exist yet). Renaming over a
+ * link would replace the link by a regular file and leave its target
+ * stale; writing through it, as cp and the compositors do, keeps both. The
+ * temporary file goes next to the target so that the rename stays within
+ * one file system. Fails for a chain longer than 40 links (a loop). */
+static satf_status output_target(const char *path, char *out, size_t size,
+                                 satf_error *err) {
+  if (strlen(path) >= size)
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "%s: path is too long", path);
+  strcpy(out, path);
+  for (int links = 0; links < 40; links++) {
+    struct stat st;
+    if (lstat(out, &st) != 0 || !S_ISLNK(st.st_mode))
+      return SATF_OK;
+    char to[4096];
+    ssize_t n = readlink(out, to, sizeof to - 1);
+    if (n < 0 || (size_t)n >= sizeof to - 1)
+      return satf_error_set(err, SATF_ERR_IO,
+                            "%s: cannot read the symbolic link %s", path, out);
+    to[n] = 0;
+    const char *slash = strrchr(out, '/');
+    size_t dir = to[0] == '/' || !slash ? 0 : (size_t)(slash - out) + 1;
+    if (dir + (size_t)n >= size)
+      return satf_error_set(err, SATF_ERR_ARGUMENT, "%s: path is too long",
+                            path);
+    memmove(out + dir, to, (size_t)n + 1);
+  }
+  return satf_error_set(err, SATF_ERR_IO,
+                        "%s: too many levels of symbolic links", path);
+}
+
 satf_status satf_temp_path(const char *path, char *tmp, size_t size,
                            satf_error *err) {
   size_t len = strlen(path);
   if (len == 0 || path[len - 1] == '/')
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "'%s': an output needs a file name", path);
-  remove_stale_temps(path);
-  int n = snprintf(tmp, size, "%s.tmp-%ld", path, (long)getpid());
+  char target[4096];
+  satf_status st = output_target(path, target, sizeof target, err);
+  if (st != SATF_OK)
+    return st;
+  remove_stale_temps(target);
+  int n = snprintf(tmp, size, "%s.tmp-%ld", target, (long)getpid());
   if (n < 0 || (size_t)n >= size)
     return satf_error_set(err, SATF_ERR_ARGUMENT, "%s: path is too long", path);
   return SATF_OK;
@@ -66,7 +102,13 @@ satf_status satf_commit_temp(const char *tmp, const char *path,
                           strerror(e));
   }
   close(fd);
-  if (rename(tmp, path) != 0) {
+  char target[4096];
+  satf_status st = output_target(path, target, sizeof target, err);
+  if (st != SATF_OK) {
+    remove(tmp);
+    return st;
+  }
+  if (rename(tmp, target) != 0) {
     int e = errno;
     remove(tmp);
     return satf_error_set(err, SATF_ERR_IO,
@@ -123,10 +165,17 @@ satf_status satf_read_file(const char *path, size_t max_bytes, void **data,
                            size_t *size, satf_error *err) {
   *data = NULL;
   *size = 0;
-  FILE *f = fopen(path, "rb");
-  if (!f)
+  /* O_NONBLOCK: opening a FIFO for reading would wait for a writer
+   * forever; it is refused below with every other non-regular file. */
+  int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
+  if (!f) {
+    int e = errno;
+    if (fd >= 0)
+      close(fd);
     return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
-                          strerror(errno));
+                          strerror(e));
+  }
   /* fstat the open file, not the path, so the checks hold for what is read */
   struct stat st;
   satf_status s = SATF_OK;

@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang (ASan + fuzzer coverage) into
-# build-fuzz/ and runs each for SECONDS (default 10) on a fresh corpus.
+# build-fuzz/ and runs each for SECONDS (default 10) on its corpus, kept
+# between runs in $SATF_FUZZ_CORPUS/TARGET (default build-fuzz/corpus): what
+# a run finds seeds the next. An input that takes over 4 GB or 20 s fails
+# the run like a crash does.
 # usage: fuzz.sh [SECONDS]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,10 +14,11 @@ CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja \
 cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
 for t in "${targets[@]}"; do
   bin=$(find build-fuzz/tests -type f -name "$t" -perm -u+x | head -1)
-  corpus=build-fuzz/corpus/$t
+  corpus=${SATF_FUZZ_CORPUS:-build-fuzz/corpus}/$t
   mkdir -p "$corpus"
   echo "fuzz: $t for ${seconds}s"
-  "$bin" -max_total_time="$seconds" -print_final_stats=0 "$corpus" \
+  "$bin" -max_total_time="$seconds" -rss_limit_mb=4000 -timeout=20 \
+    -print_final_stats=0 "$corpus" \
     2>build-fuzz/$t.log || { tail -30 build-fuzz/$t.log; exit 1; }
 done
 echo "fuzz: ${#targets[@]} targets built and run"

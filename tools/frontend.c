@@ -17,20 +17,6 @@
 #include "satf/common.h"
 #include "satf/math.h"
 
-/* What the renderer will take for a scene, from what it measurably takes
- * (llvmpipe, /usr/bin/time peak RSS): about 2.4 KB per HSV (sector
- * features, neighbours, angles, maps and their textures), 36 bytes per
- * procedural or track strand, and per pixel the fragment arrays of exact
- * compositing (64 slots of 16 bytes, their counters and depth keys) and
- * the frame targets. */
-double satf_frontend_memory_estimate(const satf_scene *scene, long width,
-                                     long height) {
-  double px = (double)width * (double)height;
-  return 2400.0 * (double)satf_scene_hsv_count(scene) +
-         36.0 * (double)satf_scene_strand_count(scene) +
-         px * (64.0 * 16.0 + 64.0 * 4.0 + 64.0);
-}
-
 /* The set-up bar appears only once the set-up has taken a second: the
  * samples set up in a fraction of one, and a line each would clutter
  * batch logs and the Table 1 rows. */
@@ -95,19 +81,22 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
     budget = default_budget();
   long w = *width ? *width : st == SATF_OK ? fe->scene->image.width : 0;
   long h = *width ? *height : st == SATF_OK ? fe->scene->image.height : 0;
-  double need =
-      st == SATF_OK ? satf_frontend_memory_estimate(fe->scene, w, h) : 0.0;
-  if (st == SATF_OK && need > budget)
+  satf_render_memory need = {0};
+  if (st == SATF_OK)
+    satf_render_memory_estimate(fe->scene, w, h, &need);
+  if (st == SATF_OK && need.total > budget)
     st = satf_error_set(
         &err, SATF_ERR_ARGUMENT,
-        "%s: rendering it would take about %.1f GB (%llu HSVs x 2.4 KB, "
-        "%llu strands x 36 B, %ldx%ld pixels x 1.3 KB), over the memory "
-        "budget of %.1f GB: use fewer clusters, layers, st or su, a smaller "
-        "--size, or raise the budget with --memory-budget GB",
-        scene_path, need / 1e9,
-        (unsigned long long)satf_scene_hsv_count(fe->scene),
-        (unsigned long long)satf_scene_strand_count(fe->scene), w, h,
-        budget / 1e9);
+        "%s: rendering it would take about %.2f GB, over the memory budget "
+        "of %.2f GB; the most is %s (%.2f GB for %llu HSVs, %.2f GB for %llu "
+        "strands, %.2f GB for %ldx%ld pixels, %.2f GB of VDB density): use "
+        "fewer clusters, layers, st or su, fewer strands, a smaller --size or "
+        "a coarser VDB, or raise the budget with --memory-budget GB",
+        scene_path, need.total / 1e9, budget / 1e9,
+        satf_render_memory_largest(&need), need.hsvs / 1e9,
+        (unsigned long long)satf_scene_hsv_count(fe->scene), need.strands / 1e9,
+        (unsigned long long)satf_scene_strand_count(fe->scene),
+        need.pixels / 1e9, w, h, need.vdb / 1e9);
   if (st == SATF_OK) {
     for (int i = 0; i < satf_scene_warning_count(fe->scene); i++)
       fprintf(stderr, "%s: warning: %s\n", prog,

@@ -29,7 +29,10 @@ typedef struct satf_frontend {
 
 /* Loads SCENE (printing its warnings to stderr) and the database (db_path,
  * or the scene's "database"); a zero *width takes the scene's image size.
- * On failure prints "PROG: reason" and returns non-OK. */
+ * Refuses, before anything is built, a scene whose
+ * satf_render_memory_estimate is over `budget` bytes (0: half the machine's
+ * memory), naming the largest part. On failure prints "PROG: reason" and
+ * returns non-OK. */
 satf_status satf_frontend_load(const char *prog, const char *scene_path,
                                const char *db_path, double budget, long *width,
                                long *height, satf_frontend *fe);
@@ -38,11 +41,6 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
 satf_status satf_frontend_create_renderer(const satf_frontend *fe, int width,
                                           int height, int threads, int quiet,
                                           satf_renderer **out, satf_error *err);
-/* Bytes the renderer is estimated to take for `scene` at width x height;
- * satf_frontend_load refuses a scene over `budget` bytes (0: half the machine's
- * memory) before anything is built. */
-double satf_frontend_memory_estimate(const satf_scene *scene, long width,
-                                     long height);
 /* --memory-budget GB: 1 if arg was it (sets *bytes), -1 after printing a
  * bad value, 0 otherwise. */
 int satf_frontend_budget_flag(satf_cli_args *it, double *bytes);

@@ -35,6 +35,19 @@ satf_status satf_frontend_frame_range(const satf_scene *scene, const char *text,
                             "--frames: expected A-B, N or all, got '%s'", text);
     *last = *first;
   }
+  /* Frames outside the scene's own would render a held pose under names
+   * that no frame of the scene has (f_-001), so they are refused. */
+  int lo = 0, hi = 0;
+  int animated = satf_scene_frame_range(scene, &lo, &hi);
+  if (*first > *last || *first < 0 || (animated && (*first < lo || *last > hi)))
+    return animated ? satf_error_set(err, SATF_ERR_ARGUMENT,
+                                     "--frames: '%s' is not a range A-B with "
+                                     "A <= B within the scene's frames %d-%d",
+                                     text, lo, hi)
+                    : satf_error_set(err, SATF_ERR_ARGUMENT,
+                                     "--frames: '%s' is not a range A-B with "
+                                     "0 <= A <= B",
+                                     text);
   return SATF_OK;
 }
 

@@ -292,6 +292,13 @@ satf_status satf_exr_read(const char *path, const char *const *names,
                           int *width, int *height, float **planes,
                           satf_error *err);
 
+/* Checks what a reader does not need to get the pixels back yet a file
+ * written by satf_exr_write always has: an offset table that names where
+ * each chunk starts (readers rebuild a damaged one), chunks one after the
+ * other in increasing line order, and nothing after the last.
+ * SATF_ERR_CORRUPT names the first difference. */
+satf_status satf_exr_check_layout(const char *path, satf_error *err);
+
 #ifdef __cplusplus
 }
 #endif

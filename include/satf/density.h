@@ -47,6 +47,12 @@ satf_status satf_vdb_read(const char *path, const char *grid_name,
 /* Frees a grid (NULL is allowed). */
 void satf_vdb_grid_destroy(satf_vdb_grid *g);
 
+/* A second handle on g's voxels, which are shared, not copied (a grid never
+ * changes once read): each handle is freed by satf_vdb_grid_destroy and the
+ * voxels go with the last. NULL when out of memory. Scenes whose clusters
+ * all name one file read it once this way, not once per cluster. */
+satf_vdb_grid *satf_vdb_grid_share(const satf_vdb_grid *g);
+
 /* Trilinear (OpenVDB BoxSampler) density at a world-space point. Outside the
  * active voxels, and for non-finite or absurdly distant points, it is the
  * grid's background value (0 for every grid a builder makes). Thread-safe. */

@@ -184,6 +184,24 @@ typedef struct satf_render_stats {
   long lod_single, lod_coarse;
 } satf_render_stats;
 
+/* The renderer's memory for a scene at width x height, in bytes, by what
+ * grows with it; estimated from the scene alone, before anything is built,
+ * so that a render over a budget can be refused before it starts. */
+typedef struct satf_render_memory {
+  double hsvs;    /* features, neighbours, maps and textures of every HSV */
+  double strands; /* procedural and track strands */
+  double pixels;  /* exact compositing's fragment arrays, frame targets */
+  double vdb;     /* VDB density grids, each file once */
+  double fixed;   /* GL driver, shaders, database textures, the program */
+  double total;
+} satf_render_memory;
+
+/* Fills *parts (when not NULL) and returns parts->total. */
+double satf_render_memory_estimate(const satf_scene *scene, long width,
+                                   long height, satf_render_memory *parts);
+/* "HSVs", "strands", "pixels" or "VDB density": the largest growing part. */
+const char *satf_render_memory_largest(const satf_render_memory *m);
+
 /* Builds clusters, shells, meshes, density features and GL resources.
  * `threads` = 0 uses all cores. */
 satf_status satf_renderer_create(const satf_scene *scene, const satf_db *db,

@@ -7,6 +7,7 @@
 #include <openvdb/tools/Interpolation.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -293,14 +294,23 @@ satf_status check_vdb_layout(ByteReader &r, uint32_t version, const char *path,
  * truncated before OpenVDB itself parses them, so those cases get precise
  * statuses and never reach OpenVDB's unchecked buffer reads. */
 satf_status check_vdb_file(const char *path, int64_t *size, satf_error *err) {
-  FILE *f = std::fopen(path, "rb");
-  if (!f)
+  /* O_NONBLOCK: opening a FIFO for reading would wait for a writer
+   * forever; it is refused below with every other non-regular file. */
+  const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0)
     return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
                           std::strerror(errno));
   struct stat st_buf;
-  if (fstat(fileno(f), &st_buf) != 0 || !S_ISREG(st_buf.st_mode)) {
-    std::fclose(f);
+  if (fstat(fd, &st_buf) != 0 || !S_ISREG(st_buf.st_mode)) {
+    close(fd);
     return satf_error_set(err, SATF_ERR_IO, "%s: not a regular file", path);
+  }
+  FILE *f = fdopen(fd, "rb");
+  if (!f) {
+    const int e = errno;
+    close(fd);
+    return satf_error_set(err, SATF_ERR_IO, "%s: cannot open: %s", path,
+                          std::strerror(e));
   }
   ByteReader r{f, 0, 0, true};
   if (fseeko(f, 0, SEEK_END) != 0 || (r.size = ftello(f)) < 0 ||
@@ -680,6 +690,53 @@ public:
   }
 };
 
+/* OpenVDB's header holds a random UUID (36 characters after the magic
+ * number, format version, library version and offsets flag), so the same
+ * grids gave different bytes, and a different content-hashed name, on each
+ * run. It is replaced by one derived from the rest of the file (a 128-bit
+ * FNV-1a digest in UUID form): equal files get equal bytes, different
+ * files still get different identifiers. Returns 0 or an errno; a header of
+ * another layout is left alone. */
+int fix_uuid(int fd) {
+  constexpr off_t kAt = 21;
+  constexpr size_t kLen = 36;
+  char uuid[kLen];
+  if (pread(fd, uuid, kLen, kAt) != static_cast<ssize_t>(kLen))
+    return errno ? errno : EIO;
+  for (size_t i = 0; i < kLen; ++i) {
+    const bool dash = i == 8 || i == 13 || i == 18 || i == 23;
+    if (dash ? uuid[i] != '-'
+             : !std::isxdigit(static_cast<unsigned char>(uuid[i])))
+      return 0;
+  }
+  uint64_t h[2] = {0xcbf29ce484222325ull, 0x84222325cbf29ce4ull};
+  std::vector<unsigned char> buf(1 << 16);
+  for (off_t at = kAt + static_cast<off_t>(kLen);;) {
+    const ssize_t n = pread(fd, buf.data(), buf.size(), at);
+    if (n < 0 && errno == EINTR)
+      continue;
+    if (n < 0)
+      return errno;
+    if (n == 0)
+      break;
+    for (ssize_t i = 0; i < n; ++i) {
+      h[0] = (h[0] ^ buf[static_cast<size_t>(i)]) * 0x100000001b3ull;
+      h[1] = (h[1] ^ buf[static_cast<size_t>(i)]) * 0x100000001b3ull + h[0];
+    }
+    at += n;
+  }
+  char hex[33];
+  std::snprintf(hex, sizeof hex, "%016llx%016llx",
+                static_cast<unsigned long long>(h[0]),
+                static_cast<unsigned long long>(h[1]));
+  char out[kLen + 1];
+  std::snprintf(out, sizeof out, "%.8s-%.4s-%.4s-%.4s-%.12s", hex, hex + 8,
+                hex + 12, hex + 16, hex + 20);
+  if (pwrite(fd, out, kLen, kAt) != static_cast<ssize_t>(kLen))
+    return errno ? errno : EIO;
+  return 0;
+}
+
 /* Writes the grids to fd and checks every step: each write, the final
  * flush, fsync (where a full disk may first show) and close. Returns 0 or
  * the errno of the first failure; fd is closed either way. */
@@ -693,6 +750,8 @@ int write_vdb_fd(int fd, const openvdb::GridCPtrVec &grids,
     os.flush();
     e = buf.error() ? buf.error() : os ? 0 : EIO;
   }
+  if (!e)
+    e = fix_uuid(fd);
   if (!e && fsync(fd) != 0 && errno != EINVAL && errno != EROFS)
     e = errno; /* EINVAL, EROFS: the target cannot be synced, e.g. a pipe */
   if (close(fd) != 0 && !e)
@@ -709,7 +768,8 @@ satf_status write_grids(const openvdb::GridCPtrVec &grids,
   satf_status st = satf_temp_path(path, tmp, sizeof tmp, err);
   if (st != SATF_OK)
     return st;
-  const int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  /* read back too: fix_uuid hashes what was written */
+  const int fd = open(tmp, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0)
     return satf_error_set(err, SATF_ERR_IO, "%s: cannot create %s: %s", path,
                           tmp, std::strerror(errno));
@@ -784,6 +844,10 @@ satf_status satf_vdb_read(const char *path, const char *grid_name,
 }
 
 void satf_vdb_grid_destroy(satf_vdb_grid *g) { delete g; }
+
+satf_vdb_grid *satf_vdb_grid_share(const satf_vdb_grid *g) {
+  return g ? wrap_grid(g->grid) : nullptr;
+}
 
 float satf_vdb_sample(const satf_vdb_grid *g, const float world_xyz[3]) {
   openvdb::FloatGrid::ConstUnsafeAccessor acc =

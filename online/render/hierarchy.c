@@ -226,6 +226,27 @@ static satf_status build_geometry(satf_renderer *r, int index,
   return build_proxy(p, &shell, err);
 }
 
+/* Prototype index's density grid: a handle on an earlier prototype's grid
+ * when that names the same file and grid (an imported scene names one file
+ * in every cluster, and a copy per cluster of a 30 MB grid ran into tens of
+ * gigabytes), else read from the file. */
+static satf_status read_vdb(const satf_renderer *r, int index,
+                            const satf_scene_density *d, satf_vdb_grid **out,
+                            satf_error *err) {
+  for (int m = 0; m < index; m++) {
+    const satf_scene_density *e =
+        &r->scene->macro_clusters[m].prototype.density;
+    if (!r->protos[m].vdb || e->type != SATF_SCENE_DENSITY_VDB ||
+        strcmp(e->vdb_file, d->vdb_file) || strcmp(e->vdb_grid, d->vdb_grid))
+      continue;
+    *out = satf_vdb_grid_share(r->protos[m].vdb);
+    return *out ? SATF_OK
+                : satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory",
+                                 d->vdb_file);
+  }
+  return satf_vdb_read(d->vdb_file, d->vdb_grid, out, err);
+}
+
 static satf_status build_proto(satf_renderer *r, int index,
                                const satf_scene_macro_cluster *mc,
                                satf_error *err) {
@@ -237,8 +258,7 @@ static satf_status build_proto(satf_renderer *r, int index,
     return st;
   satf_error cerr;
   if (c->density.type == SATF_SCENE_DENSITY_VDB) {
-    st =
-        satf_vdb_read(c->density.vdb_file, c->density.vdb_grid, &p->vdb, &cerr);
+    st = read_vdb(r, index, &c->density, &p->vdb, &cerr);
   } else {
     st = satf_strands_create(&c->density, &p->strands, &cerr);
     if (st == SATF_OK) /* once per prototype (SATF sec. 3.1) */

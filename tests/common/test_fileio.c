@@ -311,6 +311,56 @@ static void extensions_are_checked_without_case(void **state) {
                       "-o f.png: writes an EXR; give it a name ending in .exr");
 }
 
+/* An output named through a symbolic link is written through it: the link
+ * stays a link, its target gets the bytes, and the temporary file sits
+ * beside the target, so the rename stays on one file system. Relative
+ * links, chains of links and a link to a file not yet there work alike; a
+ * loop of links is refused. */
+static void atomic_write_goes_through_symlinks(void **state) {
+  (void)state;
+  char dir[600], sub[700], target[800], link[800], chain[800], dangling[800],
+      loop[800];
+  scratch(dir, sizeof dir, "links");
+  snprintf(sub, sizeof sub, "%s/sub", dir);
+  assert_int_equal(mkdir(sub, 0755), 0);
+  snprintf(target, sizeof target, "%s/target.exr", sub);
+  snprintf(link, sizeof link, "%s/link.exr", dir);
+  snprintf(chain, sizeof chain, "%s/chain.exr", dir);
+  snprintf(dangling, sizeof dangling, "%s/dangling.exr", dir);
+  snprintf(loop, sizeof loop, "%s/loop.exr", dir);
+  put(target, "old", 3);
+  assert_int_equal(symlink("sub/target.exr", link), 0);
+  assert_int_equal(symlink("link.exr", chain), 0);
+  assert_int_equal(symlink("sub/new.exr", dangling), 0);
+  assert_int_equal(symlink("loop.exr", loop), 0);
+
+  satf_error err;
+  char tmp[1000];
+  assert_int_equal(satf_temp_path(link, tmp, sizeof tmp, &err), SATF_OK);
+  assert_non_null(strstr(tmp, "/sub/target.exr.tmp-"));
+  assert_int_equal(satf_write_file_atomic(link, "new", 3, &err), SATF_OK);
+  assert_int_equal(satf_write_file_atomic(chain, "newer", 5, &err), SATF_OK);
+  struct stat st;
+  assert_int_equal(lstat(link, &st), 0);
+  assert_true(S_ISLNK(st.st_mode));
+  assert_int_equal(lstat(chain, &st), 0);
+  assert_true(S_ISLNK(st.st_mode));
+  assert_int_equal(satf_file_size(target), 5);
+
+  assert_int_equal(satf_write_file_atomic(dangling, "abc", 3, &err), SATF_OK);
+  assert_int_equal(lstat(dangling, &st), 0);
+  assert_true(S_ISLNK(st.st_mode));
+  char made[800];
+  snprintf(made, sizeof made, "%s/new.exr", sub);
+  assert_int_equal(satf_file_size(made), 3);
+
+  assert_int_equal(satf_write_file_atomic(loop, "x", 1, &err), SATF_ERR_IO);
+  assert_non_null(strstr(err.message, "too many levels of symbolic links"));
+  int temps;
+  assert_int_equal(entries(sub, &temps), 2);
+  assert_int_equal(temps, 0);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(read_file_returns_content_up_to_the_exact_cap),
@@ -325,6 +375,7 @@ int main(void) {
       cmocka_unit_test(distinct_files_catch_every_spelling),
       cmocka_unit_test(stale_temp_files_are_cleaned_up),
       cmocka_unit_test(extensions_are_checked_without_case),
+      cmocka_unit_test(atomic_write_goes_through_symlinks),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

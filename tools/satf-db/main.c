@@ -136,6 +136,12 @@ static int cmd_verify(const char *path) {
   satf_db *db = NULL;
   if (load(path, &db))
     return 1;
+  satf_error err;
+  if (satf_exr_check_layout(path, &err) != SATF_OK) {
+    fprintf(stderr, "%s: %s\n", PROG, err.message);
+    satf_db_destroy(db);
+    return 1;
+  }
   printf("%s: ok (hash %016" PRIx64 ")\n", path, satf_db_payload_hash(db));
   satf_db_destroy(db);
   return 0;
