@@ -105,10 +105,9 @@ struct satf_renderer {
   satf_scene_effects effects;
   int threads;
   satf_render_stats stats;
-  /* the drawing path of the last frame (path.h), and which paths have
-   * built their own state (bit per path: renderer.c) */
+  /* the drawing path of the last frame (path.h; renderer.c chooses it, a
+   * path's create makes its state idempotently) */
   const struct render_path *path;
-  unsigned paths_made;
   /* the hierarchy (hierarchy.c): prototypes and their instances */
   int nprotos, ninsts;
   proto *protos;
