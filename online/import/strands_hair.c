@@ -208,6 +208,18 @@ static satf_status check_finite_array(const unsigned char *p, uint64_t n,
   return SATF_OK;
 }
 
+/* True when the header's defaults are the values cyHair's own writer
+ * (cyHairFile.h, InitHeader) starts from: thickness 1, transparency 0,
+ * colour white. A file with no thickness array and these defaults never
+ * set a thickness: Bangs_100, whose 1.0 would draw each strand 2.7 times a
+ * fibre's width at its scale. Such a file gives no thickness, and the
+ * importer's fibre default applies. */
+static int hair_defaults_unset(const unsigned char *b) {
+  return lef32(b + 20) == 1.0f && lef32(b + 24) == 0.0f &&
+         lef32(b + 28) == 1.0f && lef32(b + 32) == 1.0f &&
+         lef32(b + 36) == 1.0f;
+}
+
 satf_status satf_hair_parse(const void *data, size_t size, const char *name,
                             satf_strand_set **out, satf_error *err) {
   const unsigned char *b = data;
@@ -302,7 +314,8 @@ satf_status satf_hair_parse(const void *data, size_t size, const char *name,
   for (uint64_t k = 0; k < points; k++)
     s->thickness[k] =
         (flags & HAIR_THICKNESS) ? lef32(thick + 4 * k) : def_thickness;
-  if (!(flags & HAIR_THICKNESS) && !isfinite(def_thickness)) {
+  if (!(flags & HAIR_THICKNESS) &&
+      (!isfinite(def_thickness) || hair_defaults_unset(b))) {
     free(s->thickness);
     s->thickness = NULL;
   }
@@ -336,8 +349,12 @@ satf_status satf_hair_write(const char *path, const satf_strand_set *s,
   put32(buf + 8, (uint32_t)points);
   put32(buf + 12, flags);
   put32(buf + 16, 0);
+  /* cyHair's initial defaults (thickness 1, transparency 0, colour white):
+   * a set without thickness reads back without it */
   putf32(buf + 20, 1.0f);
-  putf32(buf + 24, 1.0f);
+  putf32(buf + 24, 0.0f);
+  for (int c = 0; c < 3; c++)
+    putf32(buf + 28 + 4 * c, 1.0f);
   snprintf((char *)buf + 40, 88, "written by satf %s", SATF_VERSION_STRING);
   unsigned char *p = buf + HAIR_HEADER;
   for (int i = 0; i < s->n; i++) {

@@ -76,6 +76,43 @@ static void hair_round_trip(void **state) {
   satf_strand_set_destroy(s);
 }
 
+/* A file without a thickness array gives its header's default thickness,
+ * unless the defaults are cyHair's initial ones (thickness 1, transparency
+ * 0, white), which a writer that never set them leaves: then none. */
+static void hair_default_thickness(void **state) {
+  (void)state;
+  int counts[1] = {3};
+  float pts[9] = {0, 0, 0, 0, 1, 0, 0, 2, 0};
+  satf_strand_set *s, *back;
+  satf_error err;
+  assert_int_equal(satf_strand_set_create(1, counts, pts, NULL, &s, &err),
+                   SATF_OK);
+  char path[512];
+  test_path(path, sizeof path, "nothick.hair");
+  assert_int_equal(satf_hair_write(path, s, &err), SATF_OK);
+  assert_int_equal(satf_hair_read(path, &back, &err), SATF_OK);
+  assert_null(satf_strand_set_thickness(back, 0));
+  satf_strand_set_destroy(back);
+  size_t size;
+  unsigned char *bytes = test_read_file(path, &size);
+  /* a set default thickness is kept; so is 1 with another default beside */
+  const float sets[][3] = {
+      {0.25f, 0.0f, 1.0f}, {1.0f, 0.5f, 1.0f}, {1.0f, 0.0f, 0.2f}};
+  for (int k = 0; k < 3; k++) {
+    putf(bytes + 20, sets[k][0]);
+    putf(bytes + 24, sets[k][1]);
+    putf(bytes + 28, sets[k][2]);
+    test_write_file(path, bytes, size);
+    assert_int_equal(satf_hair_read(path, &back, &err), SATF_OK);
+    const float *th = satf_strand_set_thickness(back, 0);
+    assert_non_null(th);
+    assert_float_equal(th[2], sets[k][0], 0.0f);
+    satf_strand_set_destroy(back);
+  }
+  free(bytes);
+  satf_strand_set_destroy(s);
+}
+
 static void tfx_round_trips(void **state) {
   (void)state;
   enum { N = 40, V = 12 };
@@ -436,10 +473,15 @@ static void real_data(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(hair_round_trip),    cmocka_unit_test(tfx_round_trips),
-      cmocka_unit_test(hair_malformed),     cmocka_unit_test(tfx_malformed),
-      cmocka_unit_test(strand_set_rejects), cmocka_unit_test(follow_strands),
-      cmocka_unit_test(concat_sets),        cmocka_unit_test(fuzz_replays),
+      cmocka_unit_test(hair_round_trip),
+      cmocka_unit_test(hair_default_thickness),
+      cmocka_unit_test(tfx_round_trips),
+      cmocka_unit_test(hair_malformed),
+      cmocka_unit_test(tfx_malformed),
+      cmocka_unit_test(strand_set_rejects),
+      cmocka_unit_test(follow_strands),
+      cmocka_unit_test(concat_sets),
+      cmocka_unit_test(fuzz_replays),
       cmocka_unit_test(real_data),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
