@@ -1,5 +1,6 @@
 /* budget.c - what the renderer will take for a scene, before anything is
  * built (satf_render_memory_estimate, satf/render.h). */
+#include "renderer_internal.h"
 #include "satf/render.h"
 
 #include <string.h>
@@ -13,6 +14,12 @@
  * compositing (64 slots of 16 bytes, their counters and depth keys) and the
  * frame targets. */
 #define BYTES_PER_HSV 2000.0
+/* Per HSV of a cluster drawn as its strands (hierarchy_sparse at the
+ * renderer's default SATF_SPARSE_STRANDS_DEFAULT): its shell geometry and
+ * proxies only, no features' neighbours or maps (the shared ponytail's
+ * 1.8M such HSVs: about 1.1 GB). A lower --sparse-strands draws more of
+ * them as clusters, at BYTES_PER_HSV. */
+#define BYTES_PER_SPARSE_HSV 600.0
 #define BYTES_PER_STRAND 36.0
 #define BYTES_PER_PIXEL 300.0
 /* A VDB grid in memory over its file's size: the file stores leaves
@@ -52,12 +59,27 @@ static double vdb_bytes(const satf_scene *scene) {
   return sum;
 }
 
+/* Every instance's HSVs, those of clusters drawn as strands at their
+ * own rate. */
+static double hsv_bytes(const satf_scene *scene) {
+  double sum = 0.0;
+  for (int m = 0; m < scene->n_macro_clusters; m++) {
+    const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
+    double per = hierarchy_sparse(&mc->prototype, SATF_SPARSE_STRANDS_DEFAULT)
+                     ? BYTES_PER_SPARSE_HSV
+                     : BYTES_PER_HSV;
+    sum += per * (double)mc->n_instances *
+           (double)satf_scene_cluster_hsv_count(&mc->prototype);
+  }
+  return sum;
+}
+
 double satf_render_memory_estimate(const satf_scene *scene, long width,
                                    long height, satf_render_memory *parts) {
   satf_render_memory m;
   memset(&m, 0, sizeof m);
   if (scene) {
-    m.hsvs = BYTES_PER_HSV * (double)satf_scene_hsv_count(scene);
+    m.hsvs = hsv_bytes(scene);
     m.strands = BYTES_PER_STRAND * (double)satf_scene_strand_count(scene);
     m.pixels = BYTES_PER_PIXEL * (double)width * (double)height;
     m.vdb = vdb_bytes(scene);

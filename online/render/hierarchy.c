@@ -247,6 +247,13 @@ static satf_status read_vdb(const satf_renderer *r, int index,
   return satf_vdb_read(d->vdb_file, d->vdb_grid, out, err);
 }
 
+int hierarchy_sparse(const satf_scene_cluster *c, int max) {
+  const satf_scene_density *d = &c->density;
+  return d->type == SATF_SCENE_DENSITY_TRACKS &&
+         satf_scene_tracks_as_strands(d->track_slices, d->n_tracks,
+                                      d->track_count, max);
+}
+
 static satf_status build_proto(satf_renderer *r, int index,
                                const satf_scene_macro_cluster *mc,
                                satf_error *err) {
@@ -256,24 +263,72 @@ static satf_status build_proto(satf_renderer *r, int index,
   satf_status st = build_geometry(r, index, c, NULL, err);
   if (st != SATF_OK)
     return st;
-  satf_error cerr;
-  if (c->density.type == SATF_SCENE_DENSITY_VDB) {
-    st = read_vdb(r, index, &c->density, &p->vdb, &cerr);
-  } else {
-    st = satf_strands_create(&c->density, &p->strands, &cerr);
-    if (st == SATF_OK) /* once per prototype (SATF sec. 3.1) */
-      st = satf_sector_features(p->cluster, &p->geom.shell, p->strands, NULL,
-                                NULL, r->threads, p->geom.features, &cerr);
-    if (st == SATF_OK)
-      st = satf_maps_prepare(r->maps, &p->geom, &r->map_opt, &cerr);
-    if (st == SATF_OK)
-      r->stats.strands += (long)c->density.strands * mc->n_instances;
+  p->sparse = hierarchy_sparse(c, r->sparse_max);
+  if (c->density.type != SATF_SCENE_DENSITY_VDB) {
+    r->stats.strands += (long)c->density.strands * mc->n_instances;
+    return SATF_OK;
   }
+  satf_error cerr;
+  st = read_vdb(r, index, &c->density, &p->vdb, &cerr);
   if (st != SATF_OK)
     return satf_error_set(err, st,
                           "%s: macro_clusters[%d].prototype.density: %s", name,
                           index, cerr.message);
   return SATF_OK;
+}
+
+/* What a prototype drawn as a cluster needs beyond its geometry: its
+ * procedural or track strands and their features (once per prototype, SATF
+ * sec. 3.1; a VDB's are per instance, place_inst), the database neighbours,
+ * and its instances' map texels and textures. Left out for one drawn as
+ * its strands: in an imported hairstyle most clusters are single strands
+ * (the shared ponytail: 3,821 of 4,053, holding 92% of the HSVs), whose
+ * features and maps cost most of the set-up and are never drawn. */
+static satf_status create_map_textures(const satf_renderer *r, proto *p,
+                                       satf_error *err);
+static satf_status prepare_proto(satf_renderer *r, int index, satf_error *err) {
+  proto *p = &r->protos[index];
+  const satf_scene_cluster *c = &r->scene->macro_clusters[index].prototype;
+  satf_status st = SATF_OK;
+  satf_error cerr;
+  if (!p->vdb) {
+    if (!p->strands)
+      st = satf_strands_create(&c->density, &p->strands, &cerr);
+    if (st == SATF_OK)
+      st = satf_sector_features(p->cluster, &p->geom.shell, p->strands, NULL,
+                                NULL, r->threads, p->geom.features, &cerr);
+    if (st == SATF_OK)
+      st = satf_maps_prepare(r->maps, &p->geom, &r->map_opt, &cerr);
+    if (st != SATF_OK)
+      return satf_error_set(err, st,
+                            "%s: macro_clusters[%d].prototype.density: %s",
+                            scene_name(r->scene), index, cerr.message);
+    /* the instances' shallow copies (place_inst) take the neighbours */
+    for (int i = 0; i < p->ninsts; i++)
+      r->insts[p->first_inst + i].geom = p->geom;
+  }
+  size_t texels =
+      satf_maps_layer_texels(&p->geom, r->w) * (size_t)(p->layers * r->quads);
+  for (int i = 0; i < p->ninsts; i++) {
+    inst *in = &r->insts[p->first_inst + i];
+    in->texels = calloc(texels * 4, sizeof *in->texels);
+    if (!in->texels)
+      return satf_error_set(err, SATF_ERR_NOMEM,
+                            "cannot allocate %zu map texels", texels);
+    cluster_cpu_forget_lookups(in);
+  }
+  st = create_map_textures(r, p, err);
+  if (st == SATF_OK)
+    p->ready = 1;
+  return st;
+}
+
+satf_status hierarchy_prepare(satf_renderer *r, satf_error *err) {
+  satf_status st = SATF_OK;
+  for (int m = 0; m < r->nprotos && st == SATF_OK; m++)
+    if (!r->protos[m].ready && !r->protos[m].sparse)
+      st = prepare_proto(r, m, err);
+  return st;
 }
 
 /* Everything of an instance that follows its prototype's geometry and its
@@ -388,14 +443,10 @@ static satf_status build_inst(satf_renderer *r, inst *in, int pi,
   satf_status st = place_inst(r, in, err);
   if (st != SATF_OK)
     return st;
-  size_t texels =
-      satf_maps_layer_texels(&p->geom, r->w) * (size_t)(p->layers * r->quads);
   in->angles = malloc(sectors * 2 * sizeof(float));
   in->looked_up = malloc(sectors * 2 * sizeof(float));
-  in->texels = calloc(texels * 4, sizeof *in->texels);
-  if (!in->angles || !in->looked_up || !in->texels)
-    return satf_error_set(err, SATF_ERR_NOMEM, "cannot allocate %zu map texels",
-                          texels);
+  if (!in->angles || !in->looked_up)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   cluster_cpu_forget_lookups(in);
   r->stats.clusters++;
   r->stats.layers += p->layers;
@@ -422,8 +473,8 @@ satf_status hierarchy_build(satf_renderer *r, satf_progress_fn progress,
     r->protos[m].ninsts = mc->n_instances;
     for (int i = 0; i < mc->n_instances && st == SATF_OK; i++)
       st = build_inst(r, &r->insts[ii++], m, &mc->instances[i], err);
-    if (st == SATF_OK)
-      st = create_map_textures(r, &r->protos[m], err);
+    if (st == SATF_OK && !r->protos[m].sparse)
+      st = prepare_proto(r, m, err);
     r->stats.prototypes_shared += mc->n_instances - 1;
     if (progress) /* clusters built so far: the set-up's bulk */
       progress(progress_ctx, (size_t)ii, (size_t)r->ninsts);

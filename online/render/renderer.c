@@ -236,7 +236,9 @@ satf_status satf_renderer_set_sparse_strands(satf_renderer *r, int max_strands,
   r->dom.valid = 0;                   /* other hair casts the shadows now */
   for (int i = 0; i < r->ninsts; i++) /* a cluster again needs its maps */
     cluster_cpu_forget_lookups(&r->insts[i]);
-  return sparse_build(r, err);
+  satf_status st = sparse_build(r, err);
+  /* clusters drawn as strands until now get their features and maps */
+  return st == SATF_OK ? hierarchy_prepare(r, err) : st;
 }
 int satf_renderer_sparse_strands(const satf_renderer *r) {
   return r->sparse_max;

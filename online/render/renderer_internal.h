@@ -58,6 +58,9 @@ typedef struct proto {
   int first_inst, ninsts, chunk_insts, nchunks;
   GLuint *map_tex;
   int sparse; /* drawn as its strands (sparse.c), not as a cluster */
+  /* its density, features, neighbours, instance texels and map textures
+   * are built (hierarchy.c: only for prototypes drawn as clusters) */
+  int ready;
 } proto;
 
 /* One placed copy of a prototype with its own maps. */
@@ -181,9 +184,18 @@ void hierarchy_resample_curve(const satf_scene_curve *c, int n, float *out);
  * as the renderer does build it the same way). */
 satf_status hierarchy_cluster_create(const satf_scene_cluster *c,
                                      satf_cluster **out, satf_error *err);
-/* Builds every prototype and instance of r->scene. */
+/* Builds every prototype and instance of r->scene; a prototype drawn as
+ * its strands (hierarchy_sparse at r->sparse_max) gets its geometry only,
+ * not the density, features, neighbours and maps of a drawn cluster. */
 satf_status hierarchy_build(satf_renderer *r, satf_progress_fn progress,
                             void *progress_ctx, satf_error *err);
+/* Whether a scene cluster of "tracks" density holds 1 .. max strands and
+ * is drawn as them (sparse.c) rather than as a cluster. */
+int hierarchy_sparse(const satf_scene_cluster *c, int max);
+/* Gives every prototype now drawn as a cluster (proto.sparse 0) what
+ * hierarchy_build left out for those drawn as strands: after
+ * satf_renderer_set_sparse_strands lowers the threshold. */
+satf_status hierarchy_prepare(satf_renderer *r, satf_error *err);
 /* Whether `scene` has r's hierarchy (macro-clusters, instance counts,
  * shells): only geometry and transforms may change between frames. */
 satf_status hierarchy_check(const satf_renderer *r, const satf_scene *scene,

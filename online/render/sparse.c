@@ -22,13 +22,6 @@
 #include "mat4.h"
 #include "satf/math.h"
 
-static int is_sparse(const satf_scene_cluster *c, int max) {
-  const satf_scene_density *d = &c->density;
-  return d->type == SATF_SCENE_DENSITY_TRACKS &&
-         satf_scene_tracks_as_strands(d->track_slices, d->n_tracks,
-                                      d->track_count, max);
-}
-
 static float curve_mean(const satf_scene_curve *c) {
   double sum = 0.0;
   for (int i = 0; i < c->count; i++)
@@ -213,7 +206,7 @@ satf_status sparse_build(satf_renderer *r, satf_error *err) {
   sparse_release(r);
   for (int m = 0; m < r->nprotos; m++)
     r->protos[m].sparse =
-        is_sparse(&r->scene->macro_clusters[m].prototype, r->sparse_max);
+        hierarchy_sparse(&r->scene->macro_clusters[m].prototype, r->sparse_max);
   int strands = 0;
   size_t points = 0;
   count_strands(r, &strands, &points);
