@@ -50,6 +50,11 @@ typedef struct satf_maps satf_maps;
 typedef struct satf_map_options {
   float k_threshold; /* eq. 6 uniformity threshold (normalised units) */
   int k_nearest;     /* database samples blended per look-up */
+  /* 1 (default): a looked-up record keeps its structure across the HSV but
+   * takes the level (reflectance per unit coverage) its samples have
+   * seen and lit from outside on average, whatever the sector's own
+   * azimuths; 0: the record's own level (maps.c: lay_row) */
+  int orientation_free;
 } satf_map_options;
 
 satf_map_options satf_map_options_default(void);
