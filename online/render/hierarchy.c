@@ -257,6 +257,7 @@ static satf_status build_proto(satf_renderer *r, int index,
   if (st != SATF_OK)
     return st;
   satf_error cerr;
+  p->from_strands = c->density.type != SATF_SCENE_DENSITY_PROCEDURAL;
   if (c->density.type == SATF_SCENE_DENSITY_VDB) {
     st = read_vdb(r, index, &c->density, &p->vdb, &cerr);
   } else {

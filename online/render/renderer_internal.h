@@ -58,6 +58,9 @@ typedef struct proto {
   int first_inst, ninsts, chunk_insts, nchunks;
   GLuint *map_tex;
   int sparse; /* drawn as its strands (sparse.c), not as a cluster */
+  /* its density is its strands' (tracks, VDB: imported hair), so its
+   * records take an orientation-free level (satf_map_options) */
+  int from_strands;
 } proto;
 
 /* One placed copy of a prototype with its own maps. */
