@@ -294,6 +294,34 @@ static void test_reflectance_scale_unshadowed(void **state) {
   satf_db_destroy(flat);
 }
 
+/* What the row checks below work on: the sectors' azimuths, `layers`
+ * layers of texels and one record's reflectance and alpha. */
+typedef struct row_check {
+  float *angles, *tex, *re, *al;
+} row_check;
+
+static row_check row_check_alloc(const fixture *f, int layers) {
+  size_t n = satf_shell_sector_count(&f->shell);
+  int w = satf_maps_width(f->maps);
+  size_t layer = satf_maps_layer_texels(&f->geom, w);
+  row_check c = {malloc(2 * n * sizeof(float)),
+                 calloc(layer * 4 * (size_t)layers, sizeof(float)),
+                 malloc((size_t)w * sizeof(float)),
+                 malloc((size_t)w * sizeof(float))};
+  assert_non_null(c.angles);
+  assert_non_null(c.tex);
+  assert_non_null(c.re);
+  assert_non_null(c.al);
+  return c;
+}
+
+static void row_check_free(row_check *c) {
+  free(c->angles);
+  free(c->tex);
+  free(c->re);
+  free(c->al);
+}
+
 /* The level of layer k's rows (stored reflectance weighted by alpha over
  * the row, per HSV j of row 0) into level[j]; 0 where nothing covers. */
 static void row_levels(const float *t, int su, int w, double *level) {
@@ -321,16 +349,9 @@ static void test_orientation_free_level(void **state) {
   size_t n = satf_shell_sector_count(sh);
   int w = satf_maps_width(f->maps);
   const satf_sector_shape *shape = &satf_db_params(f->db)->shape;
-  size_t layer = satf_maps_layer_texels(&f->geom, w);
-  float *angles = malloc(2 * n * sizeof(float));
-  float *tex = calloc(layer * 4, sizeof(float));
-  float *re = malloc((size_t)w * sizeof(float));
-  float *al = malloc((size_t)w * sizeof(float));
+  row_check c = row_check_alloc(f, 1);
+  float *angles = c.angles, *tex = c.tex, *re = c.re, *al = c.al;
   double *level = malloc((size_t)sh->su * sizeof(double));
-  assert_non_null(angles);
-  assert_non_null(tex);
-  assert_non_null(re);
-  assert_non_null(al);
   assert_non_null(level);
   float feat[3];
   feature_at(f->db, 0.8f, feat);
@@ -379,10 +400,7 @@ static void test_orientation_free_level(void **state) {
   }
   printf("the records' own levels: %.4f .. %.4f\n", lo, hi);
   assert_true(hi > 1.2 * lo);
-  free(angles);
-  free(tex);
-  free(re);
-  free(al);
+  row_check_free(&c);
   free(level);
 }
 
@@ -394,18 +412,11 @@ static void test_orientation_free_level(void **state) {
 static void test_non_uniform_rows_and_shadow_sums(void **state) {
   fixture *f = *state;
   const satf_shell_params *sh = &f->shell;
-  size_t n = satf_shell_sector_count(sh);
   int w = satf_maps_width(f->maps);
   const satf_sector_shape *shape = &satf_db_params(f->db)->shape;
   size_t layer = satf_maps_layer_texels(&f->geom, w);
-  float *angles = malloc(2 * n * sizeof(float));
-  float *tex = calloc(layer * 4 * (size_t)sh->layers, sizeof(float));
-  float *re = malloc((size_t)w * sizeof(float));
-  float *al = malloc((size_t)w * sizeof(float));
-  assert_non_null(angles);
-  assert_non_null(tex);
-  assert_non_null(re);
-  assert_non_null(al);
+  row_check c = row_check_alloc(f, sh->layers);
+  float *angles = c.angles, *tex = c.tex, *re = c.re, *al = c.al;
   float feat[2][3];
   feature_at(f->db, 0.2f, feat[0]);
   feature_at(f->db, 0.8f, feat[1]);
@@ -475,10 +486,7 @@ static void test_non_uniform_rows_and_shadow_sums(void **state) {
     }
   }
   free(before);
-  free(angles);
-  free(tex);
-  free(re);
-  free(al);
+  row_check_free(&c);
 }
 
 /* The s-map sums again with alphas that are exact in binary (k/8), so the
