@@ -462,11 +462,15 @@ static void lookup(const satf_maps *m, const satf_db_neighbors *nb,
   }
   satf_db_lookup_neighbors_range(m->db, nb, p->view, p->light,
                                  SATF_DB_CH_REFLECTANCE, 2, rec);
-  float l = 0.0f;
+  /* over the samples with coverage (a sample of none has no level) */
+  float l = 0.0f, wsum = 0.0f;
   if (opt->orientation_free)
     for (int n = 0; n < nb->count; n++)
-      l += nb->weight[n] * m->sample_re[nb->index[n]];
-  *level = l;
+      if (m->sample_re[nb->index[n]] > 0.0f) {
+        l += nb->weight[n] * m->sample_re[nb->index[n]];
+        wsum += nb->weight[n];
+      }
+  *level = wsum > 0.0f ? l / wsum : 0.0f;
 }
 
 /* Whether sector q's azimuths differ from those of its last look-up
