@@ -973,6 +973,78 @@ static int tuft_axis(const satf_strand_set *s, const int *members, int n, int m,
   return 1;
 }
 
+/* The mean strand ends where the members' tips do on average, so the
+ * longer half of them ran past t = 1, where the shells stop: their ends
+ * were cut square at the mean length and the last slice of the tracks
+ * counted them all (SATF sec. 3.3 wants the density where the strands
+ * are). So the mean strand (m points, evenly spaced in arc length) is
+ * continued along its end direction to the farthest member tip (at most
+ * half its length further: a stray strand stays outside), then spaced
+ * evenly again; t = 1 is then the last tip, and the tracks thin out to
+ * it as the members end. */
+static void reach_last_tip(const satf_strand_set *s, const int *members,
+                           int n_members, int m, double *mean) {
+  if (m < 4)
+    return;
+  const double *end = mean + 3 * (m - 1);
+  const double *back = mean + 3 * (m - 1 - (m - 1) / 8);
+  double dir[3] = {end[0] - back[0], end[1] - back[1], end[2] - back[2]};
+  double dl = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+  double length = 0.0;
+  for (int k = 1; k < m; k++) {
+    const double *a = mean + 3 * (k - 1), *b = mean + 3 * k;
+    length +=
+        sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
+             (b[2] - a[2]) * (b[2] - a[2]));
+  }
+  if (!(dl > 1e-9 * length) || !(length > 0.0))
+    return;
+  double reach = 0.0;
+  for (int i = 0; i < n_members; i++) {
+    int n;
+    const float *p = satf_strand_set_strand(s, members[i], &n);
+    const float *tip = p + 3 * (n - 1);
+    double d = ((tip[0] - end[0]) * dir[0] + (tip[1] - end[1]) * dir[1] +
+                (tip[2] - end[2]) * dir[2]) /
+               dl;
+    reach = d > reach ? d : reach;
+  }
+  reach = fmin(reach, 0.5 * length);
+  if (!(reach > 1e-3 * length))
+    return;
+  double *old = malloc(3 * (size_t)m * sizeof(double));
+  if (!old) /* the mean strand as it is: square ends, nothing worse */
+    return;
+  memcpy(old, mean, 3 * (size_t)m * sizeof(double));
+  double total = length + reach, seg_start = 0.0;
+  int seg = 0;
+  for (int k = 0; k < m; k++) {
+    double a = total * (double)k / (double)(m - 1);
+    double *o = mean + 3 * k;
+    if (a >= length) { /* along the end direction, past the old end */
+      for (int c = 0; c < 3; c++)
+        o[c] = old[3 * (m - 1) + c] + (a - length) * dir[c] / dl;
+      continue;
+    }
+    for (;;) {
+      const double *p0 = old + 3 * seg, *p1 = p0 + 3;
+      double len = sqrt((p1[0] - p0[0]) * (p1[0] - p0[0]) +
+                        (p1[1] - p0[1]) * (p1[1] - p0[1]) +
+                        (p1[2] - p0[2]) * (p1[2] - p0[2]));
+      if (seg_start + len >= a || seg == m - 2) {
+        double f = len > 0.0 ? (a - seg_start) / len : 0.0;
+        f = f < 0.0 ? 0.0 : f > 1.0 ? 1.0 : f;
+        for (int c = 0; c < 3; c++)
+          o[c] = p0[c] + f * (p1[c] - p0[c]);
+        break;
+      }
+      seg_start += len;
+      seg++;
+    }
+  }
+  free(old);
+}
+
 /* The least-squares cubic B-spline through the members' mean strand, each
  * strand resampled to p->samples points. */
 static satf_status fit_mean_trajectory(const satf_strand_set *s,
@@ -997,6 +1069,8 @@ static satf_status fit_mean_trajectory(const satf_strand_set *s,
     mean[k] /= n_members;
   free(buf);
   *sheet = tuft_axis(s, members, n_members, m, mean);
+  if (!*sheet)
+    reach_last_tip(s, members, n_members, m, mean);
   /* the control points stay near the points they fit: a B-spline with
    * more control points than the data pins down swings far out (and the
    * scene's camera frames it); then half as many, down to 4 */

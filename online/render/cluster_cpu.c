@@ -141,9 +141,11 @@ static int some_sector_kept(const inst *in) {
  * remembered. */
 static int kk_layer(const satf_renderer *r, inst *in, int k, float *texels) {
   const satf_shell_params *sh = &in->geom.shell;
+  satf_map_options opt = r->map_opt;
+  opt.orientation_free &= r->protos[in->proto].from_strands;
   int lookups = satf_maps_update_layer(r->maps, &in->geom, in->angles,
                                        r->incremental ? in->looked_up : NULL,
-                                       &r->map_opt, k, texels);
+                                       &opt, k, texels);
   /* sector (i, k, j) sits at ((i * layers + k) * su + j) (maps.c) */
   for (int row = 0; row <= sh->st; row++) {
     size_t q =

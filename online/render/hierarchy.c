@@ -264,6 +264,7 @@ static satf_status build_proto(satf_renderer *r, int index,
   if (st != SATF_OK)
     return st;
   p->sparse = hierarchy_sparse(c, r->sparse_max);
+  p->from_strands = c->density.type != SATF_SCENE_DENSITY_PROCEDURAL;
   if (c->density.type != SATF_SCENE_DENSITY_VDB) {
     r->stats.strands += (long)c->density.strands * mc->n_instances;
     return SATF_OK;

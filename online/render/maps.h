@@ -50,6 +50,15 @@ typedef struct satf_maps satf_maps;
 typedef struct satf_map_options {
   float k_threshold; /* eq. 6 uniformity threshold (normalised units) */
   int k_nearest;     /* database samples blended per look-up */
+  /* 1 (default): a looked-up record keeps its structure across the HSV but
+   * takes the level (reflectance per unit coverage) its samples have
+   * seen and lit from outside on average, whatever the sector's own
+   * azimuths; 0: the record's own level (maps.c: lay_row). The renderer
+   * gives it to clusters whose density is their strands' (imported hair,
+   * overlapping clusters carved out of one mass of hair); a cluster of
+   * procedural density is a wisp of its own, which the records' own
+   * level shades round, lit on the light's side (samples/cluster_6a). */
+  int orientation_free;
 } satf_map_options;
 
 satf_map_options satf_map_options_default(void);

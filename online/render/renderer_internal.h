@@ -61,6 +61,9 @@ typedef struct proto {
   /* its density, features, neighbours, instance texels and map textures
    * are built (hierarchy.c: only for prototypes drawn as clusters) */
   int ready;
+  /* its density is its strands' (tracks, VDB: imported hair), so its
+   * records take an orientation-free level (satf_map_options) */
+  int from_strands;
 } proto;
 
 /* One placed copy of a prototype with its own maps. */

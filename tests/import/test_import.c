@@ -77,6 +77,65 @@ static int *all_members(int n) {
   return m;
 }
 
+/* Straight parallel strands of lengths 9 to 10: the cluster runs to the
+ * longest tip, so t = 1 is where the last strand ends and every tip lies
+ * at its own t (the mean strand, 9.5 long, cut the longer half square at
+ * t = 1, where their tips all projected). */
+static void fit_reaches_last_tip(void **state) {
+  (void)state;
+  enum { N = 200, M = 20 };
+  float *pts = malloc(3 * (size_t)N * M * sizeof(float));
+  int *counts = malloc((size_t)N * sizeof(int));
+  assert_non_null(pts);
+  assert_non_null(counts);
+  satf_rng rng;
+  satf_rng_seed(&rng, 7, 0);
+  for (int i = 0; i < N; i++) {
+    float r = (float)sqrt(satf_rng_uniform(&rng));
+    float u = (float)(2.0 * 3.14159265358979323846 * satf_rng_uniform(&rng));
+    float len = 9.0f + (float)i / (float)(N - 1);
+    counts[i] = M;
+    for (int k = 0; k < M; k++) {
+      float *q = pts + 3 * ((size_t)i * M + k);
+      q[0] = r * cosf(u);
+      q[1] = -len * (float)k / (float)(M - 1);
+      q[2] = r * sinf(u);
+    }
+  }
+  satf_strand_set *s;
+  satf_error err;
+  assert_int_equal(satf_strand_set_create(N, counts, pts, NULL, &s, &err),
+                   SATF_OK);
+  int *members = all_members(N);
+  satf_import_fit fit;
+  satf_import_fit_params p = satf_import_fit_params_default();
+  assert_int_equal(satf_import_fit_cluster(s, members, N, &p, &fit, &err),
+                   SATF_OK);
+  printf("cluster length %.3f for strands 9 to 10 long\n", (double)fit.length);
+  assert_float_equal(fit.length, 10.0f, 0.05f);
+  satf_cluster *got;
+  assert_int_equal(satf_import_fit_cluster_create(&fit, &got, &err), SATF_OK);
+  int at_end = 0;
+  for (int i = 0; i < N; i++) {
+    float t, d, xy[2];
+    satf_import_project_point(got, pts + 3 * ((size_t)i * M + M - 1), &t, &d,
+                              xy);
+    float want = (9.0f + (float)i / (float)(N - 1)) / 10.0f;
+    if (fabsf(t - want) > 0.01f)
+      fail_msg("strand %d: tip at t = %g, expected %g", i, (double)t,
+               (double)want);
+    at_end += t >= 0.995f;
+  }
+  printf("%d of %d tips at t >= 0.995\n", at_end, N);
+  assert_true(at_end <= N / 10 + 1);
+  satf_cluster_destroy(got);
+  satf_import_fit_free(&fit);
+  free(members);
+  satf_strand_set_destroy(s);
+  free(pts);
+  free(counts);
+}
+
 static void fit_recovers_known_cylinder(void **state) {
   (void)state;
   enum { N = 400, M = 25 };
@@ -846,6 +905,7 @@ int main(void) {
       cmocka_unit_test(default_width_is_a_fibre),
       cmocka_unit_test(import_within_budget),
       cmocka_unit_test(fit_recovers_known_cylinder),
+      cmocka_unit_test(fit_reaches_last_tip),
       cmocka_unit_test(fit_recovers_twisted_ribbon),
       cmocka_unit_test(density_mass),
       cmocka_unit_test(similarity_recovered),

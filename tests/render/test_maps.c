@@ -18,6 +18,7 @@
 #include "render_fixture.h"
 #include "satf/density.h"
 #include "satf/geometry.h"
+#include "satf/math.h"
 
 #define PI 3.14159265358979323846
 #define LENGTH 10.0f
@@ -293,6 +294,116 @@ static void test_reflectance_scale_unshadowed(void **state) {
   satf_db_destroy(flat);
 }
 
+/* What the row checks below work on: the sectors' azimuths, `layers`
+ * layers of texels and one record's reflectance and alpha. */
+typedef struct row_check {
+  float *angles, *tex, *re, *al;
+} row_check;
+
+static row_check row_check_alloc(const fixture *f, int layers) {
+  size_t n = satf_shell_sector_count(&f->shell);
+  int w = satf_maps_width(f->maps);
+  size_t layer = satf_maps_layer_texels(&f->geom, w);
+  row_check c = {malloc(2 * n * sizeof(float)),
+                 calloc(layer * 4 * (size_t)layers, sizeof(float)),
+                 malloc((size_t)w * sizeof(float)),
+                 malloc((size_t)w * sizeof(float))};
+  assert_non_null(c.angles);
+  assert_non_null(c.tex);
+  assert_non_null(c.re);
+  assert_non_null(c.al);
+  return c;
+}
+
+static void row_check_free(row_check *c) {
+  free(c->angles);
+  free(c->tex);
+  free(c->re);
+  free(c->al);
+}
+
+/* The level of layer k's rows (stored reflectance weighted by alpha over
+ * the row, per HSV j of row 0) into level[j]; 0 where nothing covers. */
+static void row_levels(const float *t, int su, int w, double *level) {
+  for (int j = 0; j < su; j++) {
+    double ra = 0.0, a = 0.0;
+    for (int x = 0; x < w; x++) {
+      const float *texel = t + 4 * ((size_t)j * w + (size_t)x);
+      ra += (double)texel[0] * texel[1];
+      a += texel[1];
+    }
+    level[j] = a > 1e-6 ? ra / a : 0.0;
+  }
+}
+
+/* With orientation_free (the default), every record keeps its structure
+ * (stored reflectance over re / alpha the same across the row) but its
+ * level is its samples' seen and lit from outside, whatever the sector's
+ * azimuths: rows of one density under light azimuths from the sector's
+ * outer side round to its inner side have one level, where the records'
+ * own levels differ by far more (the in-sector shadowing that shaded each
+ * cluster as a cylinder). */
+static void test_orientation_free_level(void **state) {
+  fixture *f = *state;
+  const satf_shell_params *sh = &f->shell;
+  size_t n = satf_shell_sector_count(sh);
+  int w = satf_maps_width(f->maps);
+  const satf_sector_shape *shape = &satf_db_params(f->db)->shape;
+  row_check c = row_check_alloc(f, 1);
+  float *angles = c.angles, *tex = c.tex, *re = c.re, *al = c.al;
+  double *level = malloc((size_t)sh->su * sizeof(double));
+  assert_non_null(level);
+  float feat[3];
+  feature_at(f->db, 0.8f, feat);
+  for (size_t s = 0; s < n; s++) {
+    memcpy(f->geom.features + 3 * s, feat, sizeof feat);
+    int j = (int)(s % (size_t)sh->su);
+    angles[2 * s] = 0.0f; /* head-on */
+    angles[2 * s + 1] = SATF_TWO_PI_F * (float)j / (float)sh->su;
+  }
+  satf_map_options opt = satf_map_options_default();
+  assert_int_equal(opt.orientation_free, 1);
+  double lo = INFINITY, hi = 0.0;
+  satf_maps_build_layer(f->maps, &f->geom, angles, &opt, 0, tex);
+  row_levels(tex, sh->su, w, level);
+  for (int j = 0; j < sh->su; j++) {
+    assert_true(level[j] > 0.0);
+    lo = fmin(lo, level[j]);
+    hi = fmax(hi, level[j]);
+    /* the structure: stored / (re / alpha) is one factor along the row */
+    satf_db_lookup(f->db, feat, 0.0f, angles[2 * j + 1], opt.k_nearest, re, al);
+    double q0 = 0.0;
+    for (int x = 0; x < w; x++) {
+      double xr = head_on_record_position(shape, w, x);
+      double a = sample_record(al, w, xr), r = sample_record(re, w, xr);
+      if (a < 0.05)
+        continue;
+      double q = tex[4 * ((size_t)j * w + (size_t)x)] / (r / a);
+      if (q0 == 0.0)
+        q0 = q;
+      if (!(fabs(q - q0) <= 1e-3 * q0))
+        fail_msg("HSV %d column %d: stored / record %.5f, the row's %.5f", j, x,
+                 q, q0);
+    }
+  }
+  printf("orientation-free levels over %d light azimuths: %.4f .. %.4f\n",
+         sh->su, lo, hi);
+  assert_true(hi - lo <= 1e-3 * hi);
+  /* the records' own levels at the same parameters */
+  opt.orientation_free = 0;
+  satf_maps_build_layer(f->maps, &f->geom, angles, &opt, 0, tex);
+  row_levels(tex, sh->su, w, level);
+  lo = INFINITY, hi = 0.0;
+  for (int j = 0; j < sh->su; j++) {
+    lo = fmin(lo, level[j]);
+    hi = fmax(hi, level[j]);
+  }
+  printf("the records' own levels: %.4f .. %.4f\n", lo, hi);
+  assert_true(hi > 1.2 * lo);
+  row_check_free(&c);
+  free(level);
+}
+
 /* Top and bottom sectors of each HSV with clearly different densities: two
  * look-ups per HSV (shared with the neighbour along t), row 2i showing the
  * record at t_i and row 2i + 1 the one at t_{i+1} (SATF eq. 7). Checked
@@ -301,18 +412,11 @@ static void test_reflectance_scale_unshadowed(void **state) {
 static void test_non_uniform_rows_and_shadow_sums(void **state) {
   fixture *f = *state;
   const satf_shell_params *sh = &f->shell;
-  size_t n = satf_shell_sector_count(sh);
   int w = satf_maps_width(f->maps);
   const satf_sector_shape *shape = &satf_db_params(f->db)->shape;
   size_t layer = satf_maps_layer_texels(&f->geom, w);
-  float *angles = malloc(2 * n * sizeof(float));
-  float *tex = calloc(layer * 4 * (size_t)sh->layers, sizeof(float));
-  float *re = malloc((size_t)w * sizeof(float));
-  float *al = malloc((size_t)w * sizeof(float));
-  assert_non_null(angles);
-  assert_non_null(tex);
-  assert_non_null(re);
-  assert_non_null(al);
+  row_check c = row_check_alloc(f, sh->layers);
+  float *angles = c.angles, *tex = c.tex, *re = c.re, *al = c.al;
   float feat[2][3];
   feature_at(f->db, 0.2f, feat[0]);
   feature_at(f->db, 0.8f, feat[1]);
@@ -325,6 +429,7 @@ static void test_non_uniform_rows_and_shadow_sums(void **state) {
         angles[2 * s + 1] = 0.5f + 0.3f * (float)j + 0.1f * (float)k;
       }
   satf_map_options opt = satf_map_options_default();
+  opt.orientation_free = 0; /* the records' own level, laid as they are */
   size_t row = (size_t)sh->su * w * 4;
   /* stored reflectance / (re / alpha): the database's one scale (its value
    * is test_reflectance_scale_unshadowed's) */
@@ -381,10 +486,7 @@ static void test_non_uniform_rows_and_shadow_sums(void **state) {
     }
   }
   free(before);
-  free(angles);
-  free(tex);
-  free(re);
-  free(al);
+  row_check_free(&c);
 }
 
 /* The s-map sums again with alphas that are exact in binary (k/8), so the
@@ -653,6 +755,7 @@ int main(void) {
       cmocka_unit_test(test_uniform_density_features),
       cmocka_unit_test(test_default_lookup_reduces_seams),
       cmocka_unit_test(test_cached_lookups_equal_searched),
+      cmocka_unit_test(test_orientation_free_level),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
