@@ -17,9 +17,9 @@
 /* Per HSV of a cluster drawn as its strands (hierarchy_sparse at the
  * renderer's default SATF_SPARSE_STRANDS_DEFAULT): its shell geometry and
  * proxies only, no features' neighbours or maps (the shared ponytail's
- * 1.8M such HSVs: about 1.1 GB). A lower --sparse-strands draws more of
+ * 1.8M such HSVs: about 1.1 to 1.3 GB). A lower --sparse-strands draws more of
  * them as clusters, at BYTES_PER_HSV. */
-#define BYTES_PER_SPARSE_HSV 600.0
+#define BYTES_PER_SPARSE_HSV 700.0
 #define BYTES_PER_STRAND 36.0
 #define BYTES_PER_PIXEL 300.0
 /* A VDB grid in memory over its file's size: the file stores leaves
