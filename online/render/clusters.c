@@ -20,7 +20,8 @@ static satf_status composite(satf_renderer *r, satf_aov aov,
                              const float viewproj[16], long *count,
                              satf_error *err) {
   r->stats.overflow_pixels = 0;
-  if (r->composite == SATF_COMPOSITE_ORDERED)
+  /* the depth needs the fragments in depth order: always the arrays */
+  if (r->composite == SATF_COMPOSITE_ORDERED && aov != SATF_AOV_DEPTH)
     return cluster_gpu_ordered(r, aov, viewproj, err);
   long over = 0, ignore = 0;
   GLuint most = cluster_gpu_lists(r, aov, viewproj, 0, count, &over);

@@ -73,10 +73,10 @@ typedef struct fixture {
 } fixture;
 
 static const char *const all_channels[] = {
-    "R",         "G",         "B",        "A",        "diffuse.R",
-    "diffuse.G", "diffuse.B", "specI.R",  "specI.G",  "specI.B",
-    "specII.R",  "specII.G",  "specII.B", "shadow.Y", "alpha.Y"};
-#define NCHANNELS 15
+    "R",         "G",        "B",       "A",       "diffuse.R", "diffuse.G",
+    "diffuse.B", "specI.R",  "specI.G", "specI.B", "specII.R",  "specII.G",
+    "specII.B",  "shadow.Y", "alpha.Y", "Z"};
+#define NCHANNELS 16
 
 static int setup(void **state) {
   fixture *f = calloc(1, sizeof *f);
