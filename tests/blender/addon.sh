@@ -23,6 +23,7 @@ grep 'test_addon: 60 strands' "$d/blender.log"
   --aov --size 160x120 -q
 oiiotool --info -v "$d/groom.exr" > "$d/info"
 grep -q 'satf.Combined.R' "$d/info"
+grep -q 'satf.Depth.Z' "$d/info"
 grep -q 'worldToCamera' "$d/info"
 grep -q 'worldToNDC' "$d/info"
 blender -b --factory-startup --python-exit-code 1 \
