@@ -26,14 +26,11 @@ satf_status depth_lists(satf_renderer *r, const float viewproj[16],
   long count = 0, over = 0, ignore = 0;
   fill_pass(r, viewproj, fill, ctx, 0);
   GLuint most = lists_count(&r->lists, 0, &count, &over);
-  satf_status st = SATF_OK;
-  if ((int)most > r->lists.slots && r->lists.slots < SATF_MAX_FRAGMENTS) {
-    int slots = (int)most + 4;
-    st = lists_alloc(&r->lists,
-                     slots < SATF_MAX_FRAGMENTS ? slots : SATF_MAX_FRAGMENTS,
-                     err);
-    if (st != SATF_OK)
-      return st;
+  int grown = 0;
+  satf_status st = lists_grow(&r->lists, most, &grown, err);
+  if (st != SATF_OK)
+    return st;
+  if (grown) {
     fill_pass(r, viewproj, fill, ctx, 0);
     lists_count(&r->lists, 0, &count, &over);
   }
