@@ -1,8 +1,8 @@
 /* test_depth.c - the depth AOV ("Z" of satf_renderer_render_image with
  * AOVs): hair 8 units in front of the camera over an opaque square 12
  * units away, seen along the z axis. Every drawing path (the clusters
- * composited exactly and by drawing order, the source strands, the
- * textured-patch baseline) gives the hair's depth where the hair is
+ * composited exactly and by drawing order, a cluster drawn as its
+ * strand, the source strands, the textured-patch baseline) gives the hair's depth where the hair is
  * opaque, the square's 12 at its edge (distance along the view axis, as
  * Blender's Z pass: not the 12.2 of the straight line to that point),
  * and 1e10 where nothing is; several samples give the same. Whole frames
@@ -36,9 +36,9 @@ typedef fixture_gl fixture;
 
 FIXTURE_GL_GROUP(W, H)
 
-typedef enum { CLUSTERS, ORDERED, STRANDS, BASELINE } path;
-static const char *const path_names[] = {"clusters", "clusters (ordered)",
-                                         "strands", "baseline"};
+typedef enum { CLUSTERS, ORDERED, STRANDS, BASELINE, SPARSE } path;
+static const char *const path_names[] = {
+    "clusters", "clusters (ordered)", "strands", "baseline", "sparse cluster"};
 
 /* The image column of scene point (x, z) on the row through the centre. */
 static int column_of(float x, float z) {
@@ -60,18 +60,22 @@ static void write_square(char *obj, size_t size) {
 static satf_image *render_depth(const fixture *f, path p, int samples) {
   char obj[512], json[2048];
   write_square(obj, sizeof obj);
-  /* a dense vertical cluster, radius 0.4, on the axis at z = HAIR_Z */
+  /* a dense vertical cluster, radius 0.4, on the axis at z = HAIR_Z; or
+   * one drawn as its strand (sparse.c), 0.8 wide along that axis */
+  const char *density = p == SPARSE ? "{\"type\": \"tracks\", \"slices\": 5, "
+                                      "\"strand_width\": 2, \"tracks\": "
+                                      "[[0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]]}"
+                                    : "{\"strands\": 400}";
   snprintf(json, sizeof json,
            "{\"macro_clusters\": [{\"prototype\": {\"trajectory\": "
-           "[[0, -2, %g], [0, 2, %g]], \"a\": 0.4, \"density\": "
-           "{\"strands\": 400}}}],"
+           "[[0, -2, %g], [0, 2, %g]], \"a\": 0.4, \"density\": %s}}],"
            " \"meshes\": [{\"file\": \"%s\"}],"
            " \"camera\": {\"position\": [0, 0, %g], \"target\": [0, 0, 0],"
            "              \"fov_y\": %g},"
            " \"lights\": [{\"direction\": [0, 0, -1]}],"
            " \"effects\": {\"satf\": %s},"
            " \"image\": {\"width\": %d, \"height\": %d, \"samples\": %d}}",
-           (double)HAIR_Z, (double)HAIR_Z, obj, (double)CAM_Z, FOV_Y,
+           (double)HAIR_Z, (double)HAIR_Z, density, obj, (double)CAM_Z, FOV_Y,
            p == BASELINE ? "false" : "true", W, H, samples);
   satf_scene *s = fixture_scene(json);
   assert_non_null(s);
@@ -142,6 +146,7 @@ static void test_clusters(void **state) { check_path(*state, CLUSTERS, 1); }
 static void test_ordered(void **state) { check_path(*state, ORDERED, 1); }
 static void test_strands(void **state) { check_path(*state, STRANDS, 1); }
 static void test_baseline(void **state) { check_path(*state, BASELINE, 1); }
+static void test_sparse(void **state) { check_path(*state, SPARSE, 1); }
 /* jittered samples: their median, never a mean across the hair's edges */
 static void test_samples(void **state) {
   check_path(*state, CLUSTERS, 4);
@@ -151,7 +156,7 @@ static void test_samples(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_clusters), cmocka_unit_test(test_ordered),
-      cmocka_unit_test(test_strands), cmocka_unit_test(test_baseline),
-      cmocka_unit_test(test_samples)};
+      cmocka_unit_test(test_strands),  cmocka_unit_test(test_baseline),
+      cmocka_unit_test(test_sparse),   cmocka_unit_test(test_samples)};
   return cmocka_run_group_tests(tests, setup, teardown);
 }
