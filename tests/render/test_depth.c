@@ -2,11 +2,11 @@
  * AOVs): hair 8 units in front of the camera over an opaque square 12
  * units away, seen along the z axis. Every drawing path (the clusters
  * composited exactly and by drawing order, a cluster drawn as its
- * strand, the source strands, the textured-patch baseline) gives the hair's depth where the hair is
- * opaque, the square's 12 at its edge (distance along the view axis, as
- * Blender's Z pass: not the 12.2 of the straight line to that point),
- * and 1e10 where nothing is; several samples give the same. Whole frames
- * on Mesa's llvmpipe through a headless EGL context. */
+ * strand, the source strands, the textured-patch baseline) gives the hair's
+ * depth where the hair is opaque, the square's 12 at its edge (distance along
+ * the view axis, as Blender's Z pass: not the 12.2 of the straight line to that
+ * point), and 1e10 where nothing is; several samples give the same. Whole
+ * frames on Mesa's llvmpipe through a headless EGL context. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -79,10 +79,9 @@ static satf_image *render_depth(const fixture *f, path p, int samples) {
            p == BASELINE ? "false" : "true", W, H, samples);
   satf_scene *s = fixture_scene(json);
   assert_non_null(s);
-  satf_renderer *r = NULL;
+  satf_renderer *r = fixture_renderer(s, f->db, W, H, 0);
+  assert_non_null(r);
   satf_error err;
-  if (satf_renderer_create(s, f->db, W, H, 0, &r, &err) != SATF_OK)
-    fail_msg("%s", err.message);
   if (p == ORDERED)
     satf_renderer_set_composite(r, SATF_COMPOSITE_ORDERED);
   if (p == STRANDS) { /* 41 strands 0.04 wide across the cluster's place */
