@@ -138,7 +138,8 @@ static exr_result_t write_chunks(exr_context_t ctx, int part, int width,
 }
 
 static satf_status exr_write(const char *path, int width, int height,
-                             const satf_exr_channel *channels, int nchannels,
+                             const satf_exr_channel *channels,
+                             const exr_pixel_type_t *types, int nchannels,
                              const satf_exr_write_opts *opts, exr_msg *msg,
                              satf_error *err) {
   if (width <= 0 || height <= 0 || nchannels <= 0 || nchannels > 64)
@@ -164,7 +165,8 @@ static satf_status exr_write(const char *path, int width, int height,
     rc = exr_initialize_required_attr_simple(ctx, part, width, height,
                                              opts->compression);
   for (int c = 0; c < nchannels && rc == EXR_ERR_SUCCESS; c++)
-    rc = exr_add_channel(ctx, part, channels[c].name, opts->pixel_type,
+    rc = exr_add_channel(ctx, part, channels[c].name,
+                         types ? types[c] : opts->pixel_type,
                          EXR_PERCEPTUALLY_LINEAR, 1, 1);
   if (rc == EXR_ERR_SUCCESS && opts->attrs)
     st = opts->attrs(opts->attrs_ctx, ctx, part, err);
@@ -195,8 +197,21 @@ satf_status satf_exr_write(const char *path, int width, int height,
                            const satf_exr_write_opts *opts, satf_error *err) {
   exr_msg msg = {{0}}, *outer = current_msg;
   current_msg = &msg;
-  satf_status st =
-      exr_write(path, width, height, channels, nchannels, opts, &msg, err);
+  satf_status st = exr_write(path, width, height, channels, NULL, nchannels,
+                             opts, &msg, err);
+  current_msg = outer;
+  return st;
+}
+
+satf_status satf_exr_write_typed(const char *path, int width, int height,
+                                 const satf_exr_channel *channels,
+                                 const exr_pixel_type_t *types, int nchannels,
+                                 const satf_exr_write_opts *opts,
+                                 satf_error *err) {
+  exr_msg msg = {{0}}, *outer = current_msg;
+  current_msg = &msg;
+  satf_status st = exr_write(path, width, height, channels, types, nchannels,
+                             opts, &msg, err);
   current_msg = outer;
   return st;
 }

@@ -282,6 +282,13 @@ typedef struct satf_exr_write_opts {
 satf_status satf_exr_write(const char *path, int width, int height,
                            const satf_exr_channel *channels, int nchannels,
                            const satf_exr_write_opts *opts, satf_error *err);
+/* The same with each channel's pixel type given (types[c]) in place of
+ * the options' one: a FLOAT depth beside HALF colour. */
+satf_status satf_exr_write_typed(const char *path, int width, int height,
+                                 const satf_exr_channel *channels,
+                                 const exr_pixel_type_t *types, int nchannels,
+                                 const satf_exr_write_opts *opts,
+                                 satf_error *err);
 
 /* Reads the named channels of a single-part scanline file into planes[i]
  * (malloc'd, width*height floats each, caller frees). A channel missing

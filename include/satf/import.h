@@ -54,7 +54,8 @@ satf_status satf_strand_set_create(int n_strands, const int *counts,
 void satf_strand_set_destroy(satf_strand_set *s);
 
 /* A new set holding the strands of a followed by those of b (for importing
- * several files into one scene). Thickness is kept only when both have it. */
+ * several files into one scene). Thickness and colour are kept only when
+ * both have them. */
 satf_status satf_strand_set_concat(const satf_strand_set *a,
                                    const satf_strand_set *b,
                                    satf_strand_set **out, satf_error *err);
@@ -67,6 +68,13 @@ const float *satf_strand_set_strand(const satf_strand_set *s, int i,
 int satf_strand_set_points(const satf_strand_set *s, int i);
 /* Thickness of the points of strand i, or NULL when the set has none. */
 const float *satf_strand_set_thickness(const satf_strand_set *s, int i);
+/* Colours of the points of strand i (r g b a point, as the file gave
+ * them), or NULL when the set has none. */
+const float *satf_strand_set_colour(const satf_strand_set *s, int i);
+/* Gives every point of s a colour: 3 floats a point in the set's point
+ * order, copied (replacing any it had); every value finite. */
+satf_status satf_strand_set_add_colour(satf_strand_set *s, const float *rgb,
+                                       satf_error *err);
 /* Axis-aligned bounds of every point. */
 void satf_strand_set_bounds(const satf_strand_set *s, float lo[3], float hi[3]);
 /* Polyline length of strand i. */
@@ -78,7 +86,8 @@ satf_status satf_hair_parse(const void *data, size_t size, const char *name,
                             satf_strand_set **out, satf_error *err);
 satf_status satf_hair_read(const char *path, satf_strand_set **out,
                            satf_error *err);
-/* Writes segments, points and (when the set has them) thickness arrays,
+/* Writes segments, points and (when the set has them) thickness and colour
+ * arrays,
  * through a temporary file renamed into place. */
 satf_status satf_hair_write(const char *path, const satf_strand_set *s,
                             satf_error *err);
@@ -163,8 +172,9 @@ satf_status satf_usc_read(const char *path, satf_strand_set **out,
 
 /* ---- Wavefront OBJ polylines (strands_obj.c) ---------------------------- */
 
-/* `v x y z` vertices (a weight or an r g b colour after them is accepted
- * and dropped) and `l` polylines of 1-based or negative indices (`i/t`
+/* `v x y z` vertices (a weight after them is dropped; an r g b colour
+ * after them, on every vertex, is kept as the points' colours; OBJ holds
+ * no width) and `l` polylines of 1-based or negative indices (`i/t`
  * allowed), their segments chained into strands as PLY edges are (each
  * from its lower-numbered end); faces and everything else are skipped, so
  * a groom exported with its head reads as its hair. */

@@ -141,6 +141,11 @@ typedef enum satf_aov {
   SATF_AOV_SPEC_II,
   SATF_AOV_SHADOW,
   SATF_AOV_ALPHA,
+  /* distance along the camera's view axis (Blender's and Nuke's Z) of
+   * where the pixel's hair and meshes, front to back, first reach half
+   * coverage; the target holds it as two halves (satf_renderer_render_image
+   * decodes it into "Z", 1e10 where nothing is that opaque) */
+  SATF_AOV_DEPTH,
   SATF_AOV_COUNT
 } satf_aov;
 
@@ -273,7 +278,9 @@ unsigned satf_renderer_framebuffer(const satf_renderer *r);
  * compositors expect of an EXR; A the coverage; the scene's background is
  * the image's background colour, see satf_image_set_background) and, for
  * AOVs, diffuse.R/G/B, specI.R/G/B, specII.R/G/B, shadow.Y, alpha.Y (all
- * premultiplied over black). */
+ * premultiplied over black) and Z (SATF_AOV_DEPTH; with several samples
+ * a pixel takes their median, never their mean: a mean across an edge is
+ * a depth where nothing is). */
 satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
                                        satf_image **out,
                                        satf_frame_timing *timing,

@@ -104,13 +104,16 @@ satf_status import_prepare_strands(satf_strand_set **s, const float *m,
   int n = satf_strand_set_count(in);
   size_t np = satf_strand_set_point_count(in);
   int thick = satf_strand_set_thickness(in, 0) != NULL;
+  int coloured = satf_strand_set_colour(in, 0) != NULL;
   int *counts = malloc((size_t)n * sizeof *counts);
   float *pts = malloc(3 * np * sizeof *pts);
   float *th = thick ? malloc(np * sizeof *th) : NULL;
-  if (!counts || !pts || (thick && !th)) {
+  float *rgb = coloured ? malloc(3 * np * sizeof *rgb) : NULL;
+  if (!counts || !pts || (thick && !th) || (coloured && !rgb)) {
     free(counts);
     free(pts);
     free(th);
+    free(rgb);
     return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
   }
   float k = mean_scale(m);
@@ -120,6 +123,7 @@ satf_status import_prepare_strands(satf_strand_set **s, const float *m,
     int cnt;
     const float *p = satf_strand_set_strand(in, i, &cnt);
     const float *t = satf_strand_set_thickness(in, i);
+    const float *c = satf_strand_set_colour(in, i);
     size_t start = at;
     int last = 0; /* the last point kept */
     for (int j = 0; j < cnt; j++) {
@@ -131,6 +135,8 @@ satf_status import_prepare_strands(satf_strand_set **s, const float *m,
       apply(m, p + 3 * j, pts + 3 * at);
       if (thick)
         th[at] = t[j] * k;
+      if (coloured)
+        memcpy(rgb + 3 * at, c + 3 * j, 3 * sizeof *rgb);
       at++;
     }
     if (at - start >= 2) {
@@ -150,6 +156,9 @@ satf_status import_prepare_strands(satf_strand_set **s, const float *m,
                         path, n);
   else
     st = satf_strand_set_create(kept, counts, pts, th, &out, err);
+  if (st == SATF_OK && coloured &&
+      (st = satf_strand_set_add_colour(out, rgb, err)) != SATF_OK)
+    satf_strand_set_destroy(out);
   if (st == SATF_OK) {
     satf_strand_set_destroy(*s);
     *s = out;
@@ -157,5 +166,6 @@ satf_status import_prepare_strands(satf_strand_set **s, const float *m,
   free(counts);
   free(pts);
   free(th);
+  free(rgb);
   return st;
 }

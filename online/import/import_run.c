@@ -520,7 +520,8 @@ static int roots_meet_mesh(const run *u) {
  * without thickness (TressFX, PLY, .data) gets, per strand, the width its
  * cluster's density assumes (strand_width x radius, a diameter), so the
  * strand reference (satf-render --strands) draws what the clusters stand
- * for rather than the format's default of 1 unit whatever the scale. */
+ * for rather than the format's default of 1 unit whatever the scale.
+ * Colours, where the file gave them, are written too. */
 static satf_status write_strands(const char *path, void *ctx, satf_error *err) {
   const run *u = ctx;
   int n = satf_strand_set_count(u->all);
@@ -546,6 +547,10 @@ static satf_status write_strands(const char *path, void *ctx, satf_error *err) {
   satf_strand_set *s = NULL;
   if (st == SATF_OK)
     st = satf_strand_set_create(n, counts, xyz, th, &s, err);
+  /* the points' colours (an OBJ's), all strands in the same order */
+  const float *rgb = n > 0 ? satf_strand_set_colour(u->all, 0) : NULL;
+  if (st == SATF_OK && rgb)
+    st = satf_strand_set_add_colour(s, rgb, err);
   if (st == SATF_OK)
     st = satf_hair_write(path, s, err);
   satf_strand_set_destroy(s);

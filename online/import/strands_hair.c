@@ -21,6 +21,7 @@ struct satf_strand_set {
   size_t *offset; /* n + 1 point offsets */
   float *points;  /* 3 per point */
   float *thickness;
+  float *colour; /* 3 per point, or NULL */
 };
 
 enum {
@@ -98,6 +99,7 @@ void satf_strand_set_destroy(satf_strand_set *s) {
     free(s->offset);
     free(s->points);
     free(s->thickness);
+    free(s->colour);
     free(s);
   }
 }
@@ -126,6 +128,14 @@ satf_status satf_strand_set_concat(const satf_strand_set *a,
     memcpy(s->thickness, a->thickness, na * sizeof(float));
     memcpy(s->thickness + na, b->thickness, nb * sizeof(float));
   }
+  if (a->colour && b->colour) {
+    if (!(s->colour = malloc(3 * (na + nb) * sizeof(float)))) {
+      satf_strand_set_destroy(s);
+      return satf_error_set(err, SATF_ERR_NOMEM, "strand set: out of memory");
+    }
+    memcpy(s->colour, a->colour, 3 * na * sizeof(float));
+    memcpy(s->colour + 3 * na, b->colour, 3 * nb * sizeof(float));
+  }
   *out = s;
   return SATF_OK;
 }
@@ -149,6 +159,28 @@ int satf_strand_set_points(const satf_strand_set *s, int i) {
 
 const float *satf_strand_set_thickness(const satf_strand_set *s, int i) {
   return s->thickness ? s->thickness + s->offset[i] : NULL;
+}
+
+const float *satf_strand_set_colour(const satf_strand_set *s, int i) {
+  return s->colour ? s->colour + 3 * s->offset[i] : NULL;
+}
+
+satf_status satf_strand_set_add_colour(satf_strand_set *s, const float *rgb,
+                                       satf_error *err) {
+  size_t n = 3 * s->offset[s->n];
+  for (size_t k = 0; k < n; k++)
+    if (!isfinite(rgb[k]))
+      return satf_error_set(err, SATF_ERR_ARGUMENT,
+                            "strand set: the colour of point %zu is not "
+                            "finite",
+                            k / 3);
+  float *c = malloc((n ? n : 1) * sizeof(float));
+  if (!c)
+    return satf_error_set(err, SATF_ERR_NOMEM, "strand set: out of memory");
+  memcpy(c, rgb, n * sizeof(float));
+  free(s->colour);
+  s->colour = c;
+  return SATF_OK;
 }
 
 void satf_strand_set_bounds(const satf_strand_set *s, float lo[3],
@@ -272,6 +304,10 @@ satf_status satf_hair_parse(const void *data, size_t size, const char *name,
   const unsigned char *seg = b + HAIR_HEADER;
   const unsigned char *pts = seg + ((flags & HAIR_SEGMENTS) ? 2ull * hairs : 0);
   const unsigned char *thick = pts + 12ull * points;
+  /* after the thickness and transparency arrays present */
+  const unsigned char *rgb = thick +
+                             ((flags & HAIR_THICKNESS) ? 4ull * points : 0) +
+                             ((flags & HAIR_TRANSPARENCY) ? 4ull * points : 0);
   /* Counts must add up before anything is allocated. */
   uint64_t sum = 0;
   for (uint32_t i = 0; i < hairs; i++) {
@@ -297,6 +333,8 @@ satf_status satf_hair_parse(const void *data, size_t size, const char *name,
   satf_status st = check_finite_array(pts, 3ull * points, name, "point", err);
   if (st == SATF_OK && (flags & HAIR_THICKNESS))
     st = check_finite_array(thick, points, name, "thickness", err);
+  if (st == SATF_OK && (flags & HAIR_COLORS))
+    st = check_finite_array(rgb, 3ull * points, name, "colour", err);
   if (st != SATF_OK)
     return st;
   satf_strand_set *s;
@@ -319,6 +357,15 @@ satf_status satf_hair_parse(const void *data, size_t size, const char *name,
     free(s->thickness);
     s->thickness = NULL;
   }
+  /* the colours kept as given (exporters write linear RGB, cyHair says no
+   * more); the scene's material decides how the hair is lit */
+  if ((flags & HAIR_COLORS) &&
+      !(s->colour = malloc(3ull * points * sizeof(float)))) {
+    satf_strand_set_destroy(s);
+    return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", name);
+  }
+  for (uint64_t k = 0; s->colour && k < 3ull * points; k++)
+    s->colour[k] = lef32(rgb + 4 * k);
   *out = s;
   return SATF_OK;
 }
@@ -340,6 +387,8 @@ satf_status satf_hair_write(const char *path, const satf_strand_set *s,
   uint32_t flags = HAIR_SEGMENTS | HAIR_POINTS;
   if (s->thickness)
     flags |= HAIR_THICKNESS;
+  if (s->colour)
+    flags |= HAIR_COLORS;
   size_t size = (size_t)hair_expected_size(flags, (uint64_t)s->n, points);
   unsigned char *buf = calloc(1, size);
   if (!buf)
@@ -368,6 +417,9 @@ satf_status satf_hair_write(const char *path, const satf_strand_set *s,
   if (s->thickness)
     for (size_t k = 0; k < points; k++, p += 4)
       putf32(p, s->thickness[k]);
+  if (s->colour)
+    for (size_t k = 0; k < 3 * points; k++, p += 4)
+      putf32(p, s->colour[k]);
   satf_status st = satf_write_file_atomic(path, buf, size, err);
   free(buf);
   return st;

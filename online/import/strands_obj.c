@@ -1,14 +1,17 @@
 /* strands_obj.c - strand hair in Wavefront OBJ files, as Blender, Houdini
- * and Maya export curves: `v x y z` vertices (a fourth number, the rational
- * weight, and the `v x y z r g b` vertex-colour extension are accepted and
- * dropped: a strand set holds positions and thickness only) and `l`
- * polylines of 1-based (or negative, relative) vertex indices, `v/vt` pairs
- * allowed. Every `l` line's segments are chained into strands, so a file of
- * two-vertex lines (Blender's loose edges) reads like one of whole
- * polylines; each chain runs from its lower-numbered end (a strand's root
- * is its first vertex as exporters write them). Faces, normals, texture
- * coordinates, groups and materials are skipped: a groom exported with its
- * head reads as its hair. */
+ * and Maya export curves: `v x y z` vertices, a fourth number (the
+ * rational weight of the OBJ specification, 1 as exporters write it:
+ * accepted and dropped, never a width) and the `v x y z r g b` vertex-colour
+ * extension (MeshLab's, ZBrush's and most readers': kept as the points'
+ * colours when every vertex has one). OBJ has no per-vertex width, and
+ * none of those exporters writes one: the strands take the importer's
+ * width (a fibre's, or --strand-width). `l` polylines of 1-based (or
+ * negative, relative) vertex indices, `v/vt` pairs allowed. Every `l` line's
+ * segments are chained into strands, so a file of two-vertex lines (Blender's
+ * loose edges) reads like one of whole polylines; each chain runs from its
+ * lower-numbered end (a strand's root is its first vertex as exporters write
+ * them). Faces, normals, texture coordinates, groups and materials are skipped:
+ * a groom exported with its head reads as its hair. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdint.h>
@@ -114,8 +117,11 @@ static void count_statements(const void *data, size_t size, uint64_t *nv,
   }
 }
 
+/* One `v` line into xyz, and its colour, if it has one, into rgb (*coloured
+ * counts the vertices that had). */
 static satf_status parse_vertex(const obj_cursor *c, const char *name,
                                 const char *p, const char *e, float *xyz,
+                                float *rgb, uint64_t *coloured,
                                 satf_error *err) {
   double v[7];
   int n = 0;
@@ -134,6 +140,11 @@ static satf_status parse_vertex(const obj_cursor *c, const char *name,
                             name, (unsigned long long)c->line, v[k]);
   for (int k = 0; k < 3; k++)
     xyz[k] = (float)v[k];
+  if (n >= 6) { /* x y z r g b, or x y z w r g b */
+    for (int k = 0; k < 3; k++)
+      rgb[k] = (float)v[n - 3 + k];
+    (*coloured)++;
+  }
   return SATF_OK;
 }
 
@@ -168,12 +179,14 @@ static satf_status parse_line(const obj_cursor *c, const char *name,
 }
 
 static satf_status parse_body(const void *data, size_t size, const char *name,
-                              float *xyz, int64_t *edges, uint64_t *n_edges,
+                              float *xyz, float *rgb, uint64_t *coloured,
+                              int64_t *edges, uint64_t *n_edges,
                               satf_error *err) {
   obj_cursor c = {data, (const char *)data + size, 0};
   const char *b, *e;
   uint64_t nv = 0;
   *n_edges = 0;
+  *coloured = 0;
   while (next_line(&c, &b, &e)) {
     b = skip_space(b, e);
     if (memchr(b, '\0', (size_t)(e - b)))
@@ -182,7 +195,9 @@ static satf_status parse_body(const void *data, size_t size, const char *name,
                             name, (unsigned long long)c.line);
     satf_status st = SATF_OK;
     if (keyword(b, e, "v"))
-      st = parse_vertex(&c, name, b + 1, e, xyz + 3 * nv++, err);
+      st = parse_vertex(&c, name, b + 1, e, xyz + 3 * nv, rgb + 3 * nv,
+                        coloured, err),
+      nv++;
     else if (keyword(b, e, "l"))
       st = parse_line(&c, name, b + 1, e, nv, edges, n_edges, err);
     if (st != SATF_OK)
@@ -209,17 +224,23 @@ satf_status satf_obj_parse(const void *data, size_t size, const char *name,
                           "%s: absurd vertex count %llu (at most %u)", name,
                           (unsigned long long)nv, SATF_STRANDS_MAX_POINTS);
   float *xyz = malloc((nv ? nv : 1) * 3 * sizeof(float));
+  float *rgb = malloc((nv ? nv : 1) * 3 * sizeof(float));
   int64_t *edges = malloc(2 * nseg * sizeof(int64_t));
   satf_status st = SATF_OK;
-  uint64_t n_edges = 0;
-  if (!xyz || !edges)
+  uint64_t n_edges = 0, coloured = 0;
+  if (!xyz || !rgb || !edges)
     st = satf_error_set(err, SATF_ERR_NOMEM, "%s: cannot hold %llu vertices",
                         name, (unsigned long long)nv);
   if (st == SATF_OK)
-    st = parse_body(data, size, name, xyz, edges, &n_edges, err);
+    st =
+        parse_body(data, size, name, xyz, rgb, &coloured, edges, &n_edges, err);
+  /* colours only when every vertex has one: a strand half coloured has
+   * no colour to give the rest */
   if (st == SATF_OK)
-    st = ply_strands_from_edges(name, xyz, nv, edges, n_edges, out, err);
+    st = ply_strands_from_edges(name, xyz, coloured == nv ? rgb : NULL, nv,
+                                edges, n_edges, out, err);
   free(xyz);
+  free(rgb);
   free(edges);
   return st;
 }

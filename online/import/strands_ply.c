@@ -231,10 +231,10 @@ satf_status satf_ply_parse(const void *data, size_t size, const char *name,
   if (st == SATF_OK)
     st = read_body(&c, &h, &pl, xyz, ints, err);
   if (st == SATF_OK)
-    st = pl.strand >= 0
-             ? ply_strands_from_counts(name, xyz, nv, ints, ni, pl.plus, out,
-                                       err)
-             : ply_strands_from_edges(name, xyz, nv, ints, ni / 2, out, err);
+    st = pl.strand >= 0 ? ply_strands_from_counts(name, xyz, nv, ints, ni,
+                                                  pl.plus, out, err)
+                        : ply_strands_from_edges(name, xyz, NULL, nv, ints,
+                                                 ni / 2, out, err);
   free(xyz);
   free(ints);
   return st;

@@ -62,10 +62,11 @@ satf_status ply_strands_from_counts(const char *name, const float *xyz,
 
 /* Strands chained from n_edges vertex index pairs (edges[2 * k], edges[2 *
  * k + 1]): every vertex has at most two edges; each chain runs from its
- * lower-numbered end; loops are refused. */
+ * lower-numbered end; loops are refused. rgb (3 a vertex, or NULL): the
+ * vertices' colours, kept on the strands' points. */
 satf_status ply_strands_from_edges(const char *name, const float *xyz,
-                                   uint64_t n_vertices, const int64_t *edges,
-                                   uint64_t n_edges, satf_strand_set **out,
-                                   satf_error *err);
+                                   const float *rgb, uint64_t n_vertices,
+                                   const int64_t *edges, uint64_t n_edges,
+                                   satf_strand_set **out, satf_error *err);
 
 #endif

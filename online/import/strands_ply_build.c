@@ -9,14 +9,18 @@
 
 /* The strand set of kept strands, with the file named in its errors. */
 static satf_status make_set(const char *name, int n, const int *counts,
-                            const float *pts, satf_strand_set **out,
-                            satf_error *err) {
+                            const float *pts, const float *rgb,
+                            satf_strand_set **out, satf_error *err) {
   if (n == 0)
     return satf_error_set(err, SATF_ERR_CORRUPT,
                           "%s: holds no strand of two or more points", name);
   satf_error why;
-  if (satf_strand_set_create(n, counts, pts, NULL, out, &why) != SATF_OK)
+  if (satf_strand_set_create(n, counts, pts, NULL, out, &why) != SATF_OK ||
+      (rgb && satf_strand_set_add_colour(*out, rgb, &why) != SATF_OK)) {
+    satf_strand_set_destroy(*out);
+    *out = NULL;
     return satf_error_set(err, why.status, "%s: %s", name, why.message);
+  }
   return SATF_OK;
 }
 
@@ -66,7 +70,7 @@ satf_status ply_strands_from_counts(const char *name, const float *xyz,
     }
     at += n;
   }
-  satf_status st = make_set(name, n_kept, kept, pts, out, err);
+  satf_status st = make_set(name, n_kept, kept, pts, NULL, out, err);
   free(kept);
   free(pts);
   return st;
@@ -101,11 +105,13 @@ static satf_status link_edges(const char *name, uint64_t nv,
   return SATF_OK;
 }
 
-/* Walks every chain from its lower-numbered end into pts and counts. */
-static satf_status walk_chains(const char *name, const float *xyz, uint64_t nv,
+/* Walks every chain from its lower-numbered end into pts and counts (and
+ * the vertices' colours into pts_rgb when rgb is not NULL). */
+static satf_status walk_chains(const char *name, const float *xyz,
+                               const float *rgb, uint64_t nv,
                                const int64_t *adj, unsigned char *seen,
-                               float *pts, int *counts, int *n_strands,
-                               satf_error *err) {
+                               float *pts, float *pts_rgb, int *counts,
+                               int *n_strands, satf_error *err) {
   size_t to = 0;
   *n_strands = 0;
   for (uint64_t v = 0; v < nv; v++) {
@@ -121,6 +127,8 @@ static satf_status walk_chains(const char *name, const float *xyz, uint64_t nv,
                               name, (unsigned long long)v,
                               SATF_STRANDS_MAX_PER_STRAND);
       seen[cur] = 1;
+      if (rgb)
+        memcpy(pts_rgb + 3 * to, rgb + 3 * cur, 3 * sizeof(float));
       memcpy(pts + 3 * to++, xyz + 3 * cur, 3 * sizeof(float));
       int64_t next = adj[2 * cur] != prev ? adj[2 * cur] : adj[2 * cur + 1];
       prev = cur;
@@ -138,29 +146,32 @@ static satf_status walk_chains(const char *name, const float *xyz, uint64_t nv,
 }
 
 satf_status ply_strands_from_edges(const char *name, const float *xyz,
-                                   uint64_t n_vertices, const int64_t *edges,
-                                   uint64_t n_edges, satf_strand_set **out,
-                                   satf_error *err) {
+                                   const float *rgb, uint64_t n_vertices,
+                                   const int64_t *edges, uint64_t n_edges,
+                                   satf_strand_set **out, satf_error *err) {
   *out = NULL;
   if (n_edges == 0)
     return satf_error_set(err, SATF_ERR_CORRUPT, "%s: holds no edges", name);
   int64_t *adj = malloc(2 * n_vertices * sizeof *adj);
   unsigned char *seen = calloc(n_vertices, 1);
   float *pts = malloc(3 * n_vertices * sizeof(float));
+  float *pts_rgb = rgb ? malloc(3 * n_vertices * sizeof(float)) : NULL;
   int *counts = malloc((n_vertices / 2 + 1) * sizeof(int));
   satf_status st = SATF_OK;
-  if (!adj || !seen || !pts || !counts)
+  if (!adj || !seen || !pts || !counts || (rgb && !pts_rgb))
     st = satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", name);
   int n = 0;
   if (st == SATF_OK)
     st = link_edges(name, n_vertices, edges, n_edges, adj, err);
   if (st == SATF_OK)
-    st = walk_chains(name, xyz, n_vertices, adj, seen, pts, counts, &n, err);
+    st = walk_chains(name, xyz, rgb, n_vertices, adj, seen, pts, pts_rgb,
+                     counts, &n, err);
   if (st == SATF_OK)
-    st = make_set(name, n, counts, pts, out, err);
+    st = make_set(name, n, counts, pts, pts_rgb, out, err);
   free(adj);
   free(seen);
   free(pts);
+  free(pts_rgb);
   free(counts);
   return st;
 }

@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "depth.h"
 #include "draw.h"
 #include "path.h"
 #include "satf/common.h"
@@ -55,6 +56,7 @@ typedef struct base_proto {
 
 struct baseline {
   GLuint prog_shade, prog_alpha, prog_dom;
+  GLuint prog_list; /* the depth AOV's: patches into the fragment arrays */
   int nprotos;
   base_proto *protos;
 };
@@ -305,9 +307,10 @@ static satf_status build_programs(const satf_renderer *r, struct baseline *b,
     GLuint *out;
   } progs[] = {{"baseline shade", 0, &b->prog_shade},
                {"baseline alpha test", 1, &b->prog_alpha},
-               {"baseline opacity", 2, &b->prog_dom}};
+               {"baseline opacity", 2, &b->prog_dom},
+               {"baseline lists", 3, &b->prog_list}};
   satf_status st = SATF_OK;
-  for (size_t i = 0; i < 3 && st == SATF_OK; i++) {
+  for (size_t i = 0; i < 4 && st == SATF_OK; i++) {
     char defines[160];
     snprintf(defines, sizeof defines,
              "#define SATF_MAX_LIGHTS %d\n#define NLIGHTS %d\n"
@@ -372,8 +375,8 @@ static void baseline_destroy(satf_renderer *r) {
   for (int m = 0; m < b->nprotos; m++)
     release_proto(&b->protos[m]);
   free(b->protos);
-  GLuint progs[3] = {b->prog_shade, b->prog_alpha, b->prog_dom};
-  for (int i = 0; i < 3; i++)
+  GLuint progs[4] = {b->prog_shade, b->prog_alpha, b->prog_dom, b->prog_list};
+  for (int i = 0; i < 4; i++)
     if (progs[i])
       glDeleteProgram(progs[i]);
   free(b);
@@ -501,6 +504,18 @@ static void draw_passes(satf_renderer *r, satf_aov aov,
   glDisable(GL_DEPTH_TEST);
 }
 
+/* The depth AOV's fill (depth.h): every patch's alpha into the per-pixel
+ * arrays, in no order (they sort it), so the depth does not depend on the
+ * approximate order of the passes above. */
+static void depth_fill(satf_renderer *r, void *ctx, const float viewproj[16],
+                       int mode) {
+  GLuint p = ((struct baseline *)ctx)->prog_list;
+  glUseProgram(p);
+  glUniform1i(glGetUniformLocation(p, "u_slots"), r->lists.slots);
+  glUniform1i(glGetUniformLocation(p, "u_list_mode"), mode);
+  draw_patches(r, p, viewproj, NULL, ALL_LAYERS);
+}
+
 static satf_status baseline_frame(satf_renderer *r, satf_aov aov, int refresh,
                                   satf_frame_timing *timing, satf_error *err) {
   satf_frame_timing t;
@@ -519,9 +534,15 @@ static satf_status baseline_frame(satf_renderer *r, satf_aov aov, int refresh,
   int *order = hierarchy_far_to_near(r, r->view.camera.position);
   if (!order)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  draw_begin_frame(r, aov, viewproj);
-  draw_passes(r, aov, viewproj, order);
+  if (aov == SATF_AOV_DEPTH) {
+    st = depth_lists(r, viewproj, depth_fill, r->baseline, err);
+  } else {
+    draw_begin_frame(r, aov, viewproj);
+    draw_passes(r, aov, viewproj, order);
+  }
   free(order);
+  if (st != SATF_OK)
+    return st;
   glFinish();
   double t3 = satf_now_seconds();
   r->stats.overflow_pixels = 0;

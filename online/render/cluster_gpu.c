@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "depth.h"
 #include "draw.h"
 #include "shaders.h"
 
@@ -118,8 +119,14 @@ static void fill_lists(const satf_renderer *r, satf_aov aov,
                   GL_TEXTURE_FETCH_BARRIER_BIT);
 }
 
-/* The arrays sorted and composited (SATF eq. 14) over the frame. */
-static void resolve_lists(const satf_renderer *r, const float viewproj[16]) {
+/* The arrays sorted and composited (SATF eq. 14) over the frame, or their
+ * depth (depth.c). */
+static void resolve_lists(const satf_renderer *r, satf_aov aov,
+                          const float viewproj[16]) {
+  if (aov == SATF_AOV_DEPTH) {
+    depth_resolve(r, viewproj);
+    return;
+  }
   satf_gl_target_bind(r->out);
   glEnable(GL_BLEND); /* the hair's composite over background and meshes */
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
@@ -160,7 +167,7 @@ GLuint cluster_gpu_lists(satf_renderer *r, satf_aov aov,
   } else {
     fill_lists(r, aov, viewproj, 0, opaque);
   }
-  resolve_lists(r, viewproj);
+  resolve_lists(r, aov, viewproj);
   return lists_count(&r->lists, nearest, fragments, overflow);
 }
 

@@ -20,20 +20,17 @@ static satf_status composite(satf_renderer *r, satf_aov aov,
                              const float viewproj[16], long *count,
                              satf_error *err) {
   r->stats.overflow_pixels = 0;
-  if (r->composite == SATF_COMPOSITE_ORDERED)
+  /* the depth needs the fragments in depth order: always the arrays */
+  if (r->composite == SATF_COMPOSITE_ORDERED && aov != SATF_AOV_DEPTH)
     return cluster_gpu_ordered(r, aov, viewproj, err);
   long over = 0, ignore = 0;
   GLuint most = cluster_gpu_lists(r, aov, viewproj, 0, count, &over);
-  satf_status st = SATF_OK;
-  if ((int)most > r->lists.slots && r->lists.slots < SATF_MAX_FRAGMENTS) {
-    int slots = (int)most + 4;
-    st = lists_alloc(&r->lists,
-                     slots < SATF_MAX_FRAGMENTS ? slots : SATF_MAX_FRAGMENTS,
-                     err);
-    if (st != SATF_OK)
-      return st;
-    most = cluster_gpu_lists(r, aov, viewproj, 0, count, &over);
-  }
+  int grown = 0;
+  satf_status st = lists_grow(&r->lists, most, &grown, err);
+  if (st != SATF_OK)
+    return st;
+  if (grown)
+    cluster_gpu_lists(r, aov, viewproj, 0, count, &over);
   if (over > 0 && (st = lists_alloc_keys(&r->lists, err)) == SATF_OK)
     cluster_gpu_lists(r, aov, viewproj, 1, count, &ignore);
   r->stats.overflow_pixels = over;

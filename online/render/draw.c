@@ -85,6 +85,14 @@ void draw_world_lights(const satf_renderer *r, GLuint p) {
   glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, r->view.camera.position);
 }
 
+void draw_depth_row(const satf_renderer *r, GLuint p) {
+  float look[16], proj[16];
+  view_matrices(&r->view, look, proj);
+  /* the camera looks down its -Z */
+  float row[4] = {-look[8], -look[9], -look[10], -look[11]};
+  glUniform4fv(glGetUniformLocation(p, "u_depth_row"), 1, row);
+}
+
 void draw_begin_frame(const satf_renderer *r, satf_aov aov,
                       const float viewproj[16]) {
   satf_gl_target_bind(r->out);
@@ -99,6 +107,7 @@ void draw_begin_frame(const satf_renderer *r, satf_aov aov,
   draw_world_lights(r, p);
   set_light_uniforms(r, p);
   set_dom_uniforms(r, p, aov);
+  draw_depth_row(r, p);
   glActiveTexture(GL_TEXTURE0);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);

@@ -21,6 +21,10 @@ void draw_shading_uniforms(const satf_renderer *r, GLuint p, satf_aov aov);
 /* The eye and every light (xyz, w: 0 direction, 1 position) in world
  * space: u_eye and u_light_vec of a program shading in world space. */
 void draw_world_lights(const satf_renderer *r, GLuint p);
+/* u_depth_row of a program writing SATF_AOV_DEPTH (glsl/depth_encode.glsl):
+ * minus the world-to-camera matrix's third row, whose product with a world
+ * point is its distance along the view axis. */
+void draw_depth_row(const satf_renderer *r, GLuint p);
 /* Clears the frame to transparent black (every pass is premultiplied over
  * it; the background is composited by whoever shows the image) and draws
  * the opaque meshes, leaving their depth for the hair to test against. */

@@ -238,6 +238,7 @@ static void file_channel_name(const char *name, int layered, char *out,
 static satf_status write_exr(const satf_image *img, const char *path,
                              exr_pixel_type_t type, satf_error *err) {
   satf_exr_channel channels[SATF_IMAGE_MAX_CHANNELS];
+  exr_pixel_type_t types[SATF_IMAGE_MAX_CHANNELS];
   char names[SATF_IMAGE_MAX_CHANNELS][SATF_IMAGE_MAX_NAME + 32];
   int layered = 0;
   for (int c = 0; c < img->nchannels; c++)
@@ -246,11 +247,14 @@ static satf_status write_exr(const satf_image *img, const char *path,
     file_channel_name(img->names[c], layered, names[c], sizeof names[c]);
     channels[c].name = names[c];
     channels[c].data = satf_image_const_plane(img, c);
+    /* depth stays FLOAT in a HALF file: HALF ends at 65504 (Blender's and
+     * Nuke's no-hit depth is 1e10) and keeps 11 bits */
+    types[c] = strcmp(img->names[c], "Z") == 0 ? EXR_PIXEL_FLOAT : type;
   }
   satf_exr_write_opts opts = {type, EXR_COMPRESSION_ZIP, camera_attrs,
                               (void *)img, 0};
-  return satf_exr_write(path, img->width, img->height, channels, img->nchannels,
-                        &opts, err);
+  return satf_exr_write_typed(path, img->width, img->height, channels, types,
+                              img->nchannels, &opts, err);
 }
 
 satf_status satf_image_write_exr(const satf_image *img, const char *path,

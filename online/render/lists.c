@@ -5,6 +5,8 @@
 
 #include <stdlib.h>
 
+#include "shaders.h"
+
 satf_status lists_alloc(frag_lists *l, int slots, satf_error *err) {
   if (l->counts)
     glDeleteTextures(1, &l->counts);
@@ -59,6 +61,18 @@ void lists_release(frag_lists *l) {
   if (l->fbo)
     glDeleteFramebuffers(1, &l->fbo);
   l->counts = l->frags = l->keys = l->fbo = 0;
+}
+
+satf_status lists_grow(frag_lists *l, GLuint most, int *grown,
+                       satf_error *err) {
+  *grown = 0;
+  if ((int)most <= l->slots || l->slots >= SATF_MAX_FRAGMENTS)
+    return SATF_OK;
+  int slots = (int)most + 4;
+  satf_status st = lists_alloc(
+      l, slots < SATF_MAX_FRAGMENTS ? slots : SATF_MAX_FRAGMENTS, err);
+  *grown = st == SATF_OK;
+  return st;
 }
 
 void lists_bind(const frag_lists *l, int mode) {

@@ -36,6 +36,11 @@ satf_status lists_attach(frag_lists *l, int width, int height, GLuint depth,
                          satf_error *err);
 /* Arrays of `slots` fragments per pixel (the keys dropped). */
 satf_status lists_alloc(frag_lists *l, int slots, satf_error *err);
+/* After a plain pass whose deepest pixel received `most` fragments: the
+ * arrays grown to hold them (and 4 more; at most SATF_MAX_FRAGMENTS) when
+ * they held fewer and can grow; *grown says whether they did, and so
+ * whether the pass must be drawn again. */
+satf_status lists_grow(frag_lists *l, GLuint most, int *grown, satf_error *err);
 /* `slots` layers of depth keys and one more, the counter of the second
  * nearest pass's stores (glsl/list_write.glsl), unless they exist. */
 satf_status lists_alloc_keys(frag_lists *l, satf_error *err);

@@ -15,8 +15,8 @@
 #include "shaders.h"
 
 const char *satf_aov_name(satf_aov aov) {
-  static const char *names[] = {"beauty", "diffuse", "specI",
-                                "specII", "shadow",  "alpha"};
+  static const char *names[] = {"beauty", "diffuse", "specI", "specII",
+                                "shadow", "alpha",   "depth"};
   return aov < SATF_AOV_COUNT ? names[aov] : "unknown";
 }
 
@@ -269,16 +269,70 @@ void satf_renderer_present(satf_renderer *r) {
   shaders_fullscreen(r->empty_vao);
 }
 
+/* Blender's and Nuke's depth where nothing was hit (Cycles' film writes
+ * 1e10 for an empty depth pass) */
+#define NO_DEPTH 1e10f
+
+/* Sorts n (at most SATF_SCENE_MAX_SAMPLES) values; returns the lower
+ * middle one. */
+static float median(float *v, int n) {
+  for (int a = 1; a < n; a++) {
+    float x = v[a];
+    int b = a - 1;
+    for (; b >= 0 && v[b] > x; b--)
+      v[b + 1] = v[b];
+    v[b + 1] = x;
+  }
+  return v[(n - 1) / 2];
+}
+
+/* SATF_AOV_DEPTH into the image's Z, rows bottom up in buf (4 floats a
+ * pixel): each sample decoded (the half and its remainder added,
+ * glsl/depth_encode.glsl; NO_DEPTH where alpha is 0), and of several
+ * samples the median, the lower one for an even count: the depth most of
+ * the pixel's samples see (half coverage again, as within one sample,
+ * glsl/resolve_fs.glsl), never a mean across an edge, which lies where
+ * nothing is. */
+static satf_status render_depth(satf_renderer *r, float *buf, satf_image *img,
+                                satf_error *err) {
+  int n = r->samples > 1 ? r->samples : 1;
+  size_t px = (size_t)r->view.width * (size_t)r->view.height;
+  float *z = malloc(px * (size_t)n * sizeof(float));
+  if (!z)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  satf_status st = SATF_OK;
+  for (int i = 0; i < n && st == SATF_OK; i++) {
+    if (n > 1)
+      samples_offset(i, n, r->view.jitter);
+    st = r->path->frame(r, SATF_AOV_DEPTH, 0, NULL, err);
+    if (st == SATF_OK)
+      st = satf_gl_target_read_bottom_up(r->out, 0, buf, px * 4, err);
+    for (size_t p = 0; st == SATF_OK && p < px; p++)
+      z[p * (size_t)n + (size_t)i] =
+          buf[4 * p + 3] > 0.0f ? buf[4 * p] + buf[4 * p + 1] : NO_DEPTH;
+  }
+  r->view.jitter[0] = r->view.jitter[1] = 0.0f;
+  /* z[p] lies in pixel p / n's samples, already taken */
+  for (size_t p = 0; st == SATF_OK && p < px; p++)
+    z[p] = median(z + p * (size_t)n, n);
+  static const char *const name[1] = {"Z"};
+  if (st == SATF_OK)
+    st =
+        satf_image_store_interleaved(img, z, 1, name, SATF_ROWS_BOTTOM_UP, err);
+  free(z);
+  return st;
+}
+
 satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
                                        satf_image **out,
                                        satf_frame_timing *timing,
                                        satf_error *err) {
   *out = NULL;
   static const char *const names[] = {
-      "R",         "G",         "B",        "A",        "diffuse.R",
-      "diffuse.G", "diffuse.B", "specI.R",  "specI.G",  "specI.B",
-      "specII.R",  "specII.G",  "specII.B", "shadow.Y", "alpha.Y"};
-  int n = aovs ? 15 : 4;
+      "R",         "G",        "B",       "A",       "diffuse.R", "diffuse.G",
+      "diffuse.B", "specI.R",  "specI.G", "specI.B", "specII.R",  "specII.G",
+      "specII.B",  "shadow.Y", "alpha.Y", "Z"};
+  int n = aovs ? 16 : 4;
   satf_image *img = NULL;
   satf_status st =
       satf_image_create(r->view.width, r->view.height, names, n, &img, err);
@@ -290,14 +344,14 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
     satf_image_destroy(img);
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }
-  const char *const *dest[SATF_AOV_COUNT] = {
+  const char *const *dest[SATF_AOV_DEPTH] = {
       (const char *const[]){"R", "G", "B", "A"},
       (const char *const[]){"diffuse.R", "diffuse.G", "diffuse.B", NULL},
       (const char *const[]){"specI.R", "specI.G", "specI.B", NULL},
       (const char *const[]){"specII.R", "specII.G", "specII.B", NULL},
       (const char *const[]){"shadow.Y", NULL, NULL, NULL},
       (const char *const[]){"alpha.Y", NULL, NULL, NULL}};
-  int passes = aovs ? SATF_AOV_COUNT : 1;
+  int passes = aovs ? SATF_AOV_DEPTH : 1; /* then the depth */
   for (int a = 0; a < passes && st == SATF_OK; a++) {
     /* shadow and alpha AOVs are coverage-weighted: their composite over a
      * black background, as the other AOVs */
@@ -308,6 +362,8 @@ satf_status satf_renderer_render_image(satf_renderer *r, int aovs,
       st = satf_image_store_interleaved(img, buf, 4, dest[a],
                                         SATF_ROWS_BOTTOM_UP, err);
   }
+  if (st == SATF_OK && aovs)
+    st = render_depth(r, buf, img, err);
   free(buf);
   if (st != SATF_OK) {
     satf_image_destroy(img);

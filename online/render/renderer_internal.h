@@ -17,6 +17,7 @@
  *   dom.c        the deep opacity map               (dom.h)
  *   lists.c      the per-pixel fragment arrays      (lists.h)
  *   draw.c       the frame's start, shading uniforms (draw.h)
+ *   depth.c      the depth AOV from the fragment arrays (depth.h)
  *   ribbons.c    strands on the GPU as ribbons, for strands.c and sparse.c
  * Names here carry the owning file's name instead of the public satf_
  * prefix. */
@@ -146,6 +147,7 @@ struct satf_renderer {
    * prototype frame (cluster_cpu_instance_data) */
   satf_composite composite;
   GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve;
+  GLuint prog_resolve_depth; /* SATF_AOV_DEPTH's resolve (depth.c) */
   GLuint prog_shade_lod, prog_shade_ordered_lod;
   GLuint inst_models, inst_shading;
   int instanced; /* 0: one draw per instance (a test's reference) */

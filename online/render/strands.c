@@ -8,6 +8,7 @@
 
 #include <string.h>
 
+#include "depth.h"
 #include "draw.h"
 #include "path.h"
 #include "satf/common.h"
@@ -30,8 +31,9 @@ satf_status satf_renderer_set_strands(satf_renderer *r, int n_strands,
                                       const float *thickness,
                                       float default_width, satf_error *err) {
   strands_gpu *s = NULL;
+  /* with the list program: the depth AOV sorts the strands' fragments */
   satf_status st = strands_gpu_create(n_strands, counts, xyz, thickness,
-                                      default_width, 0, &s, err);
+                                      default_width, 1, &s, err);
   if (st != SATF_OK)
     return st;
   strands_destroy(r);
@@ -88,6 +90,15 @@ static void composite(satf_renderer *r, satf_aov aov,
   draw_hair_depth_test(0);
 }
 
+/* The depth AOV's fill (depth.h): every fragment, whole or partly
+ * covered, into the per-pixel arrays. */
+static void depth_fill(satf_renderer *r, void *ctx, const float viewproj[16],
+                       int mode) {
+  strands_gpu *s = ctx;
+  strands_gpu_begin(r, s, SATF_AOV_DEPTH, viewproj, mode);
+  strands_gpu_draw(s, 0, strands_gpu_segments(s));
+}
+
 static satf_status strands_frame(satf_renderer *r, satf_aov aov, int refresh,
                                  satf_frame_timing *timing, satf_error *err) {
   strands_gpu *s = r->strands;
@@ -104,7 +115,13 @@ static satf_status strands_frame(satf_renderer *r, satf_aov aov, int refresh,
   double t2 = satf_now_seconds();
   float viewproj[16];
   view_camera(&r->view, viewproj);
-  composite(r, aov, viewproj);
+  if (aov == SATF_AOV_DEPTH) {
+    satf_status st = depth_lists(r, viewproj, depth_fill, s, err);
+    if (st != SATF_OK)
+      return st;
+  } else {
+    composite(r, aov, viewproj);
+  }
   glFinish();
   double t3 = satf_now_seconds();
   /* Table 1's stages: sorting the segments stands for I, the strands'

@@ -16,6 +16,7 @@ blender -b --factory-startup --python-exit-code 1 \
   --python "$src/tests/blender/test_addon.py" -- "$src/tools/blender" "$d" \
   > "$d/blender.log" 2>&1 || { tail -20 "$d/blender.log"; exit 1; }
 grep 'test_addon: 60 strands' "$d/blender.log"
+grep 'test_addon: a Curves object' "$d/blender.log"
 # a tiny database of its own: a fresh clone has none in out/ or installed
 "$bin/satf-build" -q --samples 24 --angles 8x8 --width 16 --grid 8 \
   -o "$d/tiny.hrirdb.exr"
@@ -23,6 +24,7 @@ grep 'test_addon: 60 strands' "$d/blender.log"
   --aov --size 160x120 -q
 oiiotool --info -v "$d/groom.exr" > "$d/info"
 grep -q 'satf.Combined.R' "$d/info"
+grep -q 'satf.Depth.Z' "$d/info"
 grep -q 'worldToCamera' "$d/info"
 grep -q 'worldToNDC' "$d/info"
 blender -b --factory-startup --python-exit-code 1 \

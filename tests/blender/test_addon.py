@@ -3,7 +3,9 @@ particles, a material, a camera and a sun) exported through File > Export >
 satf hair; the .hair file is read back and held to Blender's own numbers
 (every strand's root and tip, its thickness and colour, turned Y-up), and
 the scene's camera projects the roots where Blender's camera does
-(world_to_camera_view). Exits non-zero on the first mismatch.
+(world_to_camera_view); the groom converted to a Curves object with a
+radius and a colour per point exports every point, radius and colour as
+Blender holds them. Exits non-zero on the first mismatch.
 
 usage: blender -b --factory-startup --python-exit-code 1 --python
        test_addon.py -- ADDON_PARENT OUT_DIR"""
@@ -76,23 +78,34 @@ hair_path = os.path.join(out_dir, "groom.hair")
 rc = bpy.ops.export_scene.satf_hair(filepath=hair_path)
 check(rc == {"FINISHED"}, "the export operator returned %s" % rc)
 
-with open(hair_path, "rb") as f:
-    data = f.read()
-check(data[:4] == b"HAIR", "no HAIR signature")
-n, n_points, flags = struct.unpack_from("<III", data, 4)
-check(flags == 1 | 2 | 4 | 16, "flags %d: not segments, points, thickness "
-      "and colour" % flags)
+
+
+def read_hair(path):
+    """A .hair file with segments, points, thickness and colour: (segments,
+    points, thickness, colours), flat tuples as the file holds them."""
+    with open(path, "rb") as f:
+        data = f.read()
+    check(data[:4] == b"HAIR", "%s: no HAIR signature" % path)
+    n, n_points, flags = struct.unpack_from("<III", data, 4)
+    check(flags == 1 | 2 | 4 | 16, "%s: flags %d: not segments, points, "
+          "thickness and colour" % (path, flags))
+    segs = struct.unpack_from("<%dH" % n, data, 128)
+    check(sum(s + 1 for s in segs) == n_points, "segments do not add up")
+    at = 128 + 2 * n
+    pts = struct.unpack_from("<%df" % (3 * n_points), data, at)
+    at += 12 * n_points
+    thick = struct.unpack_from("<%df" % n_points, data, at)
+    at += 4 * n_points
+    cols = struct.unpack_from("<%df" % (3 * n_points), data, at)
+    check(at + 12 * n_points == len(data), "%s: the file's length is not its "
+          "arrays'" % path)
+    return segs, pts, thick, cols
+
+
+segs, pts, thick, cols = read_hair(hair_path)
+n = len(segs)
 check(n == 60, "%d strands, Blender has 60" % n)
-segs = struct.unpack_from("<%dH" % n, data, 128)
-check(sum(s + 1 for s in segs) == n_points, "segments do not add up")
 check(all(s == 8 for s in segs), "strands are not 9 points (display step 3)")
-at = 128 + 2 * n
-pts = struct.unpack_from("<%df" % (3 * n_points), data, at)
-at += 12 * n_points
-thick = struct.unpack_from("<%df" % n_points, data, at)
-at += 4 * n_points
-cols = struct.unpack_from("<%df" % (3 * n_points), data, at)
-check(at + 12 * n_points == len(data), "the file's length is not its arrays'")
 
 # Blender's numbers: the hair keys in object space (HairKey.co_object; the
 # evaluated keys' .co cannot be read in 3.4)
@@ -156,3 +169,61 @@ check(worst < 0.01, "the satf camera puts a tip %.3g pixels from Blender's"
       % worst)
 print("test_addon: 60 strands and the camera match Blender's (worst %.2g px)"
       % worst)
+
+# ---- a Curves object (Blender 3.3+), made from the groom headless ----------
+# Blender's own conversion of the particle hair, moved off the origin (its
+# transform must apply), given a radius per point and a colour per point
+# (3.4 has no Curves.add_curves); exported alone and held to its numbers:
+# positions turned Y-up, thickness twice the radius, the colours as given.
+for obj in bpy.data.objects:
+    obj.select_set(obj == head)
+bpy.context.view_layer.objects.active = head
+rc = bpy.ops.curves.convert_from_particle_system()
+check(rc == {"FINISHED"}, "Blender's conversion to Curves returned %s" % rc)
+curves = bpy.context.view_layer.objects.active
+check(curves is not None and curves.type == "CURVES",
+      "the conversion made no Curves object")
+curves.location = (0.05, -0.1, 0.2)
+bpy.context.view_layer.update()
+cd = curves.data
+n_pts = len(cd.points)
+radius = cd.attributes.get("radius") or cd.attributes.new("radius", "FLOAT",
+                                                           "POINT")
+for k, d in enumerate(radius.data):
+    d.value = 0.001 + 0.0001 * (k % 9)
+tint = cd.color_attributes.new("tint", "FLOAT_COLOR", "POINT")
+for k, d in enumerate(tint.data):
+    d.color = (0.1 + 0.8 * (k % 9) / 8, 0.3, 0.6 - 0.5 * (k % 9) / 8, 1.0)
+for obj in bpy.data.objects:
+    obj.select_set(obj == curves)
+bpy.context.view_layer.objects.active = curves
+curves_path = os.path.join(out_dir, "curves.hair")
+rc = bpy.ops.export_scene.satf_hair(filepath=curves_path, make_scene=False)
+check(rc == {"FINISHED"}, "the Curves export returned %s" % rc)
+segs, pts, thick, cols = read_hair(curves_path)
+n, n_points = len(segs), len(thick)
+check(n == len(cd.curves) == 60, "%d strands, Blender's Curves has %d"
+      % (n, len(cd.curves)))
+check(n_points == n_pts, "%d points, Blender's Curves has %d" % (n_points,
+                                                                n_pts))
+m = curves.matrix_world
+k = 0
+for i, c in enumerate(cd.curves):
+    check(segs[i] + 1 == c.points_length, "curve %d: %d points, Blender's %d"
+          % (i, segs[i] + 1, c.points_length))
+    for j in range(c.points_length):
+        q = c.first_point_index + j
+        w = m @ cd.points[q].position
+        want = (w.x, w.z, -w.y)  # Z-up to Y-up
+        check(close(pts[3 * k:3 * k + 3], want, 1e-5),
+              "curve %d point %d at %s, Blender's %s"
+              % (i, j, pts[3 * k:3 * k + 3], want))
+        check(abs(thick[k] - 2.0 * radius.data[q].value) < 1e-7,
+              "curve %d point %d thickness %g, Blender's radius %g"
+              % (i, j, thick[k], radius.data[q].value))
+        check(close(cols[3 * k:3 * k + 3], tint.data[q].color[:3], 1e-6),
+              "curve %d point %d colour %s, Blender's %s"
+              % (i, j, cols[3 * k:3 * k + 3], tuple(tint.data[q].color[:3])))
+        k += 1
+print("test_addon: a Curves object's %d curves, %d points, radii and colours "
+      "match Blender's" % (n, n_points))

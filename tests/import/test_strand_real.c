@@ -1,6 +1,6 @@
 /* test_strand_real.c - strand files as real tools write them: OBJ
  * polylines (Blender's loose edges, Houdini's whole polylines, relative
- * indices, vertex colours, a head's faces beside the hair), PLY with an
+ * indices, vertex colours kept, a head's faces beside the hair), PLY with an
  * `nsegs` strand element or only edges, unrecognised bytes, strands of
  * zero length dropped and counted, and Z-up hair turned upright by --up z
  * and placed by --transform; fuzz replays of a valid OBJ. */
@@ -91,6 +91,60 @@ static void obj_reads(void **state) {
             "m.obj: vertex 0 has more than two edges: strands cannot branch");
   obj_fails("v 0 0 0\nl 1\nl 1 1\n",
             "m.obj: line 2: a polyline needs two vertices or more");
+}
+
+/* Per-vertex colours (`v x y z r g b`, and after a weight `v x y z w r g
+ * b`) kept on the strands' points in chain order (the second strand's
+ * vertices written tip first), through the importer's reading and
+ * transform (--up z), concatenation and a .hair file written and read
+ * back; a file with some vertices uncoloured keeps none, and OBJ gives no
+ * width (its fourth number is the rational weight). */
+static void obj_colours(void **state) {
+  (void)state;
+  const char *text = "v 0 0 0 0.1 0.2 0.3\nv 0 0 1 1 0.4 0.5 0.6\n"
+                     "v 0 0 2 0.7 0.8 0.9\nv 1 0 2 0.3 0.3 0.3\n"
+                     "v 1 0 1 0.2 0.2 0.2\nv 1 0 0 0.15 0.25 0.35\n"
+                     "l 1 2 3\nl 6 5 4\n";
+  char path[512];
+  test_write_file(test_path(path, sizeof path, "real-colour.obj"), text,
+                  strlen(text));
+  satf_import_options o = satf_import_options_default();
+  o.up_z = 1;
+  satf_strand_set *s = NULL, *both = NULL, *back = NULL;
+  satf_error err;
+  assert_int_equal(satf_import_read_strands(path, &o, &s, &err), SATF_OK);
+  assert_int_equal(satf_strand_set_count(s), 2);
+  assert_null(satf_strand_set_thickness(s, 0));
+  /* strand 1 runs from vertex 4 (its lower-numbered end) */
+  const float want[2][9] = {
+      {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f, 0.7f, 0.8f, 0.9f},
+      {0.3f, 0.3f, 0.3f, 0.2f, 0.2f, 0.2f, 0.15f, 0.25f, 0.35f}};
+  assert_int_equal(satf_strand_set_concat(s, s, &both, &err), SATF_OK);
+  test_path(path, sizeof path, "real-colour.hair");
+  assert_int_equal(satf_hair_write(path, both, &err), SATF_OK);
+  assert_int_equal(satf_hair_read(path, &back, &err), SATF_OK);
+  const satf_strand_set *sets[3] = {s, both, back};
+  for (int k = 0; k < 3; k++)
+    for (int i = 0; i < satf_strand_set_count(sets[k]); i++) {
+      const float *c = satf_strand_set_colour(sets[k], i);
+      assert_non_null(c);
+      for (int j = 0; j < 9; j++)
+        if (fabsf(c[j] - want[i % 2][j]) > 1e-7f)
+          fail_msg("set %d strand %d colour %d: %g, not %g", k, i, j,
+                   (double)c[j], (double)want[i % 2][j]);
+    }
+  /* --up z turned the points, not the colours: strand 0's tip at y = 2 */
+  int n;
+  const float *p = satf_strand_set_strand(s, 0, &n);
+  assert_true(fabsf(p[3 * (n - 1) + 1] - 2.0f) < 1e-6f);
+  satf_strand_set_destroy(s);
+  satf_strand_set_destroy(both);
+  satf_strand_set_destroy(back);
+  remove(path);
+  assert_int_equal(
+      satf_obj_parse(OBJ_POLY, strlen(OBJ_POLY), "p.obj", &s, &err), SATF_OK);
+  assert_null(satf_strand_set_colour(s, 0));
+  satf_strand_set_destroy(s);
 }
 
 /* Unrecognised bytes are called so, never a TressFX file of some version;
@@ -245,8 +299,8 @@ static void fuzz_replays(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(obj_reads), cmocka_unit_test(unknown_format),
-      cmocka_unit_test(ply_nsegs), cmocka_unit_test(zero_length_and_up),
-      cmocka_unit_test(fuzz_replays)};
+      cmocka_unit_test(obj_reads),          cmocka_unit_test(obj_colours),
+      cmocka_unit_test(unknown_format),     cmocka_unit_test(ply_nsegs),
+      cmocka_unit_test(zero_length_and_up), cmocka_unit_test(fuzz_replays)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -73,10 +73,10 @@ typedef struct fixture {
 } fixture;
 
 static const char *const all_channels[] = {
-    "R",         "G",         "B",        "A",        "diffuse.R",
-    "diffuse.G", "diffuse.B", "specI.R",  "specI.G",  "specI.B",
-    "specII.R",  "specII.G",  "specII.B", "shadow.Y", "alpha.Y"};
-#define NCHANNELS 15
+    "R",         "G",        "B",       "A",       "diffuse.R", "diffuse.G",
+    "diffuse.B", "specI.R",  "specI.G", "specI.B", "specII.R",  "specII.G",
+    "specII.B",  "shadow.Y", "alpha.Y", "Z"};
+#define NCHANNELS 16
 
 static int setup(void **state) {
   fixture *f = calloc(1, sizeof *f);
@@ -176,8 +176,10 @@ static void test_background_and_coverage(void **state) {
       assert_true(img_bg[c] == bg[c]);
     }
     assert_true(fixture_plane(img, "A")[i] == 0.0f);
-    for (int c = 4; c < NCHANNELS; c++) /* AOVs are over black */
+    for (int c = 4; c < NCHANNELS - 1; c++) /* AOVs are over black */
       assert_true(fixture_plane(img, all_channels[c])[i] == 0.0f);
+    /* and the depth is Blender's and Nuke's "nothing": 1e10 */
+    assert_true(fixture_plane(img, "Z")[i] == 1e10f);
   }
   size_t centre = (size_t)W * (H / 2) + W / 2;
   assert_true(fixture_plane(img, "A")[centre] > 0.1f);
@@ -352,7 +354,7 @@ static int exr_channel_names(const char *path, char names[][64], int max) {
 static int standard_channel(const char *name) {
   const char *dot = strrchr(name, '.');
   const char *token = dot ? dot + 1 : name;
-  return strlen(token) == 1 && strchr("RGBAY", token[0]) &&
+  return strlen(token) == 1 && strchr("RGBAYZ", token[0]) &&
          (!dot || dot > name);
 }
 
@@ -399,8 +401,10 @@ static void test_exr_premultiplied_and_named(void **state) {
    * layer at all): satf.Combined.R for R, satf.diffuse.R for diffuse.R */
   for (int c = 0; c < NCHANNELS; c++) {
     char want[80];
-    snprintf(want, sizeof want, "satf.%s%s",
-             strchr(all_channels[c], '.') ? "" : "Combined.", all_channels[c]);
+    const char *pass = strchr(all_channels[c], '.')        ? ""
+                       : strcmp(all_channels[c], "Z") == 0 ? "Depth."
+                                                           : "Combined.";
+    snprintf(want, sizeof want, "satf.%s%s", pass, all_channels[c]);
     int found = 0;
     for (int k = 0; k < NCHANNELS; k++)
       found |= strcmp(names[k], want) == 0;

@@ -10,7 +10,9 @@
  *     that only returns the hair's alpha channel"; also the deep opacity
  *     map's first-hair depth);
  *   2 the deep opacity map's slabs: each patch's alpha added into the slab
- *     its depth falls in (as dom_fs.glsl does for the SATF clusters).
+ *     its depth falls in (as dom_fs.glsl does for the SATF clusters);
+ *   3 the depth AOV's: each patch's alpha and depth into the per-pixel
+ *     fragment arrays (depth.c sorts them).
  * The renderer defines SATF_MAX_LIGHTS and NLIGHTS. */
 #ifndef BASE_PASS
 #define BASE_PASS 0
@@ -40,6 +42,12 @@ void main() {
   vec4 o = vec4(0.0);
   o[int(min(s, 3.0))] = a; /* summed alpha ~ optical depth */
   o_opacity = o;
+}
+#elif BASE_PASS == 3
+#include "list_write.glsl"
+void main() {
+  float a = texture(u_hair, v_uv).a;
+  if (a >= 1.0 / 512.0) list_write(vec3(0.0), a);
 }
 #else
 #include "lighting.glsl"

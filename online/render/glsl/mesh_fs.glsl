@@ -18,7 +18,10 @@ uniform float u_kcluster;
 uniform int u_aov;
 out vec4 o_color;
 #include "dom_lookup.glsl"
+#include "depth_encode.glsl"
 void main() {
+  /* an opaque surface: its own depth (SATF_AOV_DEPTH) */
+  if (u_aov == 6) { o_color = depth_encode(depth_of(v_world)); return; }
   if (u_aov != 0) { o_color = vec4(0.0, 0.0, 0.0, 1.0); return; }
   vec3 n = normalize(v_normal);
   if (dot(n, u_eye - v_world) < 0.0) n = -n; /* either side */

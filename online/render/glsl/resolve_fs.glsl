@@ -1,11 +1,21 @@
 #version 430 core
 /* resolve_fs.glsl - SATF eq. 14: a pixel's fragments sorted far to near
- * and composited. The renderer defines SATF_MAX_FRAGMENTS. */
+ * and composited; with DEPTH (SATF_AOV_DEPTH) the depth where they, front
+ * to back, first reach half coverage. The renderer defines
+ * SATF_MAX_FRAGMENTS. */
+#ifndef DEPTH
+#define DEPTH 0
+#endif
 #define MAXF SATF_MAX_FRAGMENTS
 layout(binding = 0, r32ui) uniform readonly uimage2D u_counts;
 layout(binding = 1, rgba32ui) uniform readonly uimage2DArray u_frags;
 uniform int u_slots;
 out vec4 o_color;
+#if DEPTH
+#include "depth_encode.glsl"
+uniform mat4 u_inv_viewproj; /* the sample's, jitter and all */
+uniform vec2 u_size;         /* the frame in pixels */
+#endif
 /* far before near; equal depths ordered by colour bits so the result
  * does not depend on the order fragments arrived in */
 bool farther(uvec4 a, uvec4 b) {
@@ -25,6 +35,24 @@ void main() {
     while (b >= 0 && farther(x, f[b])) { f[b + 1] = f[b]; b--; }
     f[b + 1] = x;
   }
+#if DEPTH
+  /* Half coverage: the median of where rays through the pixel stop, so
+   * the depth a path tracer's first hit gives most often (Blender's Z
+   * takes one ray's first hit); the nearest fragment would give thin
+   * wisps in front the depth of the whole pixel, a mean a depth between
+   * hair and what lies behind, where nothing is. Fewer than half covered:
+   * the meshes' depth, or the background, stays. */
+  float transmit = 1.0;
+  for (int a = n - 1; a >= 0; a--) {
+    transmit *= 1.0 - unpackHalf2x16(f[a].y).y;
+    if (transmit > 0.5) continue;
+    vec3 ndc = vec3(gl_FragCoord.xy / u_size, uintBitsToFloat(f[a].z));
+    vec4 w = u_inv_viewproj * vec4(2.0 * ndc - 1.0, 1.0);
+    o_color = depth_encode(depth_of(w.xyz / w.w));
+    return;
+  }
+  discard;
+#else
   /* SATF eq. 14 over every cluster, back to front */
   vec3 c = vec3(0.0); /* premultiplied, blended over the background and meshes */
   float transmit = 1.0;
@@ -34,4 +62,5 @@ void main() {
     transmit *= 1.0 - p.a;
   }
   o_color = vec4(c, 1.0 - transmit);
+#endif
 }

@@ -2,7 +2,8 @@
 
 File > Export > satf hair writes the selected objects' hair (particle hair
 systems and Curves objects) as a cyHair .hair file with per-point thickness
-and colour, the emitter mesh as the head (OBJ), and, through satf-import, a
+(a Curves object's radius attribute, doubled) and colour (a Curves object's
+colour attribute on its points or curves, else the material's), the emitter mesh as the head (OBJ), and, through satf-import, a
 satf scene with Blender's active camera, its sun and point lights and the
 render resolution. Blender is Z-up and satf Y-up: every position turns by
 (x, y, z) -> (x, z, -y). The satf panel (Properties > Render > satf) exports
@@ -54,8 +55,8 @@ def material_colour(obj):
 
 
 def particle_strands(obj, eval_obj, depsgraph):
-    """(points, thickness) per strand of every hair particle system, world
-    space, as Blender displays them (parents and children)."""
+    """(points, thickness, None) per strand of every hair particle system,
+    world space, as Blender displays them (parents and children)."""
     strands = []
     for psys in eval_obj.particle_systems:
         s = psys.settings
@@ -71,29 +72,49 @@ def particle_strands(obj, eval_obj, depsgraph):
             if any(c != c for q in pts for c in q):  # NaN: hidden child
                 continue
             th = [root + (tip - root) * k / (steps - 1) for k in range(steps)]
-            strands.append((pts, th))
+            strands.append((pts, th, None))
     return strands
 
 
+def colour_attribute(data):
+    """A Curves object's colour attribute (the active one, else the first)
+    on its points or curves: (domain, per-element linear RGB), or None."""
+    group = data.color_attributes
+    found = [getattr(group, "active_color", None)] + list(group)
+    for attr in found:
+        if attr is not None and attr.domain in ("POINT", "CURVE"):
+            return attr.domain, [tuple(d.color[:3]) for d in attr.data]
+    return None
+
+
 def curves_strands(eval_obj):
-    """(points, thickness) per curve of a Curves object, world space."""
+    """(points, thickness, colours) per curve of a Curves object, world
+    space; colours per point (None without a colour attribute)."""
     data = eval_obj.data
     m = eval_obj.matrix_world
     strands = []
     radius = None
     if "radius" in data.attributes:
         radius = [d.value for d in data.attributes["radius"].data]
-    for c in data.curves:
+    colour = colour_attribute(data)
+    for i, c in enumerate(data.curves):
         first, n = c.first_point_index, c.points_length
         pts = [tuple(m @ data.points[first + k].position) for k in range(n)]
         th = [2.0 * (radius[first + k] if radius else 0.005) for k in range(n)]
-        strands.append((pts, th))
+        cols = None
+        if colour and colour[0] == "POINT":
+            cols = colour[1][first:first + n]
+        elif colour:
+            cols = [colour[1][i]] * n
+        strands.append((pts, th, cols))
     return strands
 
 
 def gather(context, objects):
-    """Every strand of the objects (particle hair, Curves), the emitters
-    (meshes with hair), and per strand its colour."""
+    """Every strand of the objects (particle hair, Curves) as (points,
+    thickness), the emitters (meshes with hair), and per strand its points'
+    colours (the Curves' attribute, else the material's; None without
+    either)."""
     depsgraph = context.evaluated_depsgraph_get()
     strands, colours, emitters = [], [], []
     for obj in objects:
@@ -109,8 +130,10 @@ def gather(context, objects):
             if got:
                 emitters.append(obj)
         got = [g for g in got if len(g[0]) >= 2]
-        strands += got
-        colours += [material_colour(obj)] * len(got)
+        strands += [(pts, th) for pts, th, _ in got]
+        mat = material_colour(obj)
+        colours += [cols if cols else [mat] * len(pts) if mat else None
+                    for pts, _, cols in got]
     return strands, colours, emitters
 
 
@@ -144,8 +167,9 @@ def write_hair(path, strands, colours):
         for _, th in strands:
             f.write(struct.pack("<%df" % len(th), *th))
         if with_colour:
-            for (pts, _), c in zip(strands, colours):
-                f.write(struct.pack("<3f", *c) * len(pts))
+            for cols in colours:
+                for c in cols:
+                    f.write(struct.pack("<3f", *c))
     os.replace(tmp, path)
     return len(strands), n_points
 
