@@ -24,6 +24,26 @@ out float v_t;
 flat out uint v_strand;
 noperspective out float v_across; /* pixels from the strand's centre line */
 noperspective out float v_width;  /* the strand's true width, pixels */
+#ifndef PHYSICAL
+#define PHYSICAL 0
+#endif
+#if PHYSICAL
+/* The fibre model's light at this point, over the whole fibre (h in
+ * [-1, 1]), less the deep opacity map's shadow (strand_fiber.glsl;
+ * strand_light_cs.glsl evaluates it once a frame per point), for
+ * strand_fs.glsl to interpolate along the strand. A strand at most a few
+ * pixels wide shows each pixel the fibre's whole width or most of it, so
+ * h's average is what a pixel sees; evaluated per fragment it made the
+ * physical strands 4-6 times slower than Kajiya-Kay's. Our approximation:
+ * the light's variation along a segment is linear between its points (the
+ * tangent, eye and light directions already are), and a thin strand's
+ * edge pixels, which see part of the fibre, get the whole fibre's average
+ * (strand_fs.glsl keeps the exact offsets for wide strands). */
+layout(std430, binding = 6) readonly buffer satf_strand_light {
+  vec4 g_light[];
+};
+out vec3 v_key, v_global, v_af, v_rest; /* StrandLight */
+#endif
 
 vec2 to_pixels(vec4 c) { return c.xy / c.w * 0.5 * u_viewport; }
 
@@ -40,6 +60,9 @@ void main() {
     /* behind the eye: outside the clip volume, so the quad is dropped */
     gl_Position = vec4(0.0, 0.0, -2.0, 1.0);
     v_across = v_width = 0.0;
+#if PHYSICAL
+    v_key = v_global = v_af = v_rest = vec3(0.0);
+#endif
     return;
   }
   vec2 dir = to_pixels(cb) - to_pixels(ca);
@@ -55,4 +78,11 @@ void main() {
   v_across = side * half_px;
   v_width = width;
   gl_Position = c;
+#if PHYSICAL
+  int k = 4 * (gl_VertexID >> 1); /* the point's (two vertices a point) */
+  v_key = g_light[k].rgb;
+  v_global = g_light[k + 1].rgb;
+  v_af = g_light[k + 2].rgb;
+  v_rest = g_light[k + 3].rgb;
+#endif
 }
