@@ -42,9 +42,10 @@ struct strands_gpu {
   uint32_t *indices; /* 6 per segment, in the sorted order */
   GLuint vao, vbo, ibo;
   /* [0] Kajiya-Kay, [1] the physical material (PHYSICAL 1: the fibre
-   * model's light per point in the vertex shader, strand_vs.glsl) */
-  GLuint prog_shade[2], prog_dom;
-  GLuint prog_list[2]; /* into the per-pixel arrays (sparse.c), or 0 */
+   * model's light per point, strand_light_cs.glsl), [2] the same with the
+   * offsets each pixel covers on strands wider than STRAND_EXACT_PX */
+  GLuint prog_shade[3], prog_dom;
+  GLuint prog_list[3]; /* into the per-pixel arrays (sparse.c), or 0 */
   GLuint prog_bound;   /* the shading program of strands_gpu_begin */
   /* the physical material's light per point (strand_light_cs.glsl), into
    * light_buf (4 vec4 a point), which the PHYSICAL programs read */
@@ -72,10 +73,10 @@ void strands_gpu_destroy(strands_gpu *s) {
   glDeleteBuffers(3, bufs);
   if (s->vao)
     glDeleteVertexArrays(1, &s->vao);
-  GLuint progs[7] = {s->prog_shade[0], s->prog_shade[1], s->prog_dom,
-                     s->prog_list[0],  s->prog_list[1],  s->prog_depth,
-                     s->prog_light};
-  for (int k = 0; k < 7; k++)
+  GLuint progs[9] = {s->prog_shade[0], s->prog_shade[1], s->prog_shade[2],
+                     s->prog_list[0],  s->prog_list[1],  s->prog_list[2],
+                     s->prog_dom,      s->prog_depth,    s->prog_light};
+  for (int k = 0; k < 9; k++)
     if (progs[k])
       glDeleteProgram(progs[k]);
   fiber_gpu_release(&s->fiber);
@@ -196,30 +197,37 @@ static satf_status upload(strands_gpu *s, const int *counts, satf_error *err) {
   return satf_gl_check("strand buffers", err);
 }
 
+/* The physical strands' width in pixels above which the shading samples
+ * the offsets each pixel covers (strand_fs.glsl STRAND_EXACT_WIDTH). */
+#define STRAND_EXACT_PX 2.0
+#define STRAND_TEXT(x) #x
+#define STRAND_DEFINE_EXACT(x) "#define STRAND_EXACT_WIDTH " STRAND_TEXT(x) "\n"
+
 /* Both materials' programs: GL compiles a program's code when it is first
- * drawn with, so the one a scene does not use costs only its linking. */
+ * drawn with, so those a scene does not use cost only their linking. */
 static satf_status build_strand_programs(strands_gpu *s, int list,
                                          satf_error *err) {
-  static const char *const model[2] = {"", "#define PHYSICAL 1\n"};
-  static const char *const model_list[2] = {"#define LIST 1\n",
-                                            "#define LIST 1\n"
-                                            "#define PHYSICAL 1\n"};
+  static const char *const model[3] = {
+      "", "#define PHYSICAL 1\n",
+      "#define PHYSICAL 1\n" STRAND_DEFINE_EXACT(STRAND_EXACT_PX)};
+  static const char *const label[3] = {"strands", "strands (physical)",
+                                       "strands (physical, wide)"};
   satf_status st = SATF_OK;
-  for (int m = 0; m < 2 && st == SATF_OK; m++)
-    st = shaders_program(m ? "strands (physical)" : "strands",
-                         satf_glsl_strand_vs, satf_glsl_strand_fs, model[m],
-                         &s->prog_shade[m], err);
+  char extra[160];
+  for (int m = 0; m < 3 && st == SATF_OK; m++)
+    st = shaders_program(label[m], satf_glsl_strand_vs, satf_glsl_strand_fs,
+                         model[m], &s->prog_shade[m], err);
+  for (int m = 0; m < 3 && st == SATF_OK && list; m++) {
+    snprintf(extra, sizeof extra, "#define LIST 1\n%s", model[m]);
+    st = shaders_program("strands (fragment arrays)", satf_glsl_strand_vs,
+                         satf_glsl_strand_fs, extra, &s->prog_list[m], err);
+  }
   if (st == SATF_OK)
     st = shaders_compute("strands (light per point)", satf_glsl_strand_light_cs,
                          "", &s->prog_light, err);
   if (st == SATF_OK)
     st = shaders_program("strands (opacity map)", satf_glsl_strand_vs,
                          satf_glsl_strand_dom_fs, "", &s->prog_dom, err);
-  for (int m = 0; m < 2 && st == SATF_OK && list; m++)
-    st = shaders_program(m ? "strands (fragment arrays, physical)"
-                           : "strands (fragment arrays)",
-                         satf_glsl_strand_vs, satf_glsl_strand_fs,
-                         model_list[m], &s->prog_list[m], err);
   if (st == SATF_OK && list)
     st = shaders_program("strands (opaque depth)", satf_glsl_strand_vs,
                          satf_glsl_strand_dom_fs, "#define WHOLE_DEPTH 1\n",
@@ -395,17 +403,23 @@ static float px_scale(const float viewproj[16], int h) {
 
 /* Whether some point of a strand in front of the eye is at least a pixel
  * wide there: otherwise no fragment is covered whole. */
-int strands_gpu_any_wide(const strands_gpu *s, const float viewproj[16],
-                         int h) {
+/* Whether a point in front of the eye is at least px pixels wide. */
+static int any_wider(const strands_gpu *s, const float viewproj[16], int h,
+                     float px) {
   float k = px_scale(viewproj, h);
   for (size_t i = 0; i < s->npoints; i++) {
     const float *p = s->points + 4 * i;
     float w = viewproj[12] * p[0] + viewproj[13] * p[1] + viewproj[14] * p[2] +
               viewproj[15];
-    if (w > 0.0f && p[3] * k >= 0.999f * w)
+    if (w > 0.0f && p[3] * k >= px * w)
       return 1;
   }
   return 0;
+}
+
+int strands_gpu_any_wide(const strands_gpu *s, const float viewproj[16],
+                         int h) {
+  return any_wider(s, viewproj, h, 0.999f);
 }
 
 /* The vertex shader's view uniforms of `prog` for a w x h target. */
@@ -501,7 +515,13 @@ void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
   int physical = r->scene->material.model == SATF_MATERIAL_PHYSICAL;
   if (physical)
     light_points(r, s, aov);
-  GLuint p = list_mode >= 0 ? s->prog_list[physical] : s->prog_shade[physical];
+  /* the program with the per-pixel offsets only where a strand needs it
+   * (the margin: the shader's width is interpolated, the test is per
+   * point) */
+  int m = !physical                                                        ? 0
+          : any_wider(s, viewproj, r->view.height, 0.9f * STRAND_EXACT_PX) ? 2
+                                                                           : 1;
+  GLuint p = list_mode >= 0 ? s->prog_list[m] : s->prog_shade[m];
   s->prog_bound = p;
   draw_shading_uniforms(r, p, aov);
   set_fiber_uniforms(r, s, p);

@@ -12,7 +12,9 @@
  * not on h, so it is evaluated once per lobe (not once per lobe and offset),
  * and phi_i once; only Chiang 2016 eq. 10's N_p and the A_p of d'Eon
  * eq. 12-14 are taken at each h. */
-const int STRAND_FIBER_MAX_H = 16;
+/* the most offsets a caller asks for: the includer's STRAND_FIBER_MAX_H
+ * (a GLSL constant), as few as it needs, since llvmpipe pays for the
+ * array's size even where the code that fills it is skipped */
 
 /* The radiance of every light at a point, as Zinke 2008's dual scattering
  * adds it up (fiber_dual_shade): L = e^-n key + T_f(n) global + rest, with

@@ -91,20 +91,26 @@ float strand_noise(uint strand, float t) {
 }
 #if PHYSICAL
 /* The fibre model's light: strand_vs.glsl's per point, over the whole
- * fibre, interpolated; but a strand wider than this many pixels shows its
- * pixels a part of the fibre each, so there the offsets h a pixel covers
- * ([d - 1/2, d + 1/2] of the ribbon's [-w/2, w/2]) are sampled per
- * fragment, at three points (one where the strand is wide). */
-const float STRAND_FIBER_EXACT_WIDTH = 2.0;
+ * fibre, interpolated. A strand wider than STRAND_EXACT_WIDTH pixels shows
+ * its pixels a part of the fibre each, so there the offsets h a pixel
+ * covers ([d - 1/2, d + 1/2] of the ribbon's [-w/2, w/2]) are sampled per
+ * fragment, at three points (one where the strand is wide). ribbons.c
+ * defines it only in frames that have such strands: llvmpipe runs a
+ * branch's code even where no fragment takes it, and this one's presence
+ * alone made the pass twice as slow. */
 in vec3 v_key, v_global, v_af, v_rest;
+const int STRAND_FIBER_MAX_H = 3;
 #include "strand_fiber.glsl"
 StrandLight strand_light(vec3 t, vec3 v) {
-  if (v_width <= STRAND_FIBER_EXACT_WIDTH)
-    return StrandLight(v_key, v_global, v_af, v_rest);
-  float half_w = max(0.5 * v_width, 1e-6);
-  float lo = max(v_across - 0.5, -half_w), hi = min(v_across + 0.5, half_w);
-  return strand_fiber(t, v, v_world, lo / half_w, hi / half_w,
-                      hi - lo < 0.25 * half_w ? 1 : 3, u_aov);
+#ifdef STRAND_EXACT_WIDTH
+  if (v_width > STRAND_EXACT_WIDTH) {
+    float half_w = max(0.5 * v_width, 1e-6);
+    float lo = max(v_across - 0.5, -half_w), hi = min(v_across + 0.5, half_w);
+    return strand_fiber(t, v, v_world, lo / half_w, hi / half_w,
+                        hi - lo < 0.25 * half_w ? 1 : 3, u_aov);
+  }
+#endif
+  return StrandLight(v_key, v_global, v_af, v_rest);
 }
 #endif
 

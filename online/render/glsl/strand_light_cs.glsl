@@ -22,10 +22,10 @@ uniform vec4 u_light_vec[SATF_MAX_LIGHTS]; /* world; w: 0 direction, 1 position 
 uniform vec3 u_light_color[SATF_MAX_LIGHTS];
 uniform int u_cluster_shadow, u_aov;
 #include "fiber_cluster.glsl"
-#include "strand_fiber.glsl"
 /* offsets h averaged per point: midpoints 1/8 apart (16 and 32 agree
  * within 0.3% in luminance on the straight curtain, 8 and 32 within 1%) */
-const int STRAND_FIBER_POINT_H = 16;
+const int STRAND_FIBER_MAX_H = 16;
+#include "strand_fiber.glsl"
 
 void main() {
   int k = int((gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) *
@@ -37,7 +37,7 @@ void main() {
   /* strand_fs.glsl's tangent and eye direction, here at the point */
   StrandLight f = strand_fiber(tan / max(length(tan), 1e-30),
                                normalize(u_eye - p), p, -1.0, 1.0,
-                               STRAND_FIBER_POINT_H, u_aov);
+                               STRAND_FIBER_MAX_H, u_aov);
   g_light[4 * k] = vec4(f.key, 0.0);
   g_light[4 * k + 1] = vec4(f.global, 0.0);
   g_light[4 * k + 2] = vec4(f.af, 0.0);
