@@ -98,19 +98,23 @@ float strand_noise(uint strand, float t) {
  * defines it only in frames that have such strands: llvmpipe runs a
  * branch's code even where no fragment takes it, and this one's presence
  * alone made the pass twice as slow. */
-in vec3 v_key, v_global, v_af, v_rest;
+in vec3 v_key_lo, v_key_hi, v_rest_lo, v_rest_hi, v_global, v_af;
 const int STRAND_FIBER_MAX_H = 3;
 #include "strand_fiber.glsl"
 StrandLight strand_light(vec3 t, vec3 v) {
+  float half_w = max(0.5 * v_width, 1e-6);
+  float lo = max(v_across - 0.5, -half_w) / half_w,
+        hi = min(v_across + 0.5, half_w) / half_w;
 #ifdef STRAND_EXACT_WIDTH
-  if (v_width > STRAND_EXACT_WIDTH) {
-    float half_w = max(0.5 * v_width, 1e-6);
-    float lo = max(v_across - 0.5, -half_w), hi = min(v_across + 0.5, half_w);
-    return strand_fiber(t, v, v_world, lo / half_w, hi / half_w,
-                        hi - lo < 0.25 * half_w ? 1 : 3, u_aov);
-  }
+  if (v_width > STRAND_EXACT_WIDTH)
+    return strand_fiber(t, v, v_world, lo, hi,
+                        hi - lo < 0.25 ? 1 : 3, u_aov);
 #endif
-  return StrandLight(v_key, v_global, v_af, v_rest);
+  /* the share of the covered offsets [lo, hi] on the fibre's h > 0 half */
+  float neg = max(min(hi, 0.0) - lo, 0.0), pos = max(hi - max(lo, 0.0), 0.0);
+  float w = neg + pos > 0.0 ? pos / (neg + pos) : 0.5;
+  return StrandLight(mix(v_key_lo, v_key_hi, w), v_global, v_af,
+                     mix(v_rest_lo, v_rest_hi, w));
 }
 #endif
 

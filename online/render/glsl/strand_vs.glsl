@@ -36,13 +36,15 @@ noperspective out float v_width;  /* the strand's true width, pixels */
  * h's average is what a pixel sees; evaluated per fragment it made the
  * physical strands 4-6 times slower than Kajiya-Kay's. Our approximation:
  * the light's variation along a segment is linear between its points (the
- * tangent, eye and light directions already are), and a thin strand's
- * edge pixels, which see part of the fibre, get the whole fibre's average
- * (strand_fs.glsl keeps the exact offsets for wide strands). */
+ * tangent, eye and light directions already are), and a pixel that sees
+ * part of the fibre gets its two halves' averages weighed by how much of
+ * each it covers (strand_fs.glsl samples the offsets themselves on wide
+ * strands). */
 layout(std430, binding = 6) readonly buffer satf_strand_light {
   vec4 g_light[];
 };
-out vec3 v_key, v_global, v_af, v_rest; /* StrandLight */
+/* StrandLight's key and rest over the fibre's halves h < 0 and h > 0 */
+out vec3 v_key_lo, v_key_hi, v_rest_lo, v_rest_hi, v_global, v_af;
 #endif
 
 vec2 to_pixels(vec4 c) { return c.xy / c.w * 0.5 * u_viewport; }
@@ -61,7 +63,7 @@ void main() {
     gl_Position = vec4(0.0, 0.0, -2.0, 1.0);
     v_across = v_width = 0.0;
 #if PHYSICAL
-    v_key = v_global = v_af = v_rest = vec3(0.0);
+    v_key_lo = v_key_hi = v_rest_lo = v_rest_hi = v_global = v_af = vec3(0.0);
 #endif
     return;
   }
@@ -79,10 +81,12 @@ void main() {
   v_width = width;
   gl_Position = c;
 #if PHYSICAL
-  int k = 4 * (gl_VertexID >> 1); /* the point's (two vertices a point) */
-  v_key = g_light[k].rgb;
-  v_global = g_light[k + 1].rgb;
-  v_af = g_light[k + 2].rgb;
-  v_rest = g_light[k + 3].rgb;
+  int k = 6 * (gl_VertexID >> 1); /* the point's (two vertices a point) */
+  v_key_lo = g_light[k].rgb;
+  v_key_hi = g_light[k + 1].rgb;
+  v_rest_lo = g_light[k + 2].rgb;
+  v_rest_hi = g_light[k + 3].rgb;
+  v_global = g_light[k + 4].rgb;
+  v_af = g_light[k + 5].rgb;
 #endif
 }
