@@ -28,13 +28,22 @@ struct StrandLight {
   vec3 key, global, af, rest;
 };
 
+/* The direct BCSDF f_s + d_b f_back of the lobes' sum (R, TT, TRT, the
+ * remainder), or its part of AOV aov (1 all but R and TRT, 2 R, 3 TRT) */
+vec3 strand_fiber_direct(vec3 lobe[4], vec3 back, int aov) {
+  if (aov == 2 || aov == 3) return aov == 2 ? lobe[0] : lobe[2];
+  vec3 d = lobe[1] + lobe[3] + FIBER_DUAL_DENSITY * back;
+  return aov == 1 ? d : d + lobe[0] + lobe[2];
+}
+
 /* t: the strand's unit tangent, v: towards the eye, world: the point;
  * h_lo, h_hi: the offsets the light is averaged over ([-1, 1]: the whole
- * fibre), at ns <= STRAND_FIBER_MAX_H midpoints. aov 1-3 give the parts of
- * strand_fs.glsl's AOVs instead of the beauty: 1 all but R and TRT, 2 R,
- * 3 TRT (the lobes lit directly). */
-StrandLight strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi,
-                         int ns, int aov) {
+ * fibre), at ns <= STRAND_FIBER_MAX_H midpoints, the first ns / 2 of them
+ * into a, the others into b (each their average; a's light is b's where
+ * ns is 1). aov 1-3 give the parts of strand_fs.glsl's AOVs instead of the
+ * beauty: 1 all but R and TRT, 2 R, 3 TRT (the lobes lit directly). */
+void strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi, int ns,
+                  int aov, out StrandLight a, out StrandLight b) {
   Fiber f = Fiber(u_fiber_eta, u_fiber_v, u_fiber_s, u_fiber_sigma_a,
                   u_fiber_alpha);
   /* the fibre frame: x along the strand, z towards the eye, so h runs
@@ -56,9 +65,10 @@ StrandLight strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi,
   vec2 o[4];
   for (int p = 0; p < 4; p++)
     o[p] = fiber_tilt(f.alpha, p, g[0].sin_o, g[0].cos_o);
-  float inv = 1.0 / float(ns);
-  StrandLight s =
-      StrandLight(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+  int na = ns / 2;
+  float inv_a = 1.0 / float(max(na, 1)), inv_b = 1.0 / float(ns - na);
+  a = StrandLight(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+  b = a;
   for (int k = 0; k < u_nlights; k++) {
     vec3 dl = u_light_vec[k].xyz - u_light_vec[k].w * world;
     vec3 l = normalize(dl);
@@ -71,32 +81,35 @@ StrandLight strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi,
     for (int p = 0; p < 4; p++)
       mp[p] = fiber_mp(cos_i, o[p].y, sin_i, o[p].x, f.v[p]);
     float dphi = fiber_atan2(wi.z, wi.y) - g[0].phi_o;
-    vec3 lobe[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+    vec3 la[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+    vec3 lb[4] = la;
     for (int j = 0; j < ns; j++)
       for (int p = 0; p < 4; p++) {
         float np = p < 3 ? fiber_np(dphi, p, f.s, g[j].gamma_o, g[j].gamma_t)
                          : 0.5 / FIBER_PI;
-        lobe[p] += np * vec3(g[j].ap[0][p], g[j].ap[1][p], g[j].ap[2][p]);
+        vec3 x = np * vec3(g[j].ap[0][p], g[j].ap[1][p], g[j].ap[2][p]);
+        if (j < na) la[p] += x;
+        else lb[p] += x;
       }
-    for (int p = 0; p < 4; p++) lobe[p] *= mp[p] * inv;
-    vec3 back;
-    vec3 global = key_global(t, v, l, back);
-    vec3 direct = lobe[0] + lobe[1] + lobe[2] + lobe[3] +
-                  FIBER_DUAL_DENSITY * back;
-    if (aov == 1) direct -= lobe[0] + lobe[2];
-    else if (aov == 2 || aov == 3) {
-      direct = aov == 2 ? lobe[0] : lobe[2];
-      global = vec3(0.0);
+    for (int p = 0; p < 4; p++) {
+      la[p] *= mp[p] * inv_a;
+      lb[p] *= mp[p] * inv_b;
     }
+    vec3 back;
+    vec3 global = aov == 2 || aov == 3 ? vec3(0.0) : key_global(t, v, l, back);
+    if (aov == 2 || aov == 3) back = vec3(0.0);
+    vec3 da = strand_fiber_direct(na > 0 ? la : lb, back, aov);
+    vec3 db = strand_fiber_direct(lb, back, aov);
     if (k == 0 && u_cluster_shadow != 0) {
-      s.key = e * direct;
-      s.global = e * global;
-      s.af = fiber_dual_field(u_fiber_tables, 0, fiber_asin(sin_i));
+      a.key = e * da;
+      b.key = e * db;
+      a.global = b.global = e * global;
+      a.af = b.af = fiber_dual_field(u_fiber_tables, 0, fiber_asin(sin_i));
     } else {
-      s.rest += e * direct;
+      a.rest += e * da;
+      b.rest += e * db;
     }
   }
-  return s;
 }
 
 /* L of StrandLight for the key light's transmittance dom = e^-n from the

@@ -106,9 +106,14 @@ StrandLight strand_light(vec3 t, vec3 v) {
   float lo = max(v_across - 0.5, -half_w) / half_w,
         hi = min(v_across + 0.5, half_w) / half_w;
 #ifdef STRAND_EXACT_WIDTH
-  if (v_width > STRAND_EXACT_WIDTH)
-    return strand_fiber(t, v, v_world, lo, hi,
-                        hi - lo < 0.25 ? 1 : 3, u_aov);
+  if (v_width > STRAND_EXACT_WIDTH) {
+    int ns = hi - lo < 0.25 ? 1 : 3;
+    StrandLight a, b;
+    strand_fiber(t, v, v_world, lo, hi, ns, u_aov, a, b);
+    float wb = float(ns - ns / 2) / float(ns); /* b's share of the samples */
+    return StrandLight(mix(a.key, b.key, wb), b.global, b.af,
+                       mix(a.rest, b.rest, wb));
+  }
 #endif
   /* the share of the covered offsets [lo, hi] on the fibre's h > 0 half */
   float neg = max(min(hi, 0.0) - lo, 0.0), pos = max(hi - max(lo, 0.0), 0.0);

@@ -23,10 +23,10 @@ uniform vec4 u_light_vec[SATF_MAX_LIGHTS]; /* world; w: 0 direction, 1 position 
 uniform vec3 u_light_color[SATF_MAX_LIGHTS];
 uniform int u_cluster_shadow, u_aov;
 #include "fiber_cluster.glsl"
-/* offsets h averaged per half: midpoints 1/8 apart (16 and 32 over the
- * whole fibre agree within 0.3% in luminance on the straight curtain, 8
- * and 32 within 1%) */
-const int STRAND_FIBER_MAX_H = 8;
+/* offsets h averaged per point: midpoints 1/8 apart, 8 a half (16 and 32
+ * over the whole fibre agree within 0.3% in luminance on the straight
+ * curtain, 8 and 32 within 1%) */
+const int STRAND_FIBER_MAX_H = 16;
 #include "strand_fiber.glsl"
 
 void main() {
@@ -38,8 +38,8 @@ void main() {
   vec3 tan = vec3(g_vertex[b + 4], g_vertex[b + 5], g_vertex[b + 6]);
   /* strand_fs.glsl's tangent and eye direction, here at the point */
   vec3 t = tan / max(length(tan), 1e-30), v = normalize(u_eye - p);
-  StrandLight lo = strand_fiber(t, v, p, -1.0, 0.0, STRAND_FIBER_MAX_H, u_aov);
-  StrandLight hi = strand_fiber(t, v, p, 0.0, 1.0, STRAND_FIBER_MAX_H, u_aov);
+  StrandLight lo, hi;
+  strand_fiber(t, v, p, -1.0, 1.0, STRAND_FIBER_MAX_H, u_aov, lo, hi);
   g_light[6 * k] = vec4(lo.key, 0.0);
   g_light[6 * k + 1] = vec4(hi.key, 0.0);
   g_light[6 * k + 2] = vec4(lo.rest, 0.0);
