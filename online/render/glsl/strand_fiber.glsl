@@ -2,8 +2,9 @@
  * (d'Eon/Chiang, fiber.glsl, with Zinke's dual scattering), averaged over
  * the offsets h in [lo, hi] across the fibre, for every light; split into
  * the parts that do not depend on the deep opacity map's hair count n, so
- * that strand_vs.glsl evaluates it once per point and strand_fs.glsl
- * multiplies in only its per-fragment shadow (strand_fiber_radiance). No
+ * that strand_light_cs.glsl evaluates it once per point (and frame) and
+ * strand_fs.glsl multiplies in only its per-fragment shadow
+ * (strand_fiber_radiance). No
  * #version line: included after fiber_cluster.glsl by a shader that
  * declares u_eye, u_nlights, u_light_vec, u_light_color, u_cluster_shadow
  * and u_aov.

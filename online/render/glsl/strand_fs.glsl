@@ -23,8 +23,9 @@
  * (fiber_cluster.glsl: key_global, for the fibre's middle and the spread
  * of one hair; evaluated per fragment they took five sixths of the fibre
  * model's cost). The rest of the light, which needs no shadow, is
- * strand_vs.glsl's per point (strand_fiber.glsl), averaged over the
- * fibre's offsets h; only strands wider than a few pixels are sampled at
+ * strand_light_cs.glsl's per point (strand_fiber.glsl), averaged over
+ * each half of the fibre's offsets h and weighed by the pixel's share of
+ * each; only strands wider than a few pixels are sampled at
  * the offsets each pixel covers (the ribbon faces the eye, so h is the
  * across-ribbon coordinate itself). AOVs there: 1 all but R and TRT (TT,
  * the remainder, multiple scattering), 2 R, 3 TRT.
@@ -90,8 +91,8 @@ float strand_noise(uint strand, float t) {
   return mix(hash(strand * 8u + r), hash(strand * 8u + r + 1u), y - row);
 }
 #if PHYSICAL
-/* The fibre model's light: strand_vs.glsl's per point, over the whole
- * fibre, interpolated. A strand wider than STRAND_EXACT_WIDTH pixels shows
+/* The fibre model's light: strand_light_cs.glsl's per point, over each
+ * half of the fibre, interpolated along the strand (strand_vs.glsl). A strand wider than STRAND_EXACT_WIDTH pixels shows
  * its pixels a part of the fibre each, so there the offsets h a pixel
  * covers ([d - 1/2, d + 1/2] of the ribbon's [-w/2, w/2]) are sampled per
  * fragment, at three points (one where the strand is wide). ribbons.c
