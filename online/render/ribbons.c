@@ -41,8 +41,15 @@ struct strands_gpu {
   uint32_t *keys, *order, *tmp_keys, *tmp_order; /* sort scratch */
   uint32_t *indices; /* 6 per segment, in the sorted order */
   GLuint vao, vbo, ibo;
-  GLuint prog_shade, prog_dom;
-  GLuint prog_list;   /* into the per-pixel arrays (sparse.c), or 0 */
+  /* [0] Kajiya-Kay, [1] the physical material (PHYSICAL 1: the fibre
+   * model's light per point, strand_light_cs.glsl), [2] the same with the
+   * offsets each pixel covers on strands wider than STRAND_EXACT_PX */
+  GLuint prog_shade[3], prog_dom;
+  GLuint prog_list[3]; /* into the per-pixel arrays (sparse.c), or 0 */
+  GLuint prog_bound;   /* the shading program of strands_gpu_begin */
+  /* the physical material's light per point (strand_light_cs.glsl), into
+   * light_buf (6 vec4 a point), which the PHYSICAL programs read */
+  GLuint prog_light, light_buf;
   GLuint prog_depth;  /* their whole fragments' depth (sparse.c), or 0 */
   float lo[3], hi[3]; /* bounds of the ribbons */
   float width;        /* the points' median width */
@@ -62,12 +69,14 @@ static void free_data(strands_gpu *s) {
 void strands_gpu_destroy(strands_gpu *s) {
   if (!s)
     return;
-  GLuint bufs[2] = {s->vbo, s->ibo};
-  glDeleteBuffers(2, bufs);
+  GLuint bufs[3] = {s->vbo, s->ibo, s->light_buf};
+  glDeleteBuffers(3, bufs);
   if (s->vao)
     glDeleteVertexArrays(1, &s->vao);
-  GLuint progs[4] = {s->prog_shade, s->prog_dom, s->prog_list, s->prog_depth};
-  for (int k = 0; k < 4; k++)
+  GLuint progs[9] = {s->prog_shade[0], s->prog_shade[1], s->prog_shade[2],
+                     s->prog_list[0],  s->prog_list[1],  s->prog_list[2],
+                     s->prog_dom,      s->prog_depth,    s->prog_light};
+  for (int k = 0; k < 9; k++)
     if (progs[k])
       glDeleteProgram(progs[k]);
   fiber_gpu_release(&s->fiber);
@@ -179,21 +188,46 @@ static satf_status upload(strands_gpu *s, const int *counts, satf_error *err) {
                (GLsizeiptr)(6 * s->nsegs * sizeof(uint32_t)), NULL,
                GL_STREAM_DRAW);
   glBindVertexArray(0);
+  glGenBuffers(1, &s->light_buf); /* filled by strands_gpu_begin */
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, s->light_buf);
+  glBufferData(GL_SHADER_STORAGE_BUFFER,
+               (GLsizeiptr)(s->npoints * 24 * sizeof(float)), NULL,
+               GL_DYNAMIC_COPY);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
   return satf_gl_check("strand buffers", err);
 }
 
+/* The physical strands' width in pixels above which the shading samples
+ * the offsets each pixel covers (strand_fs.glsl STRAND_EXACT_WIDTH). */
+#define STRAND_EXACT_PX 2.0
+#define STRAND_TEXT(x) #x
+#define STRAND_DEFINE_EXACT(x) "#define STRAND_EXACT_WIDTH " STRAND_TEXT(x) "\n"
+
+/* Both materials' programs: GL compiles a program's code when it is first
+ * drawn with, so those a scene does not use cost only their linking. */
 static satf_status build_strand_programs(strands_gpu *s, int list,
                                          satf_error *err) {
-  satf_status st =
-      shaders_program("strands", satf_glsl_strand_vs, satf_glsl_strand_fs, "",
-                      &s->prog_shade, err);
+  static const char *const model[3] = {
+      "", "#define PHYSICAL 1\n",
+      "#define PHYSICAL 1\n" STRAND_DEFINE_EXACT(STRAND_EXACT_PX)};
+  static const char *const label[3] = {"strands", "strands (physical)",
+                                       "strands (physical, wide)"};
+  satf_status st = SATF_OK;
+  char extra[160];
+  for (int m = 0; m < 3 && st == SATF_OK; m++)
+    st = shaders_program(label[m], satf_glsl_strand_vs, satf_glsl_strand_fs,
+                         model[m], &s->prog_shade[m], err);
+  for (int m = 0; m < 3 && st == SATF_OK && list; m++) {
+    snprintf(extra, sizeof extra, "#define LIST 1\n%s", model[m]);
+    st = shaders_program("strands (fragment arrays)", satf_glsl_strand_vs,
+                         satf_glsl_strand_fs, extra, &s->prog_list[m], err);
+  }
+  if (st == SATF_OK)
+    st = shaders_compute("strands (light per point)", satf_glsl_strand_light_cs,
+                         "", &s->prog_light, err);
   if (st == SATF_OK)
     st = shaders_program("strands (opacity map)", satf_glsl_strand_vs,
                          satf_glsl_strand_dom_fs, "", &s->prog_dom, err);
-  if (st == SATF_OK && list)
-    st = shaders_program("strands (fragment arrays)", satf_glsl_strand_vs,
-                         satf_glsl_strand_fs, "#define LIST 1\n", &s->prog_list,
-                         err);
   if (st == SATF_OK && list)
     st = shaders_program("strands (opaque depth)", satf_glsl_strand_vs,
                          satf_glsl_strand_dom_fs, "#define WHOLE_DEPTH 1\n",
@@ -369,17 +403,23 @@ static float px_scale(const float viewproj[16], int h) {
 
 /* Whether some point of a strand in front of the eye is at least a pixel
  * wide there: otherwise no fragment is covered whole. */
-int strands_gpu_any_wide(const strands_gpu *s, const float viewproj[16],
-                         int h) {
+/* Whether a point in front of the eye is at least px pixels wide. */
+static int any_wider(const strands_gpu *s, const float viewproj[16], int h,
+                     float px) {
   float k = px_scale(viewproj, h);
   for (size_t i = 0; i < s->npoints; i++) {
     const float *p = s->points + 4 * i;
     float w = viewproj[12] * p[0] + viewproj[13] * p[1] + viewproj[14] * p[2] +
               viewproj[15];
-    if (w > 0.0f && p[3] * k >= 0.999f * w)
+    if (w > 0.0f && p[3] * k >= px * w)
       return 1;
   }
   return 0;
+}
+
+int strands_gpu_any_wide(const strands_gpu *s, const float viewproj[16],
+                         int h) {
+  return any_wider(s, viewproj, h, 0.999f);
 }
 
 /* The vertex shader's view uniforms of `prog` for a w x h target. */
@@ -398,10 +438,10 @@ void strands_gpu_draw(const strands_gpu *s, size_t first, size_t count) {
   glBindVertexArray(0);
 }
 
-void strands_gpu_use(const strands_gpu *s) { glUseProgram(s->prog_shade); }
+void strands_gpu_use(const strands_gpu *s) { glUseProgram(s->prog_bound); }
 
 void strands_gpu_whole(const strands_gpu *s, int whole) {
-  glUniform1i(glGetUniformLocation(s->prog_shade, "u_whole"), whole);
+  glUniform1i(glGetUniformLocation(s->prog_bound, "u_whole"), whole);
 }
 
 int strands_gpu_opaque_depth(const satf_renderer *r, const strands_gpu *s,
@@ -439,9 +479,7 @@ void strands_gpu_dom(satf_renderer *r, strands_gpu *s, int opacity) {
 static void set_fiber_uniforms(const satf_renderer *r, strands_gpu *s,
                                GLuint p) {
   const satf_scene_material *m = &r->scene->material;
-  int physical = m->model == SATF_MATERIAL_PHYSICAL;
-  glUniform1i(glGetUniformLocation(p, "u_model"), physical);
-  if (!physical) {
+  if (m->model != SATF_MATERIAL_PHYSICAL) {
     /* unread, but GL refuses a draw whose samplers of two types share a
      * unit: each of the fibre's on its own */
     glUniform1i(glGetUniformLocation(p, "u_fiber_tables"), FIBER_TABLE_UNIT);
@@ -454,9 +492,37 @@ static void set_fiber_uniforms(const satf_renderer *r, strands_gpu *s,
   fiber_gpu_bind(&s->fiber, m, p);
 }
 
+/* The physical material's light at every point for this frame's eye and
+ * lights (strand_light_cs.glsl), for the programs that read it. */
+static void light_points(const satf_renderer *r, strands_gpu *s, satf_aov aov) {
+  GLuint p = s->prog_light;
+  draw_shading_uniforms(r, p, aov);
+  set_fiber_uniforms(r, s, p);
+  draw_world_lights(r, p);
+  glUniform1i(glGetUniformLocation(p, "u_npoints"), (int)s->npoints);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, s->vbo);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, s->light_buf);
+  /* 64 points a group, in rows of at most 65535 groups (GL's least
+   * limit on a dispatch's width) */
+  size_t groups = (s->npoints + 63) / 64,
+         wide = groups < 65535 ? groups : 65535;
+  glDispatchCompute((GLuint)wide, (GLuint)((groups + wide - 1) / wide), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
 void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
                        const float viewproj[16], int list_mode) {
-  GLuint p = list_mode >= 0 ? s->prog_list : s->prog_shade;
+  int physical = r->scene->material.model == SATF_MATERIAL_PHYSICAL;
+  if (physical)
+    light_points(r, s, aov);
+  /* the program with the per-pixel offsets only where a strand needs it
+   * (the margin: the shader's width is interpolated, the test is per
+   * point) */
+  int m = !physical                                                        ? 0
+          : any_wider(s, viewproj, r->view.height, 0.9f * STRAND_EXACT_PX) ? 2
+                                                                           : 1;
+  GLuint p = list_mode >= 0 ? s->prog_list[m] : s->prog_shade[m];
+  s->prog_bound = p;
   draw_shading_uniforms(r, p, aov);
   set_fiber_uniforms(r, s, p);
   draw_world_lights(r, p);

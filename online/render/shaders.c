@@ -18,7 +18,8 @@ extern const char glsl_text_lighting[], glsl_text_layer_vs[],
     glsl_text_empty_fs[], glsl_text_dom_mesh_fs[], glsl_text_strand_vs[],
     glsl_text_strand_fs[], glsl_text_strand_dom_fs[], glsl_text_baseline_vs[],
     glsl_text_baseline_fs[], glsl_text_baseline_lighting[],
-    glsl_text_accum_fs[], glsl_text_fiber[], glsl_text_fiber_cluster[];
+    glsl_text_accum_fs[], glsl_text_fiber[], glsl_text_fiber_cluster[],
+    glsl_text_strand_light_cs[];
 
 const char *const satf_glsl_lighting = glsl_text_lighting;
 const char *const satf_glsl_layer_vs = glsl_text_layer_vs;
@@ -40,6 +41,7 @@ const char *const satf_glsl_baseline_lighting = glsl_text_baseline_lighting;
 const char *const satf_glsl_strand_vs = glsl_text_strand_vs;
 const char *const satf_glsl_strand_fs = glsl_text_strand_fs;
 const char *const satf_glsl_strand_dom_fs = glsl_text_strand_dom_fs;
+const char *const satf_glsl_strand_light_cs = glsl_text_strand_light_cs;
 const char *const satf_glsl_fiber = glsl_text_fiber;
 const char *const satf_glsl_fiber_cluster = glsl_text_fiber_cluster;
 
@@ -56,14 +58,19 @@ static char *with_defines(const char *src, const char *lines) {
   return out;
 }
 
+/* The limits the shaders' arrays are sized by, then `extra`. */
+static void limits(char *out, size_t size, const char *extra) {
+  snprintf(out, size,
+           "#define SATF_MAX_LIGHTS %d\n#define SATF_MAX_FRAGMENTS %d\n%s",
+           SATF_SCENE_MAX_LIGHTS, SATF_MAX_FRAGMENTS, extra);
+}
+
 /* Compiles one program. Its shaders' arrays are sized by the C limits,
  * defined after their #version lines with `extra` (glsl/). */
 satf_status shaders_program(const char *label, const char *vs, const char *fs,
                             const char *extra, GLuint *out, satf_error *err) {
   char defines[256];
-  snprintf(defines, sizeof defines,
-           "#define SATF_MAX_LIGHTS %d\n#define SATF_MAX_FRAGMENTS %d\n%s",
-           SATF_SCENE_MAX_LIGHTS, SATF_MAX_FRAGMENTS, extra);
+  limits(defines, sizeof defines, extra);
   /* both stages see them (cluster_vs.glsl shades per vertex in the
    * physical mode) */
   char *text = with_defines(fs, defines), *vtext = with_defines(vs, defines);
@@ -72,6 +79,17 @@ satf_status shaders_program(const char *label, const char *vs, const char *fs,
                        : satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   free(text);
   free(vtext);
+  return st;
+}
+
+satf_status shaders_compute(const char *label, const char *cs,
+                            const char *extra, GLuint *out, satf_error *err) {
+  char defines[256];
+  limits(defines, sizeof defines, extra);
+  char *text = with_defines(cs, defines);
+  satf_status st = text ? satf_gl_program_build_compute(label, text, out, err)
+                        : satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  free(text);
   return st;
 }
 

@@ -34,6 +34,8 @@ extern const char *const satf_glsl_baseline_lighting;
 extern const char *const satf_glsl_strand_vs;     /* segments as ribbons */
 extern const char *const satf_glsl_strand_fs;     /* eq. 9-11, coverage */
 extern const char *const satf_glsl_strand_dom_fs; /* strands in the DOM */
+/* the physical strands' light per point (compute) */
+extern const char *const satf_glsl_strand_light_cs;
 /* The fibre model of satf/fiber.h alone (no #version), for tests that
  * evaluate it: struct Fiber; vec3 fiber_single(Fiber f, vec3 wo, vec3 wi,
  * float h); vec3 fiber_dual_shade(Fiber f, sampler2D tables, vec3 wo,
@@ -52,6 +54,9 @@ extern const char *const satf_glsl_fiber_cluster;
 /* One program, its shaders given SATF_MAX_LIGHTS and SATF_MAX_FRAGMENTS
  * (and `extra`) after their #version lines. */
 satf_status shaders_program(const char *label, const char *vs, const char *fs,
+                            const char *extra, GLuint *out, satf_error *err);
+/* The same for a compute shader. */
+satf_status shaders_compute(const char *label, const char *cs,
                             const char *extra, GLuint *out, satf_error *err);
 /* The triangle satf_glsl_fullscreen_vs makes of vertices 0 to 2, which
  * covers the viewport, drawn with the bound program (`vao`: an empty

@@ -1,7 +1,11 @@
 /* bench_shading - the physical shading mode's frame rate against kk's
  * under the same load (a benchmark, not a test):
  *
- *   bench_shading KK_DB FIBER_DB FRAMES SCENE...
+ *   bench_shading [--strands] KK_DB FIBER_DB FRAMES SCENE...
+ *
+ * --strands: both renderers draw each scene's source strands (its
+ * "strands" key, at the file's thickness or the clusters' assumed width,
+ * as satf-render --strands) instead of its clusters.
  *
  * For each scene, two renderers in one GL context, one shading kk from the
  * Phong database and one physical from the fibre database, walk the frames
@@ -38,7 +42,7 @@ static int by_value(const void *a, const void *b) {
 
 /* One scene's row. */
 static void bench_scene(const char *path, satf_db *const db[NMODES],
-                        long frames) {
+                        long frames, int strands) {
   satf_error err;
   satf_scene *scene[NMODES];
   satf_renderer *r[NMODES];
@@ -52,6 +56,15 @@ static void bench_scene(const char *path, satf_db *const db[NMODES],
     h = scene[m]->image.height > 0 ? scene[m]->image.height : 480;
     if (satf_renderer_create(scene[m], db[m], w, h, 0, &r[m], &err) != SATF_OK)
       die(path, &err);
+    if (strands) { /* as satf-render --strands */
+      satf_frontend fe = {.scene = scene[m]};
+      if (satf_frontend_load_strands(PROG, &fe) != SATF_OK)
+        exit(1);
+      satf_status st = satf_frontend_apply_strands(r[m], &fe, &err);
+      satf_strand_set_destroy(fe.strands);
+      if (st != SATF_OK)
+        die(path, &err);
+    }
   }
   satf_frontend_walk walk[NMODES];
   satf_frame_timing t, sum[NMODES];
@@ -98,13 +111,20 @@ static void bench_scene(const char *path, satf_db *const db[NMODES],
 }
 
 int main(int argc, char **argv) {
+  int strands = argc > 1 && !strcmp(argv[1], "--strands");
+  if (strands) { /* the rest as without it */
+    argv[1] = argv[0];
+    argv++;
+    argc--;
+  }
   if (argc < 5 || !strcmp(argv[1], "--help")) {
     fprintf(argc < 5 ? stderr : stdout,
-            "usage: %s KK_DB FIBER_DB FRAMES SCENE...\n"
+            "usage: %s [--strands] KK_DB FIBER_DB FRAMES SCENE...\n"
             "Times kk and physical shading frame by frame in turn over the\n"
             "frames of satf-render --bench; prints ms per frame, C and L of\n"
             "each, and the frame-rate ratio physical / kk (of the means and\n"
-            "the median per frame).\n",
+            "the median per frame). --strands: both draw the scenes'\n"
+            "source strands instead of their clusters.\n",
             PROG);
     return argc < 5;
   }
@@ -130,7 +150,7 @@ int main(int argc, char **argv) {
   printf("%-18s %8s %8s %6s %6s %6s %6s %7s %7s\n", "scene", "kk ms", "phys ms",
          "C kk", "C phys", "L kk", "L phys", "ratio", "median");
   for (int a = 4; a < argc; a++)
-    bench_scene(argv[a], db, frames);
+    bench_scene(argv[a], db, frames, strands);
   satf_gl_context_destroy(ctx);
   for (int m = 0; m < NMODES; m++)
     satf_db_destroy(db[m]);

@@ -93,10 +93,10 @@ static satf_scene *make_scene(const float light_dir[3], float intensity) {
   return fixture_scene(json);
 }
 
-/* Vertical strands at x[i], depth z[i]. */
-static satf_image *render(const fixture *f, const float light_dir[3],
-                          float intensity, const float *x, const float *z,
-                          int n, int shadows) {
+/* Vertical strands at x[i], depth z[i], `width` wide. */
+static satf_image *render_width(const fixture *f, const float light_dir[3],
+                                float intensity, const float *x, const float *z,
+                                int n, int shadows, float strand_width) {
   satf_scene *scene = make_scene(light_dir, intensity);
   assert_non_null(scene);
   satf_renderer *r = NULL;
@@ -112,7 +112,7 @@ static satf_image *render(const fixture *f, const float light_dir[3],
       xyz[3 * at] = x[i];
       xyz[3 * at + 1] = -3.0f + 6.0f * (float)j / (POINTS - 1);
       xyz[3 * at + 2] = z[i];
-      width[at] = WIDTH;
+      width[at] = strand_width;
     }
   }
   if (satf_renderer_set_strands(r, n, counts, xyz, width, 0.0f, &err) !=
@@ -125,6 +125,12 @@ static satf_image *render(const fixture *f, const float light_dir[3],
   satf_renderer_destroy(r);
   satf_scene_destroy(scene);
   return img;
+}
+
+static satf_image *render(const fixture *f, const float light_dir[3],
+                          float intensity, const float *x, const float *z,
+                          int n, int shadows) {
+  return render_width(f, light_dir, intensity, x, z, n, shadows, WIDTH);
 }
 
 static float px(const satf_image *img, const char *ch, int col, int row) {
@@ -195,6 +201,51 @@ static void pixels_match_the_model(void **state) {
     assert_true(checked >= 5);
     satf_image_destroy(img);
   }
+}
+
+/* A strand thinner than a pixel: its light is the fibre's average over
+ * the offsets h (strand_light_cs.glsl, per point), so a row's pixels sum
+ * to the model's mean over h times the strand's width in pixels (the
+ * coverages sum to the width). */
+static void thin_strand_averages_the_fibre(void **state) {
+  const fixture *fx = *state;
+  const float light[3] = {-0.6f, -0.2f, -0.7746f};
+  const float x0[1] = {0.0f}, z0[1] = {0.0f};
+  const float width = 0.1f; /* 0.9 pixels */
+  satf_image *img = render_width(fx, light, 2.0f, x0, z0, 1, 0, width);
+  satf_fiber f;
+  float tables[32 * SATF_FIBER_DUAL_FIELDS * 3];
+  test_fiber(&f, tables, 32);
+  const float rgb[3] = {2.0f, 1.8f, 1.6f};
+  /* the frame as pixels_match_the_model's: the eye on +z, t = +Y */
+  double lx = -light[0], ly = -light[1], lz = -light[2];
+  double ll = sqrt(lx * lx + ly * ly + lz * lz);
+  float wo[3] = {0.0f, 0.0f, 1.0f};
+  float wi[3] = {(float)(ly / ll), (float)(-lx / ll), (float)(lz / ll)};
+  double mean[3] = {0, 0, 0};
+  enum { NH = 512 };
+  for (int k = 0; k < NH; k++) {
+    float want[3];
+    satf_fiber_dual_shade(&f, tables, 32, wo, wi,
+                          -1.0f + (k + 0.5f) * 2.0f / NH, 0.0f, want);
+    for (int c = 0; c < 3; c++)
+      mean[c] += want[c] / NH;
+  }
+  double wpx = width * px_per_unit(), alpha = 0.0, sum[3] = {0, 0, 0};
+  for (int col = 0; col < W; col++) {
+    alpha += px(img, "A", col, H / 2);
+    sum[0] += px(img, "R", col, H / 2);
+    sum[1] += px(img, "G", col, H / 2);
+    sum[2] += px(img, "B", col, H / 2);
+  }
+  assert_near(alpha, wpx, 0.01 * wpx);
+  for (int c = 0; c < 3; c++) {
+    double expect = rgb[c] * mean[c] * wpx;
+    fprintf(stderr, "thin strand c %d: row sum %g, model's mean over h %g\n", c,
+            sum[c], expect);
+    assert_near(sum[c], expect, 0.03 * expect);
+  }
+  satf_image_destroy(img);
 }
 
 /* Back-lit brown hair glows through TT: the strand lit from behind is
@@ -316,6 +367,7 @@ static void back_lit_strand_counts_only_the_hair_in_front(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(pixels_match_the_model),
+      cmocka_unit_test(thin_strand_averages_the_fibre),
       cmocka_unit_test(back_light_glows),
       cmocka_unit_test(shadowed_strand_keeps_forward_scattering),
       cmocka_unit_test(back_lit_strand_counts_only_the_hair_in_front),

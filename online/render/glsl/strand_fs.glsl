@@ -13,22 +13,32 @@
  * tested against that depth and blended "over" with the segments drawn
  * far to near. The renderer defines SATF_MAX_LIGHTS.
  *
- * With the physical material (u_model 1) each fragment is a fibre of the
- * d'Eon/Chiang model (fiber.glsl) seen at the offsets h its pixel covers
- * across the ribbon (the ribbon faces the eye, so h is the across-ribbon
- * coordinate itself), lit by every light's irradiance (a directional
- * light's intensity, as a Cycles sun's strength; point lights over d^2)
- * with Zinke's dual scattering: the key light's deep opacity map counts
- * the hairs in the way (summed coverage), which gives the direct and the
- * forward-scattered parts, and the local back-scattering comes from the
- * tables (u_fiber_tables, satf_fiber_dual_tables). AOVs there: 1 all but
- * R and TRT (TT, the remainder, multiple scattering), 2 R, 3 TRT.
+ * Compiled with PHYSICAL 1 for the physical material: each fragment is a
+ * fibre of the d'Eon/Chiang model (fiber.glsl) lit by every light's
+ * irradiance (a directional light's intensity, as a Cycles sun's
+ * strength; point lights over d^2) with Zinke's dual scattering: the key
+ * light's deep opacity map counts the hairs in the way (summed coverage),
+ * which gives the direct and the forward-scattered parts, and the local
+ * back-scattering and global BCSDF come from the tables
+ * (fiber_cluster.glsl: key_global, for the fibre's middle and the spread
+ * of one hair; evaluated per fragment they took five sixths of the fibre
+ * model's cost). The rest of the light, which needs no shadow, is
+ * strand_light_cs.glsl's per point (strand_fiber.glsl), averaged over
+ * each half of the fibre's offsets h and weighed by the pixel's share of
+ * each; only strands wider than a few pixels are sampled at
+ * the offsets each pixel covers (the ribbon faces the eye, so h is the
+ * across-ribbon coordinate itself). AOVs there: 1 all but R and TRT (TT,
+ * the remainder, multiple scattering), 2 R, 3 TRT.
  *
  * Compiled with LIST for sparse clusters drawn as strands in the cluster
  * path (sparse.c): each fragment goes, whole or partly covered, into the
  * per-pixel arrays (list_write.glsl) beside the clusters' fragments. */
 #ifndef LIST
 #define LIST 0
+#endif
+/* 0 Kajiya-Kay (SATF eq. 9-11), 1 the fibre model (the physical material) */
+#ifndef PHYSICAL
+#define PHYSICAL 0
 #endif
 #include "lighting.glsl"
 #include "strand_cover.glsl"
@@ -54,7 +64,6 @@ uniform float u_dom_slab;
 uniform float u_kcluster;
 uniform int u_aov; /* 0 beauty, 1 diffuse, 2 specI, 3 specII, 4 shadow, 5 alpha */
 uniform int u_whole; /* 1: only whole coverage, 0: only partial, -1: all */
-uniform int u_model; /* 0 Kajiya-Kay (SATF eq. 9-11), 1 the fibre model */
 #if LIST
 #include "list_write.glsl"
 #else
@@ -81,75 +90,39 @@ float strand_noise(uint strand, float t) {
   uint r = uint(row);
   return mix(hash(strand * 8u + r), hash(strand * 8u + r + 1u), y - row);
 }
-/* The fibre model's radiance of this fragment: the offsets h its pixel
- * covers ([d - 1/2, d + 1/2] of the ribbon's [-w/2, w/2], in pixels),
- * sampled at three points (one where the strand is wide), under every
- * light; the key light through the deep opacity map. Zinke's dual
- * scattering as fiber_dual_shade, but its two h-smooth parts, the local
- * back-scattering and the forward-scattered (global) BCSDF, read from the
- * tables the cluster path reads (fiber_cluster.glsl: key_global, for the
- * fibre's middle and the spread of one hair): evaluated per fragment they
- * took five sixths of the fibre model's cost (about 18 of its 22 M_p per
- * sample and light), and made this pass 8-16 times slower than
- * Kajiya-Kay's. The single scattering f_s, which carries the highlights'
- * shape across the fibre, stays exact at each h. */
-vec3 shade_physical(vec3 t, vec3 v, float dom, out vec3 r_lobe,
-                    out vec3 trt_lobe) {
-  Fiber f = Fiber(u_fiber_eta, u_fiber_v, u_fiber_s, u_fiber_sigma_a,
-                  u_fiber_alpha);
-  /* the fibre frame: x along the strand, z towards the eye, so h runs
-   * along y = z x x, the ribbon's +side (strand_vs.glsl: the screen's
-   * across is the eye's axis cross the strand) */
-  vec3 z = v - dot(v, t) * t;
-  float zl = length(z);
-  z = zl > 1e-6 ? z / zl : (abs(t.x) < 0.9 ? normalize(cross(t, vec3(1, 0, 0)))
-                                           : normalize(cross(t, vec3(0, 1, 0))));
-  vec3 y = cross(z, t);
-  vec3 wo = vec3(dot(v, t), 0.0, dot(v, z));
+#if PHYSICAL
+/* The fibre model's light: strand_light_cs.glsl's per point, over each
+ * half of the fibre, interpolated along the strand (strand_vs.glsl). A strand wider than STRAND_EXACT_WIDTH pixels shows
+ * its pixels a part of the fibre each, so there the offsets h a pixel
+ * covers ([d - 1/2, d + 1/2] of the ribbon's [-w/2, w/2]) are sampled per
+ * fragment, at three points (one where the strand is wide). ribbons.c
+ * defines it only in frames that have such strands: llvmpipe runs a
+ * branch's code even where no fragment takes it, and this one's presence
+ * alone made the pass twice as slow. */
+in vec3 v_key_lo, v_key_hi, v_rest_lo, v_rest_hi, v_global, v_af;
+const int STRAND_FIBER_MAX_H = 3;
+#include "strand_fiber.glsl"
+StrandLight strand_light(vec3 t, vec3 v) {
   float half_w = max(0.5 * v_width, 1e-6);
-  float lo = max(v_across - 0.5, -half_w), hi = min(v_across + 0.5, half_w);
-  int ns = hi - lo < 0.25 * half_w ? 1 : 3;
-  FiberGeom g[3];
-  for (int j = 0; j < ns; j++)
-    g[j] = fiber_geom(f, wo, clamp(mix(lo, hi, (float(j) + 0.5) / float(ns)) /
-                                       half_w,
-                                   -1.0, 1.0));
-  /* hairs between the key light and the point, from the map's
-   * transmittance e^-n (u_kcluster is 1) */
-  float n_key = -log(max(dom, 1e-30));
-  vec3 sum = vec3(0.0);
-  r_lobe = vec3(0.0);
-  trt_lobe = vec3(0.0);
-  for (int k = 0; k < u_nlights; k++) {
-    vec3 dl = u_light_vec[k].xyz - u_light_vec[k].w * v_world;
-    vec3 l = normalize(dl);
-    float fall = u_light_vec[k].w > 0.0 ? 1.0 / max(dot(dl, dl), 1e-6) : 1.0;
-    vec3 e = u_light_color[k] * fall;
-    vec3 wi = vec3(dot(l, t), dot(l, y), dot(l, z));
-    float n = k == 0 && u_cluster_shadow != 0 ? n_key : 0.0;
-    vec3 single = vec3(0.0), r = vec3(0.0), trt = vec3(0.0);
-    for (int j = 0; j < ns; j++) {
-      vec3 lobe[4];
-      for (int p = 0; p < 4; p++) lobe[p] = fiber_lobe(f, g[j], wi, p);
-      single += lobe[0] + lobe[1] + lobe[2] + lobe[3];
-      r += lobe[0];
-      trt += lobe[2];
-    }
-    float inv = 1.0 / float(ns);
-    vec3 back;
-    vec3 global = key_global(t, v, l, back);
-    float direct = exp(-max(n, 0.0));
-    /* Zinke 2008 eq. 20 (direct) and 23-25 (forward-scattered), as
-     * fiber_dual_shade */
-    sum += e * (direct * (single * inv + FIBER_DUAL_DENSITY * back) +
-                fiber_dual_scattered(u_fiber_tables, wi, n) * global);
-    if (u_aov >= 1 && u_aov <= 3) { /* the lobes' AOVs, lit directly */
-      r_lobe += e * direct * r * inv;
-      trt_lobe += e * direct * trt * inv;
-    }
+  float lo = max(v_across - 0.5, -half_w) / half_w,
+        hi = min(v_across + 0.5, half_w) / half_w;
+#ifdef STRAND_EXACT_WIDTH
+  if (v_width > STRAND_EXACT_WIDTH) {
+    int ns = hi - lo < 0.25 ? 1 : 3;
+    StrandLight a, b;
+    strand_fiber(t, v, v_world, lo, hi, ns, u_aov, a, b);
+    float wb = float(ns - ns / 2) / float(ns); /* b's share of the samples */
+    return StrandLight(mix(a.key, b.key, wb), b.global, b.af,
+                       mix(a.rest, b.rest, wb));
   }
-  return sum;
+#endif
+  /* the share of the covered offsets [lo, hi] on the fibre's h > 0 half */
+  float neg = max(min(hi, 0.0) - lo, 0.0), pos = max(hi - max(lo, 0.0), 0.0);
+  float w = neg + pos > 0.0 ? pos / (neg + pos) : 0.5;
+  return StrandLight(mix(v_key_lo, v_key_hi, w), v_global, v_af,
+                     mix(v_rest_lo, v_rest_hi, w));
 }
+#endif
 
 void main() {
   float cover = strand_coverage(v_across, v_width);
@@ -181,21 +154,15 @@ void main() {
    * at no bias, 0.82 at half a slab, 0.86 at one) */
   float dom = u_cluster_shadow != 0
                   ? cluster_transmittance(v_world,
-                                          u_model == 1 ? u_dom_slab : 0.0)
+                                          PHYSICAL != 0 ? u_dom_slab : 0.0)
                   : 1.0;
-  if (u_model == 1) {
-    vec3 r_lobe, trt_lobe;
-    vec3 total = shade_physical(t, v, dom, r_lobe, trt_lobe);
-    vec3 y;
-    if (u_aov == 1) y = max(total - r_lobe - trt_lobe, vec3(0.0));
-    else if (u_aov == 2) y = r_lobe;
-    else if (u_aov == 3) y = trt_lobe;
-    else if (u_aov == 4) y = vec3(dom);
-    else if (u_aov == 5) y = vec3(1.0);
-    else y = total;
-    emit(y * cover, cover);
-    return;
-  }
+#if PHYSICAL
+  vec3 y = strand_fiber_radiance(strand_light(t, v), dom);
+  if (u_aov == 1) y = max(y, vec3(0.0)); /* all but R and TRT */
+  else if (u_aov == 4) y = vec3(dom);
+  else if (u_aov == 5) y = vec3(1.0);
+  emit(y * cover, cover);
+#else
   vec3 dif = vec3(0.0), s1 = vec3(0.0), s2 = vec3(0.0);
   for (int k = 0; k < u_nlights; k++) {
     vec3 dl = u_light_vec[k].xyz - u_light_vec[k].w * v_world;
@@ -217,4 +184,5 @@ void main() {
   else if (u_aov == 5) y = vec3(1.0);
   else y = dif + s1 + s2;
   emit(y * cover, cover);
+#endif
 }

@@ -24,6 +24,28 @@ out float v_t;
 flat out uint v_strand;
 noperspective out float v_across; /* pixels from the strand's centre line */
 noperspective out float v_width;  /* the strand's true width, pixels */
+#ifndef PHYSICAL
+#define PHYSICAL 0
+#endif
+#if PHYSICAL
+/* The fibre model's light at this point, over the whole fibre (h in
+ * [-1, 1]), less the deep opacity map's shadow (strand_fiber.glsl;
+ * strand_light_cs.glsl evaluates it once a frame per point), for
+ * strand_fs.glsl to interpolate along the strand. A strand at most a few
+ * pixels wide shows each pixel the fibre's whole width or most of it, so
+ * h's average is what a pixel sees; evaluated per fragment it made the
+ * physical strands 4-6 times slower than Kajiya-Kay's. Our approximation:
+ * the light's variation along a segment is linear between its points (the
+ * tangent, eye and light directions already are), and a pixel that sees
+ * part of the fibre gets its two halves' averages weighed by how much of
+ * each it covers (strand_fs.glsl samples the offsets themselves on wide
+ * strands). */
+layout(std430, binding = 6) readonly buffer satf_strand_light {
+  vec4 g_light[];
+};
+/* StrandLight's key and rest over the fibre's halves h < 0 and h > 0 */
+out vec3 v_key_lo, v_key_hi, v_rest_lo, v_rest_hi, v_global, v_af;
+#endif
 
 vec2 to_pixels(vec4 c) { return c.xy / c.w * 0.5 * u_viewport; }
 
@@ -40,6 +62,9 @@ void main() {
     /* behind the eye: outside the clip volume, so the quad is dropped */
     gl_Position = vec4(0.0, 0.0, -2.0, 1.0);
     v_across = v_width = 0.0;
+#if PHYSICAL
+    v_key_lo = v_key_hi = v_rest_lo = v_rest_hi = v_global = v_af = vec3(0.0);
+#endif
     return;
   }
   vec2 dir = to_pixels(cb) - to_pixels(ca);
@@ -55,4 +80,13 @@ void main() {
   v_across = side * half_px;
   v_width = width;
   gl_Position = c;
+#if PHYSICAL
+  int k = 6 * (gl_VertexID >> 1); /* the point's (two vertices a point) */
+  v_key_lo = g_light[k].rgb;
+  v_key_hi = g_light[k + 1].rgb;
+  v_rest_lo = g_light[k + 2].rgb;
+  v_rest_hi = g_light[k + 3].rgb;
+  v_global = g_light[k + 4].rgb;
+  v_af = g_light[k + 5].rgb;
+#endif
 }

@@ -1,0 +1,122 @@
+/* strand_fiber.glsl - the fibre model's light at a point of a strand
+ * (d'Eon/Chiang, fiber.glsl, with Zinke's dual scattering), averaged over
+ * the offsets h in [lo, hi] across the fibre, for every light; split into
+ * the parts that do not depend on the deep opacity map's hair count n, so
+ * that strand_light_cs.glsl evaluates it once per point (and frame) and
+ * strand_fs.glsl multiplies in only its per-fragment shadow
+ * (strand_fiber_radiance). No
+ * #version line: included after fiber_cluster.glsl by a shader that
+ * declares u_eye, u_nlights, u_light_vec, u_light_color, u_cluster_shadow
+ * and u_aov.
+ *
+ * Per light: d'Eon 2011 eq. 7's M_p depends on the two inclinations only,
+ * not on h, so it is evaluated once per lobe (not once per lobe and offset),
+ * and phi_i once; only Chiang 2016 eq. 10's N_p and the A_p of d'Eon
+ * eq. 12-14 are taken at each h. */
+/* the most offsets a caller asks for: the includer's STRAND_FIBER_MAX_H
+ * (a GLSL constant), as few as it needs, since llvmpipe pays for the
+ * array's size even where the code that fills it is skipped */
+
+/* The radiance of every light at a point, as Zinke 2008's dual scattering
+ * adds it up (fiber_dual_shade): L = e^-n key + T_f(n) global + rest, with
+ * n the hairs between the key light and the point and
+ * T_f(n) = e^-n(1 - a_f) - e^-n the forward-scattered transmittance
+ * (eq. 5 over a Poisson count). key: the key light's direct BCSDF
+ * f_s + d_b f_back (eq. 20) times its irradiance; global: its
+ * forward-scattered BCSDF (eq. 23-25) times the irradiance; af: a_f at its
+ * inclination; rest: the other lights, unshadowed (n = 0: direct only). */
+struct StrandLight {
+  vec3 key, global, af, rest;
+};
+
+/* The direct BCSDF f_s + d_b f_back of the lobes' sum (R, TT, TRT, the
+ * remainder), or its part of AOV aov (1 all but R and TRT, 2 R, 3 TRT) */
+vec3 strand_fiber_direct(vec3 lobe[4], vec3 back, int aov) {
+  if (aov == 2 || aov == 3) return aov == 2 ? lobe[0] : lobe[2];
+  vec3 d = lobe[1] + lobe[3] + FIBER_DUAL_DENSITY * back;
+  return aov == 1 ? d : d + lobe[0] + lobe[2];
+}
+
+/* t: the strand's unit tangent, v: towards the eye, world: the point;
+ * h_lo, h_hi: the offsets the light is averaged over ([-1, 1]: the whole
+ * fibre), at ns <= STRAND_FIBER_MAX_H midpoints, the first ns / 2 of them
+ * into a, the others into b (each their average; a's light is b's where
+ * ns is 1). aov 1-3 give the parts of strand_fs.glsl's AOVs instead of the
+ * beauty: 1 all but R and TRT, 2 R, 3 TRT (the lobes lit directly). */
+void strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi, int ns,
+                  int aov, out StrandLight a, out StrandLight b) {
+  Fiber f = Fiber(u_fiber_eta, u_fiber_v, u_fiber_s, u_fiber_sigma_a,
+                  u_fiber_alpha);
+  /* the fibre frame: x along the strand, z towards the eye, so h runs
+   * along y = z x x, the ribbon's +side (strand_vs.glsl: the screen's
+   * across is the eye's axis cross the strand) */
+  vec3 z = v - dot(v, t) * t;
+  float zl = length(z);
+  z = zl > 1e-6 ? z / zl
+                : (abs(t.x) < 0.9 ? normalize(cross(t, vec3(1, 0, 0)))
+                                  : normalize(cross(t, vec3(0, 1, 0))));
+  vec3 y = cross(z, t);
+  vec3 wo = vec3(dot(v, t), 0.0, dot(v, z));
+  FiberGeom g[STRAND_FIBER_MAX_H];
+  for (int j = 0; j < ns; j++)
+    g[j] = fiber_geom(f, wo,
+                      clamp(mix(h_lo, h_hi, (float(j) + 0.5) / float(ns)),
+                            -1.0, 1.0));
+  /* theta_o tilted per lobe (fiber_tilt): the same at every h and light */
+  vec2 o[4];
+  for (int p = 0; p < 4; p++)
+    o[p] = fiber_tilt(f.alpha, p, g[0].sin_o, g[0].cos_o);
+  int na = ns / 2;
+  float inv_a = 1.0 / float(max(na, 1)), inv_b = 1.0 / float(ns - na);
+  a = StrandLight(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+  b = a;
+  for (int k = 0; k < u_nlights; k++) {
+    vec3 dl = u_light_vec[k].xyz - u_light_vec[k].w * world;
+    vec3 l = normalize(dl);
+    float fall = u_light_vec[k].w > 0.0 ? 1.0 / max(dot(dl, dl), 1e-6) : 1.0;
+    vec3 e = u_light_color[k] * fall;
+    vec3 wi = vec3(dot(l, t), dot(l, y), dot(l, z));
+    float sin_i = clamp(wi.x, -1.0, 1.0);
+    float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0));
+    float mp[4];
+    for (int p = 0; p < 4; p++)
+      mp[p] = fiber_mp(cos_i, o[p].y, sin_i, o[p].x, f.v[p]);
+    float dphi = fiber_atan2(wi.z, wi.y) - g[0].phi_o;
+    vec3 la[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+    vec3 lb[4] = la;
+    for (int j = 0; j < ns; j++)
+      for (int p = 0; p < 4; p++) {
+        float np = p < 3 ? fiber_np(dphi, p, f.s, g[j].gamma_o, g[j].gamma_t)
+                         : 0.5 / FIBER_PI;
+        vec3 x = np * vec3(g[j].ap[0][p], g[j].ap[1][p], g[j].ap[2][p]);
+        if (j < na) la[p] += x;
+        else lb[p] += x;
+      }
+    for (int p = 0; p < 4; p++) {
+      la[p] *= mp[p] * inv_a;
+      lb[p] *= mp[p] * inv_b;
+    }
+    vec3 back;
+    vec3 global = aov == 2 || aov == 3 ? vec3(0.0) : key_global(t, v, l, back);
+    if (aov == 2 || aov == 3) back = vec3(0.0);
+    vec3 da = strand_fiber_direct(na > 0 ? la : lb, back, aov);
+    vec3 db = strand_fiber_direct(lb, back, aov);
+    if (k == 0 && u_cluster_shadow != 0) {
+      a.key = e * da;
+      b.key = e * db;
+      a.global = b.global = e * global;
+      a.af = b.af = fiber_dual_field(u_fiber_tables, 0, fiber_asin(sin_i));
+    } else {
+      a.rest += e * da;
+      b.rest += e * db;
+    }
+  }
+}
+
+/* L of StrandLight for the key light's transmittance dom = e^-n from the
+ * deep opacity map (u_kcluster is 1: n counts hairs) */
+vec3 strand_fiber_radiance(StrandLight s, float dom) {
+  float n = max(-log(max(dom, 1e-30)), 0.0);
+  return exp(-n) * s.key +
+         max(exp(-n * (1.0 - s.af)) - exp(-n), vec3(0.0)) * s.global + s.rest;
+}
