@@ -334,6 +334,10 @@ typedef struct satf_import_result {
   char vdb_file[4096], strands_file[4096];
   /* seconds from the start to the end of each step, and peak memory */
   double t_read, t_cluster, t_fit, t_vdb0, t_vdb, t_end, peak_mb;
+  /* seconds from the start to the end of the macro-clusters and of the
+   * scene's check, and the peak memory (MB) at the end of reading,
+   * clustering and the scene's check: where a slow or large import spends */
+  double t_macro, t_check, mb_read, mb_cluster, mb_check;
 } satf_import_result;
 
 /* The whole import of o: read, cluster, fit, macro-clusters, density grid,
