@@ -125,6 +125,10 @@ expect refuse 20 scene_many_strands -- "$B/satf-render" many_strands.json \
   --db db.exr -o x.exr -q --memory-budget 0.3
 grep -q "the most is strands" scene_many_strands.err ||
   { echo "FAIL scene_many_strands: the refusal does not name the strands"; fails=$((fails + 1)); }
+# 10M procedural strands within a 1 GB budget: set up in bounded time (the
+# density queries scanned every strand within 0.1 of each: minutes)
+expect ok 90 scene_many_strands_budget -- "$B/satf-render" many_strands.json \
+  --db db.exr -o many.exr -q --memory-budget 1
 scene huge_image '{"strands": 100, "strand_width": 0.05}'
 expect refuse 20 scene_huge_image -- "$B/satf-render" huge_image.json \
   --db db.exr -o x.exr -q --size 16384x16384 --memory-budget 2
