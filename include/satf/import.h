@@ -42,6 +42,8 @@ extern "C" {
 #define SATF_STRANDS_MAX_PER_STRAND 65536   /* points in one strand */
 #define SATF_STRANDS_MAX_FOLLOW 1024        /* follow strands per guide */
 #define SATF_STRANDS_MAX_FILE_BYTES (4ull << 30)
+/* the largest coordinate magnitude satf-import takes from a file */
+#define SATF_IMPORT_MAX_INPUT_COORD 1e15
 
 typedef struct satf_strand_set satf_strand_set;
 

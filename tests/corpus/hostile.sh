@@ -102,12 +102,20 @@ printf 'ply\nformat ascii 1.0\nelement vertex 2000000000\nproperty float x\nprop
 printf 'ply\nformat binary_little_endian 1.0\nelement vertex 100\nproperty float x\nproperty float y\nproperty float z\nend_header\n' >cut.ply
 head -c 20 /dev/zero >>cut.ply
 head -c 4096 /dev/urandom >noise.data
+# .hair with one coordinate of 1e30 (within a float, past any unit)
+python3 -c "
+import struct, sys
+pts = [0, 0, 0, 0, -1, 0, 1e30, 0, 0, 1, -1, 0]
+sys.stdout.buffer.write(b'HAIR' + struct.pack('<IIIIfffff', 2, 4, 2, 1, 0.01, 0, 0, 0, 0) + bytes(88) + struct.pack('<12f', *pts))
+" >far.hair
 mkfifo fifo.hair
 for f in huge.hair cut.hair noise.hair noise.tfx counts.tfx lies.ply cut.ply \
-  noise.data fifo.hair /dev/zero; do
+  noise.data fifo.hair /dev/zero far.hair; do
   n=import_$(basename "$f" | tr . _)
   expect refuse 30 "$n" -- "$B/satf-import" "$f" -o "$n.json" -q
 done
+grep -q "strand 1 point 0 has the coordinate 1e+30" import_far_hair.err ||
+  { echo "FAIL import_far_hair: the refusal does not name the point"; fails=$((fails + 1)); }
 
 # ---- hostile scenes
 scene() { # NAME DENSITY-JSON [image]
