@@ -185,32 +185,36 @@ void satf_strands_position(const satf_strands *s, int i, float t, float xy[2]) {
 
 /* SATF sec. 3.3: the density is the sum of one circular Gaussian per strand
  * cross-section; peak 1/2 as in the database (see satf/sector.h). */
-static float strands_density_at(const satf_strands *s, const float *pos,
-                                float t, float x, float y);
+static float bucket_density(const satf_strands *s, const int *start, int cells,
+                            float cell, const float *pos, float t, float x,
+                            float y);
 
 float satf_strands_density(const satf_strands *s, float t, float x, float y) {
   if (s->tracks)
     return density_tracks_density(s->tracks, t, x, y);
-  return strands_density_at(s, NULL, t, x, y);
+  return bucket_density(s, s->start, s->cells, s->cell, NULL, t, x, y);
 }
 
-/* The sum above; pos: every strand's position at t in bucket order
- * (strands_slice), or NULL to compute them here. */
-static float strands_density_at(const satf_strands *s, const float *pos,
-                                float t, float x, float y) {
+/* The sum above over the strands in the 3 x 3 buckets (start: the first
+ * of each of cells x cells buckets of side cell over [-1.1, 1.1]^2) about
+ * (x, y); pos: the strands' positions at t in bucket order (strands_slice,
+ * a fine slice), or NULL to compute them here from the base buckets. */
+static float bucket_density(const satf_strands *s, const int *start, int cells,
+                            float cell, const float *pos, float t, float x,
+                            float y) {
   float cut = 4.0f * s->sigma, inv = 1.0f / (2.0f * s->sigma * s->sigma);
-  int cx = (int)((x + 1.1f) / s->cell), cy = (int)((y + 1.1f) / s->cell);
+  int cx = (int)((x + 1.1f) / cell), cy = (int)((y + 1.1f) / cell);
   float sum = 0.0f;
   for (int by = cy - 1; by <= cy + 1; by++) {
-    if (by < 0 || by >= s->cells)
+    if (by < 0 || by >= cells)
       continue;
     for (int bx = cx - 1; bx <= cx + 1; bx++) {
-      if (bx < 0 || bx >= s->cells)
+      if (bx < 0 || bx >= cells)
         continue;
-      int c = by * s->cells + bx;
-      for (int k = s->start[c]; k < s->start[c + 1]; k++) {
+      int c = by * cells + bx;
+      for (int k = start[c]; k < start[c + 1]; k++) {
         float q[2];
-        const float *p = pos ? pos + 2 * k : q;
+        const float *p = pos ? pos + 2 * (size_t)k : q;
         if (!pos)
           satf_strands_position(s, s->items[k], t, q);
         float dx = x - p[0], dy = y - p[1], d2 = dx * dx + dy * dy;
@@ -297,30 +301,6 @@ static int fine_slice_build(const satf_strands *s, float t, fine_slice *f) {
   return 0;
 }
 
-/* strands_density_at over a fine slice. */
-static float fine_density_at(const satf_strands *s, const fine_slice *f,
-                             float x, float y) {
-  float cut = 4.0f * s->sigma, inv = 1.0f / (2.0f * s->sigma * s->sigma);
-  int cx = (int)((x + 1.1f) / f->cell), cy = (int)((y + 1.1f) / f->cell);
-  float sum = 0.0f;
-  for (int by = cy - 1; by <= cy + 1; by++) {
-    if (by < 0 || by >= f->cells)
-      continue;
-    for (int bx = cx - 1; bx <= cx + 1; bx++) {
-      if (bx < 0 || bx >= f->cells)
-        continue;
-      int c = by * f->cells + bx;
-      for (int k = f->start[c]; k < f->start[c + 1]; k++) {
-        const float *p = f->pos + 2 * (size_t)k;
-        float dx = x - p[0], dy = y - p[1], d2 = dx * dx + dy * dy;
-        if (d2 < cut * cut)
-          sum += 0.5f * expf(-d2 * inv);
-      }
-    }
-  }
-  return sum * s->scale;
-}
-
 typedef struct features_job {
   const satf_cluster *cluster;
   const satf_shell_params *shell;
@@ -377,9 +357,12 @@ static int features_slice(void *vctx, size_t i, int thread) {
              * axes, which the twist turns (SATF eq. 1, satf/geometry.h):
              * they turn with the cross-section at no cost here */
             float x = v * cosf(u), y = v * sinf(u);
-            d = fine.pos ? fine_density_at(job->strands, &fine, x, y)
-                : pos    ? strands_density_at(job->strands, pos, t, x, y)
-                         : satf_strands_density(job->strands, t, x, y);
+            const satf_strands *st = job->strands;
+            d = fine.pos ? bucket_density(st, fine.start, fine.cells, fine.cell,
+                                          fine.pos, t, x, y)
+                : pos ? bucket_density(st, st->start, st->cells, st->cell, pos,
+                                       t, x, y)
+                      : satf_strands_density(st, t, x, y);
           }
           dens[b * G + a] = d;
         }
