@@ -117,6 +117,45 @@ done
 grep -q "strand 1 point 0 has the coordinate 1e+30" import_far_hair.err ||
   { echo "FAIL import_far_hair: the refusal does not name the point"; fails=$((fails + 1)); }
 
+# imports whose work would be absurd are refused before it starts, naming
+# the flag: 200K two-point strands over a low budget, TressFX followers
+# over the budget and over TressFX's limit
+python3 -c "
+import struct, sys
+from array import array
+n = 200000
+p = array('f', [0.0]) * (6 * n)
+for i in range(n):
+    p[6 * i] = p[6 * i + 3] = (i % 500) * 0.01
+    p[6 * i + 2] = p[6 * i + 5] = (i // 500) * 0.01
+    p[6 * i + 4] = -1.0
+sys.stdout.buffer.write(b'HAIR' + struct.pack('<IIIIfffff', n, 2 * n, 2, 1, 0.01, 0, 0, 0, 0) + bytes(88) + p.tobytes())
+" >short.hair
+expect refuse 30 import_short_budget -- "$B/satf-import" short.hair -o s.json \
+  -q --memory-budget 0.02
+grep -q -- "--memory-budget" import_short_budget.err ||
+  { echo "FAIL import_short_budget: the refusal does not name the flag"; fails=$((fails + 1)); }
+python3 -c "
+import struct, sys
+from array import array
+g, v = 2000, 16
+h = bytearray(296)
+struct.pack_into('<fIIII', h, 0, 3.0, g, v, 128, 0)
+p = array('f', [0.0]) * (3 * g * v)
+for i in range(g):
+    for k in range(v):
+        p[3 * (i * v + k)] = (i % 50) * 0.1
+        p[3 * (i * v + k) + 1] = -0.2 * k
+        p[3 * (i * v + k) + 2] = (i // 50) * 0.1
+sys.stdout.buffer.write(bytes(h) + p.tobytes())
+" >follow.tfx
+expect refuse 30 import_follow_budget -- "$B/satf-import" follow.tfx -o f.json \
+  -q --memory-budget 0.05
+grep -q -- "--follow" import_follow_budget.err ||
+  { echo "FAIL import_follow_budget: the refusal does not name --follow"; fails=$((fails + 1)); }
+expect refuse 10 import_follow_limit -- "$B/satf-import" follow.tfx -o f.json \
+  -q --follow 5000
+
 # ---- hostile scenes
 scene() { # NAME DENSITY-JSON [image]
   printf '{"macro_clusters": [{"prototype": {"trajectory": [[0,-3,0],[0,3,0]], "a": 1, "b": 1, "shell": {"layers": 2, "st": 4, "su": 8}, "density": %s}}], "camera": {"position": [0,0,30], "target": [0,0,0], "fov_y": 0.8}, "lights": [{"direction": [0,0,-1]}], "image": {"width": 32, "height": 24}}\n' "$2" >"$1.json"
