@@ -156,6 +156,22 @@ grep -q -- "--follow" import_follow_budget.err ||
 expect refuse 10 import_follow_limit -- "$B/satf-import" follow.tfx -o f.json \
   -q --follow 5000
 
+# 20K two-point strands split into 8192 clusters: each macro-cluster held
+# room for every cluster's instance (1.3 GB); within 1 GB of address space
+python3 -c "
+import math, struct, sys
+from array import array
+n, side = 20000, 142
+p = array('f')
+for i in range(n):
+    x, z = (i % side) * 0.01, (i // side) * 0.01
+    for k in range(2):
+        p.extend((x + 0.002 * math.sin(k + i), -k * 0.05, z + 0.002 * math.cos(k * 0.7 + i)))
+sys.stdout.buffer.write(b'HAIR' + struct.pack('<IIIIfffff', n, 2 * n, 2, 1, 0.01, 0, 0, 0, 0) + bytes(88) + p.tobytes())
+" >clusters.hair
+expect ok 120 import_many_clusters -- bash -c 'ulimit -v 1000000; exec "$@"' \
+  _ "$B/satf-import" clusters.hair -o c.json -q
+
 # ---- hostile scenes
 scene() { # NAME DENSITY-JSON [image]
   printf '{"macro_clusters": [{"prototype": {"trajectory": [[0,-3,0],[0,3,0]], "a": 1, "b": 1, "shell": {"layers": 2, "st": 4, "su": 8}, "density": %s}}], "camera": {"position": [0,0,30], "target": [0,0,0], "fov_y": 0.8}, "lights": [{"direction": [0,0,-1]}], "image": {"width": 32, "height": 24}}\n' "$2" >"$1.json"
