@@ -42,6 +42,8 @@ extern "C" {
 #define SATF_STRANDS_MAX_PER_STRAND 65536   /* points in one strand */
 #define SATF_STRANDS_MAX_FOLLOW 1024        /* follow strands per guide */
 #define SATF_STRANDS_MAX_FILE_BYTES (4ull << 30)
+/* the largest coordinate magnitude satf-import takes from a file */
+#define SATF_IMPORT_MAX_INPUT_COORD 1e15
 
 typedef struct satf_strand_set satf_strand_set;
 
@@ -344,6 +346,10 @@ typedef struct satf_import_result {
   char vdb_file[4096], strands_file[4096];
   /* seconds from the start to the end of each step, and peak memory */
   double t_read, t_cluster, t_fit, t_vdb0, t_vdb, t_end, peak_mb;
+  /* seconds from the start to the end of the macro-clusters and of the
+   * scene's check, and the peak memory (MB) at the end of reading,
+   * clustering and the scene's check: where a slow or large import spends */
+  double t_macro, t_check, mb_read, mb_cluster, mb_check;
 } satf_import_result;
 
 /* The whole import of o: read, cluster, fit, macro-clusters, density grid,

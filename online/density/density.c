@@ -185,32 +185,36 @@ void satf_strands_position(const satf_strands *s, int i, float t, float xy[2]) {
 
 /* SATF sec. 3.3: the density is the sum of one circular Gaussian per strand
  * cross-section; peak 1/2 as in the database (see satf/sector.h). */
-static float strands_density_at(const satf_strands *s, const float *pos,
-                                float t, float x, float y);
+static float bucket_density(const satf_strands *s, const int *start, int cells,
+                            float cell, const float *pos, float t, float x,
+                            float y);
 
 float satf_strands_density(const satf_strands *s, float t, float x, float y) {
   if (s->tracks)
     return density_tracks_density(s->tracks, t, x, y);
-  return strands_density_at(s, NULL, t, x, y);
+  return bucket_density(s, s->start, s->cells, s->cell, NULL, t, x, y);
 }
 
-/* The sum above; pos: every strand's position at t in bucket order
- * (strands_slice), or NULL to compute them here. */
-static float strands_density_at(const satf_strands *s, const float *pos,
-                                float t, float x, float y) {
+/* The sum above over the strands in the 3 x 3 buckets (start: the first
+ * of each of cells x cells buckets of side cell over [-1.1, 1.1]^2) about
+ * (x, y); pos: the strands' positions at t in bucket order (strands_slice,
+ * a fine slice), or NULL to compute them here from the base buckets. */
+static float bucket_density(const satf_strands *s, const int *start, int cells,
+                            float cell, const float *pos, float t, float x,
+                            float y) {
   float cut = 4.0f * s->sigma, inv = 1.0f / (2.0f * s->sigma * s->sigma);
-  int cx = (int)((x + 1.1f) / s->cell), cy = (int)((y + 1.1f) / s->cell);
+  int cx = (int)((x + 1.1f) / cell), cy = (int)((y + 1.1f) / cell);
   float sum = 0.0f;
   for (int by = cy - 1; by <= cy + 1; by++) {
-    if (by < 0 || by >= s->cells)
+    if (by < 0 || by >= cells)
       continue;
     for (int bx = cx - 1; bx <= cx + 1; bx++) {
-      if (bx < 0 || bx >= s->cells)
+      if (bx < 0 || bx >= cells)
         continue;
-      int c = by * s->cells + bx;
-      for (int k = s->start[c]; k < s->start[c + 1]; k++) {
+      int c = by * cells + bx;
+      for (int k = start[c]; k < start[c + 1]; k++) {
         float q[2];
-        const float *p = pos ? pos + 2 * k : q;
+        const float *p = pos ? pos + 2 * (size_t)k : q;
         if (!pos)
           satf_strands_position(s, s->items[k], t, q);
         float dx = x - p[0], dy = y - p[1], d2 = dx * dx + dy * dy;
@@ -234,6 +238,67 @@ static float *strands_slice(const satf_strands *s, float t) {
     for (int k = 0; k < s->n; k++)
       satf_strands_position(s, s->items[k], t, pos + 2 * k);
   return pos;
+}
+
+/* Past 1M strands, positions copied per slice but queried through the
+ * base-position buckets above scan every strand within 4 sigma + 2 WOBBLE
+ * of a query: 10M strands of width 0.01 took minutes to set up. A slice's
+ * positions at t bucketed anew, in cells of 4 sigma (at most FINE_CELLS a
+ * side), reach only the strands that can count: the same sum. */
+#define FINE_CELLS 2048
+
+typedef struct fine_slice {
+  int cells;
+  float cell;
+  int *start;
+  float *pos; /* bucket order */
+} fine_slice;
+
+static int fine_cell(const fine_slice *f, const float p[2]) {
+  int cx = (int)((p[0] + 1.1f) / f->cell), cy = (int)((p[1] + 1.1f) / f->cell);
+  cx = cx < 0 ? 0 : cx >= f->cells ? f->cells - 1 : cx;
+  cy = cy < 0 ? 0 : cy >= f->cells ? f->cells - 1 : cy;
+  return cy * f->cells + cx;
+}
+
+static void fine_slice_free(fine_slice *f) {
+  free(f->start);
+  free(f->pos);
+  memset(f, 0, sizeof *f);
+}
+
+/* 0, or -1 without memory (queries then take the slow path). */
+static int fine_slice_build(const satf_strands *s, float t, fine_slice *f) {
+  memset(f, 0, sizeof *f);
+  f->cell = 4.0f * s->sigma;
+  if (f->cell < 2.2f / FINE_CELLS)
+    f->cell = 2.2f / FINE_CELLS;
+  f->cells = (int)ceilf(2.2f / f->cell);
+  size_t nc = (size_t)f->cells * (size_t)f->cells;
+  f->start = calloc(nc + 1, sizeof(int));
+  f->pos = malloc(2 * (size_t)s->n * sizeof(float));
+  int *at = malloc(nc * sizeof(int));
+  if (!f->start || !f->pos || !at) {
+    free(at);
+    fine_slice_free(f);
+    return -1;
+  }
+  float q[2];
+  for (int i = 0; i < s->n; i++) {
+    satf_strands_position(s, i, t, q);
+    f->start[fine_cell(f, q) + 1]++;
+  }
+  for (size_t c = 0; c < nc; c++)
+    f->start[c + 1] += f->start[c];
+  memcpy(at, f->start, nc * sizeof(int));
+  for (int i = 0; i < s->n; i++) {
+    satf_strands_position(s, i, t, q);
+    int k = at[fine_cell(f, q)]++;
+    f->pos[2 * (size_t)k] = q[0];
+    f->pos[2 * (size_t)k + 1] = q[1];
+  }
+  free(at);
+  return 0;
 }
 
 typedef struct features_job {
@@ -262,8 +327,11 @@ static int features_slice(void *vctx, size_t i, int thread) {
   float dens[SATF_SECTOR_GRID_MAX * SATF_SECTOR_GRID_MAX];
   satf_cluster_section sec;
   float *pos = NULL;
+  fine_slice fine = {0};
   if (job->vdb)
     satf_cluster_section_at(job->cluster, t, &sec);
+  else if (!job->strands->tracks && job->strands->n > (1 << 20))
+    fine_slice_build(job->strands, t, &fine);
   else
     pos = strands_slice(job->strands, t);
   for (int k = 0; k < sh->layers; k++) {
@@ -289,8 +357,12 @@ static int features_slice(void *vctx, size_t i, int thread) {
              * axes, which the twist turns (SATF eq. 1, satf/geometry.h):
              * they turn with the cross-section at no cost here */
             float x = v * cosf(u), y = v * sinf(u);
-            d = pos ? strands_density_at(job->strands, pos, t, x, y)
-                    : satf_strands_density(job->strands, t, x, y);
+            const satf_strands *st = job->strands;
+            d = fine.pos ? bucket_density(st, fine.start, fine.cells, fine.cell,
+                                          fine.pos, t, x, y)
+                : pos ? bucket_density(st, st->start, st->cells, st->cell, pos,
+                                       t, x, y)
+                      : satf_strands_density(st, t, x, y);
           }
           dens[b * G + a] = d;
         }
@@ -301,6 +373,7 @@ static int features_slice(void *vctx, size_t i, int thread) {
     }
   }
   free(pos);
+  fine_slice_free(&fine);
   return 0;
 }
 

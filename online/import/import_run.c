@@ -661,11 +661,13 @@ static satf_status steps(run *u, satf_error *err) {
       (st = default_thickness(u, err)) != SATF_OK)
     return st;
   r->t_read = satf_now_seconds() - u->t0;
+  r->mb_read = peak_rss_mb();
   if (u->o->mesh)
     r->mesh_apart = !roots_meet_mesh(u);
   if ((st = cluster(u, err)) != SATF_OK)
     return st;
   r->t_cluster = satf_now_seconds() - u->t0;
+  r->mb_cluster = peak_rss_mb();
   if ((st = fit(u, err)) != SATF_OK)
     return st;
   r->t_fit = satf_now_seconds() - u->t0;
@@ -678,10 +680,12 @@ static satf_status steps(run *u, satf_error *err) {
       SATF_OK)
     return st;
   u->have_macro = 1;
+  r->t_macro = satf_now_seconds() - u->t0;
   satf_scene *scene = NULL;
   if ((st = build_scene(u, &scene, err)) == SATF_OK &&
       (st = check_scene(u, scene, err)) == SATF_OK) {
-    r->t_vdb0 = satf_now_seconds() - u->t0;
+    r->t_check = r->t_vdb0 = satf_now_seconds() - u->t0;
+    r->mb_check = peak_rss_mb();
     st = publish(u, scene, err);
   }
   satf_scene_destroy(scene);
@@ -789,10 +793,14 @@ void satf_import_print_summary(FILE *out, const char *prog,
                  "or import with --db)\n");
   fprintf(out,
           "  time             %.2f s (read %.2f, cluster %.2f, fit %.2f, "
-          "vdb %.2f, scene %.2f); peak memory %.0f MB\n",
+          "macro %.2f, scene check %.2f, vdb %.2f, strands and scene "
+          "writing %.2f)\n"
+          "  peak memory      %.0f MB (%.0f after reading, %.0f after "
+          "clustering, %.0f after the scene's check)\n",
           r->t_end, r->t_read, r->t_cluster - r->t_read,
-          r->t_fit - r->t_cluster, r->t_vdb - r->t_vdb0, r->t_end - r->t_vdb,
-          r->peak_mb);
+          r->t_fit - r->t_cluster, r->t_macro - r->t_fit,
+          r->t_check - r->t_macro, r->t_vdb - r->t_vdb0, r->t_end - r->t_vdb,
+          r->peak_mb, r->mb_read, r->mb_cluster, r->mb_check);
   if (r->mesh_apart)
     fprintf(out,
             "%s: warning: no strand root meets the mesh %s (its bounds "

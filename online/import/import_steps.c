@@ -1,6 +1,7 @@
 /* import_steps.c - the steps of an import that satf-import and the
  * sequence import share: its options, reading a strand file whatever its
  * format, and fitting every cluster in parallel. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -85,23 +86,51 @@ int satf_import_follow_count(const satf_import_options *o, int header_follow) {
                              : SATF_IMPORT_TFX_FOLLOW;
 }
 
+/* Coordinates past SATF_IMPORT_MAX_INPUT_COORD are refused, naming the
+ * first such point: no unit puts a hair there (a metre in nanometres is
+ * 1e9), the squared distances the fit sums overflow a float from about
+ * 1e19, and such values are what a damaged or misread file holds. Tiny
+ * units (1e-40) stay: the import rescales them by a power of ten. */
+static satf_status check_coordinates(const satf_strand_set *s, const char *path,
+                                     satf_error *err) {
+  for (int i = 0; i < satf_strand_set_count(s); i++) {
+    int n;
+    const float *p = satf_strand_set_strand(s, i, &n);
+    for (int j = 0; j < 3 * n; j++)
+      if (!(fabsf(p[j]) <= SATF_IMPORT_MAX_INPUT_COORD))
+        return satf_error_set(
+            err, SATF_ERR_CORRUPT,
+            "%s: strand %d point %d has the coordinate %g, beyond the %g "
+            "an input may hold (a damaged file, or units no hair is "
+            "measured in: scale the strands)",
+            path, i, j / 3, (double)p[j], SATF_IMPORT_MAX_INPUT_COORD);
+  }
+  return SATF_OK;
+}
+
 /* The parser of format f on the file's bytes; TressFX guides get their
  * follow strands as o asks (*followers: how many per guide). */
 static satf_status parse_as(satf_strands_format f, const void *data,
                             size_t size, const char *path,
                             const satf_import_options *o, satf_strand_set **out,
                             int *followers, satf_error *err) {
-  if (f == SATF_STRANDS_HAIR)
-    return satf_hair_parse(data, size, path, out, err);
-  if (f == SATF_STRANDS_PLY)
-    return satf_ply_parse(data, size, path, out, err);
-  if (f == SATF_STRANDS_USC)
-    return satf_usc_parse(data, size, path, out, err);
-  if (f == SATF_STRANDS_OBJ)
-    return satf_obj_parse(data, size, path, out, err);
+  if (f != SATF_STRANDS_TFX) {
+    satf_status st =
+        f == SATF_STRANDS_HAIR  ? satf_hair_parse(data, size, path, out, err)
+        : f == SATF_STRANDS_PLY ? satf_ply_parse(data, size, path, out, err)
+        : f == SATF_STRANDS_USC ? satf_usc_parse(data, size, path, out, err)
+                                : satf_obj_parse(data, size, path, out, err);
+    if (st == SATF_OK && (st = check_coordinates(*out, path, err)) != SATF_OK) {
+      satf_strand_set_destroy(*out);
+      *out = NULL;
+    }
+    return st;
+  }
   satf_tfx_info info;
   satf_strand_set *guides;
   satf_status st = satf_tfx_parse(data, size, path, &info, &guides, err);
+  if (st == SATF_OK && (st = check_coordinates(guides, path, err)) != SATF_OK)
+    satf_strand_set_destroy(guides);
   if (st != SATF_OK)
     return st;
   satf_follow_params fp;

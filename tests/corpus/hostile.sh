@@ -102,12 +102,75 @@ printf 'ply\nformat ascii 1.0\nelement vertex 2000000000\nproperty float x\nprop
 printf 'ply\nformat binary_little_endian 1.0\nelement vertex 100\nproperty float x\nproperty float y\nproperty float z\nend_header\n' >cut.ply
 head -c 20 /dev/zero >>cut.ply
 head -c 4096 /dev/urandom >noise.data
+# .hair with one coordinate of 1e30 (within a float, past any unit)
+python3 -c "
+import struct, sys
+pts = [0, 0, 0, 0, -1, 0, 1e30, 0, 0, 1, -1, 0]
+sys.stdout.buffer.write(b'HAIR' + struct.pack('<IIIIfffff', 2, 4, 2, 1, 0.01, 0, 0, 0, 0) + bytes(88) + struct.pack('<12f', *pts))
+" >far.hair
 mkfifo fifo.hair
 for f in huge.hair cut.hair noise.hair noise.tfx counts.tfx lies.ply cut.ply \
-  noise.data fifo.hair /dev/zero; do
+  noise.data fifo.hair /dev/zero far.hair; do
   n=import_$(basename "$f" | tr . _)
   expect refuse 30 "$n" -- "$B/satf-import" "$f" -o "$n.json" -q
 done
+grep -q "strand 1 point 0 has the coordinate 1e+30" import_far_hair.err ||
+  { echo "FAIL import_far_hair: the refusal does not name the point"; fails=$((fails + 1)); }
+
+# imports whose work would be absurd are refused before it starts, naming
+# the flag: 200K two-point strands over a low budget, TressFX followers
+# over the budget and over TressFX's limit
+python3 -c "
+import struct, sys
+from array import array
+n = 200000
+p = array('f', [0.0]) * (6 * n)
+for i in range(n):
+    p[6 * i] = p[6 * i + 3] = (i % 500) * 0.01
+    p[6 * i + 2] = p[6 * i + 5] = (i // 500) * 0.01
+    p[6 * i + 4] = -1.0
+sys.stdout.buffer.write(b'HAIR' + struct.pack('<IIIIfffff', n, 2 * n, 2, 1, 0.01, 0, 0, 0, 0) + bytes(88) + p.tobytes())
+" >short.hair
+expect refuse 30 import_short_budget -- "$B/satf-import" short.hair -o s.json \
+  -q --memory-budget 0.02
+grep -q -- "--memory-budget" import_short_budget.err ||
+  { echo "FAIL import_short_budget: the refusal does not name the flag"; fails=$((fails + 1)); }
+python3 -c "
+import struct, sys
+from array import array
+g, v = 2000, 16
+h = bytearray(296)
+struct.pack_into('<fIIII', h, 0, 3.0, g, v, 128, 0)
+p = array('f', [0.0]) * (3 * g * v)
+for i in range(g):
+    for k in range(v):
+        p[3 * (i * v + k)] = (i % 50) * 0.1
+        p[3 * (i * v + k) + 1] = -0.2 * k
+        p[3 * (i * v + k) + 2] = (i // 50) * 0.1
+sys.stdout.buffer.write(bytes(h) + p.tobytes())
+" >follow.tfx
+expect refuse 30 import_follow_budget -- "$B/satf-import" follow.tfx -o f.json \
+  -q --memory-budget 0.05
+grep -q -- "--follow" import_follow_budget.err ||
+  { echo "FAIL import_follow_budget: the refusal does not name --follow"; fails=$((fails + 1)); }
+expect refuse 10 import_follow_limit -- "$B/satf-import" follow.tfx -o f.json \
+  -q --follow 5000
+
+# 20K two-point strands split into 8192 clusters: each macro-cluster held
+# room for every cluster's instance (1.3 GB); within 1 GB of address space
+python3 -c "
+import math, struct, sys
+from array import array
+n, side = 20000, 142
+p = array('f')
+for i in range(n):
+    x, z = (i % side) * 0.01, (i // side) * 0.01
+    for k in range(2):
+        p.extend((x + 0.002 * math.sin(k + i), -k * 0.05, z + 0.002 * math.cos(k * 0.7 + i)))
+sys.stdout.buffer.write(b'HAIR' + struct.pack('<IIIIfffff', n, 2 * n, 2, 1, 0.01, 0, 0, 0, 0) + bytes(88) + p.tobytes())
+" >clusters.hair
+expect ok 120 import_many_clusters -- bash -c 'ulimit -v 1000000; exec "$@"' \
+  _ "$B/satf-import" clusters.hair -o c.json -q
 
 # ---- hostile scenes
 scene() { # NAME DENSITY-JSON [image]
@@ -125,6 +188,10 @@ expect refuse 20 scene_many_strands -- "$B/satf-render" many_strands.json \
   --db db.exr -o x.exr -q --memory-budget 0.3
 grep -q "the most is strands" scene_many_strands.err ||
   { echo "FAIL scene_many_strands: the refusal does not name the strands"; fails=$((fails + 1)); }
+# 10M procedural strands within a 1 GB budget: set up in bounded time (the
+# density queries scanned every strand within 0.1 of each: minutes)
+expect ok 90 scene_many_strands_budget -- "$B/satf-render" many_strands.json \
+  --db db.exr -o many.exr -q --memory-budget 1
 scene huge_image '{"strands": 100, "strand_width": 0.05}'
 expect refuse 20 scene_huge_image -- "$B/satf-render" huge_image.json \
   --db db.exr -o x.exr -q --size 16384x16384 --memory-budget 2

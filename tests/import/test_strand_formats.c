@@ -406,6 +406,16 @@ static void import_limits(void **state) {
   write_hair(test_path(path, sizeof path, "fmt-huge.hair"), 1e7, 0.0, NAN, 0);
   assert_int_equal(import_one("fmt-huge.hair", &r, &err), SATF_OK);
   assert_true(r.scale == 1e-7);
+  /* 1e30 would rescale, but no unit puts hair there: refused, naming the
+   * point; 1e14 is within the bound and rescales */
+  write_hair(test_path(path, sizeof path, "fmt-1e30.hair"), 1e30, 0.0, NAN, 0);
+  assert_int_not_equal(import_one("fmt-1e30.hair", &r, &err), SATF_OK);
+  print_message("1e30: %s\n", err.message);
+  assert_non_null(strstr(err.message, "fmt-1e30.hair: strand 0 point "));
+  assert_non_null(strstr(err.message, "beyond the 1e+15 an input may hold"));
+  write_hair(test_path(path, sizeof path, "fmt-1e14.hair"), 1e14, 0.0, NAN, 0);
+  assert_int_equal(import_one("fmt-1e14.hair", &r, &err), SATF_OK);
+  assert_true(r.scale == 1e-14);
   write_hair(test_path(path, sizeof path, "fmt-far.hair"), 1.0, 1e6, NAN, 0);
   assert_int_not_equal(import_one("fmt-far.hair", &r, &err), SATF_OK);
   print_message("far: %s\n", err.message);
