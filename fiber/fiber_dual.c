@@ -232,6 +232,16 @@ void satf_fiber_dual_global(const satf_fiber *f, const float *tables, int n,
 void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
                            const float wo[3], const float wi[3], float h,
                            float n_hairs, float out[3]) {
+  satf_fiber_dual_shade_behind(f, tables, n, wo, wi, h, n_hairs, INFINITY, out);
+}
+
+void satf_fiber_dual_shade_behind(const satf_fiber *f, const float *tables,
+                                  int n, const float wo[3], const float wi[3],
+                                  float h, float n_hairs, float n_behind,
+                                  float out[3]) {
+  /* Zinke's d_b (eq. 9) scaled by the hairs behind the point that send
+   * the local back-scattering (strand_fiber.glsl says why) */
+  float d_b = SATF_FIBER_DUAL_DENSITY * (1.0f - expf(-fmaxf(n_behind, 0.0f)));
   float single[SATF_FIBER_LOBES][3], global[3], back[3];
   satf_fiber_eval_lobes(f, wo, wi, h, single);
   satf_fiber_dual_global(f, tables, n, wo, wi, h, n_hairs, global, back);
@@ -244,8 +254,7 @@ void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
     float s = 0.0f;
     for (int p = 0; p < SATF_FIBER_LOBES; p++)
       s += single[p][c];
-    out[c] = direct * (s + SATF_FIBER_DUAL_DENSITY * back[c]) +
-             scattered * global[c];
+    out[c] = direct * (s + d_b * back[c]) + scattered * global[c];
   }
 }
 

@@ -244,6 +244,15 @@ float satf_fiber_dual_back(const float *tables, int n, int c, const float wo[3],
 void satf_fiber_dual_shade(const satf_fiber *f, const float *tables, int n,
                            const float wo[3], const float wi[3], float h,
                            float n_hairs, float out[3]);
+/* The same with the direct part's d_b scaled by 1 - e^-n_behind for
+ * n_behind hairs behind the point (away from the light), which send its
+ * local back-scattering: what the strand path draws where the deep
+ * opacity map counts them (a lone strand has none). satf_fiber_dual_shade
+ * is n_behind = INFINITY, a point inside a hair volume. */
+void satf_fiber_dual_shade_behind(const satf_fiber *f, const float *tables,
+                                  int n, const float wo[3], const float wi[3],
+                                  float h, float n_hairs, float n_behind,
+                                  float out[3]);
 
 /* What satf_fiber_dual_shade's light brings by way of other hairs, per
  * unit irradiance, without the Poisson factors of n_hairs: global, the

@@ -187,7 +187,10 @@ static void pixels_match_the_model(void **state) {
        * positive on the frame's +y side (-x here) */
       float h = (float)(-x / (0.5 * WIDTH));
       float want[3];
-      satf_fiber_dual_shade(&f, tables, 32, wo, wi, h, 0.0f, want);
+      /* with the map, a lone strand has no hair behind it to send back
+       * local back-scattering (d_b 0); without, a hair volume's d_b */
+      satf_fiber_dual_shade_behind(&f, tables, 32, wo, wi, h, 0.0f,
+                                   shadows ? 0.0f : INFINITY, want);
       for (int c = 0; c < 3; c++) {
         float got = px(img, c == 0 ? "R" : c == 1 ? "G" : "B", col, row);
         double expect = rgb[c] * want[c];
@@ -296,11 +299,12 @@ static void shadowed_strand_keeps_forward_scattering(void **state) {
     s += px(shadowed, "R", col, H / 2);
     double x = (col + 0.5 - 0.5 * W) / px_per_unit();
     float h = (float)(-x / (0.5 * WIDTH)), o[3];
-    satf_fiber_dual_shade(&f, tables, 32, wo, wi, h, 0.0f, o);
+    /* nothing behind the first strand, which the light reaches first */
+    satf_fiber_dual_shade_behind(&f, tables, 32, wo, wi, h, 0.0f, 0.0f, o);
     m0 += o[0];
-    satf_fiber_dual_shade(&f, tables, 32, wo, wi, h, 1.0f, o);
+    satf_fiber_dual_shade_behind(&f, tables, 32, wo, wi, h, 1.0f, 0.0f, o);
     m1 += o[0];
-    satf_fiber_dual_shade(&f, tables, 32, wo, wi, h, 2.0f, o);
+    satf_fiber_dual_shade_behind(&f, tables, 32, wo, wi, h, 2.0f, 0.0f, o);
     m2 += o[0];
   }
   /* one hair wholly in the way (n = 1): the model's 0.51 of the lone

@@ -11,9 +11,11 @@
 #   blender -b --factory-startup --python peer_cycles.py -- STRANDS.hair \
 #     --scene S.json --exr --spp 64 --res 160x120 --melanin 0.6 \
 #     --redness 0 --roughness 0.3 --radial-roughness 0.3 --radius 0.15
-# Measured: luminance ratio 0.87 and 0.88, chroma 7.8 degrees, IoU 0.80.
-# Held: luminance within 20%, IoU >= 0.75, chroma <= 10 degrees. The same
-# frame lit by lights at half their intensity must fail.
+# Measured: luminance ratio 1.01 and 1.00, chroma 1.7 degrees, IoU 0.80
+# (1.19 and 6 degrees with Zinke's back-scattering from hair that is not
+# there: strand_fiber.glsl). Held: luminance within 15%, IoU >= 0.75,
+# chroma <= 4 degrees. The same frame lit by lights at half their
+# intensity must fail.
 # usage: exposure.sh BUILD_DIR SOURCE_DIR WORK_DIR
 set -eu
 build=$1 src=$2 d=$3
@@ -44,7 +46,7 @@ render() {
   shift
   "$bin/satf-render" "$d/$scene.json" --size 160x120 -q "$@"
 }
-keep="--max-lum-error 0.2 --min-iou 0.75 --max-chroma 10"
+keep="--max-lum-error 0.15 --min-iou 0.75 --max-chroma 4"
 render black -o "$d/default.exr"
 render black --strands -o "$d/strands.exr"
 render half -o "$d/half.exr"

@@ -22,7 +22,13 @@ uniform int u_nlights;
 uniform vec4 u_light_vec[SATF_MAX_LIGHTS]; /* world; w: 0 direction, 1 position */
 uniform vec3 u_light_color[SATF_MAX_LIGHTS];
 uniform int u_cluster_shadow, u_aov;
+uniform sampler2D u_dom_depth;
+uniform sampler2D u_dom_opacity;
+uniform mat4 u_light_viewproj;
+uniform float u_dom_slab;
+uniform float u_kcluster;
 #include "fiber_cluster.glsl"
+#include "dom_behind.glsl"
 /* offsets h averaged per point: midpoints 1/8 apart, 8 a half (16 and 32
  * over the whole fibre agree within 0.3% in luminance on the straight
  * curtain, 8 and 32 within 1%) */
