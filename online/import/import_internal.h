@@ -388,9 +388,13 @@ double satf_import_similarity(const double *from, const double *to, int n,
  * (RMS over 16 samples along t) and whose strands' spread in the normal
  * plane (second moments as a 3-D tensor, carried by the transform) matches
  * within 6 x tolerance relative, on average over t.
- * tolerance <= 0 makes every cluster its own prototype. */
+ * tolerance <= 0 makes every cluster its own prototype. The comparisons
+ * grow as n^2 (seconds for thousands of clusters): progress (may be NULL)
+ * is called with the clusters grouped or made prototypes so far. */
 satf_status satf_import_find_macro(const satf_import_fit *fits, int n,
-                                   float tolerance, satf_import_macro *out,
+                                   float tolerance,
+                                   satf_import_progress_fn progress,
+                                   void *progress_ctx, satf_import_macro *out,
                                    satf_error *err);
 void satf_import_macro_free(satf_import_macro *m);
 

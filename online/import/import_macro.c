@@ -219,7 +219,9 @@ static size_t cluster_bytes(const satf_import_fit *f) {
 }
 
 satf_status satf_import_find_macro(const satf_import_fit *fits, int n,
-                                   float tolerance, satf_import_macro *out,
+                                   float tolerance,
+                                   satf_import_progress_fn progress,
+                                   void *progress_ctx, satf_import_macro *out,
                                    satf_error *err) {
   memset(out, 0, sizeof *out);
   if (n < 1 || !isfinite(tolerance))
@@ -249,6 +251,8 @@ satf_status satf_import_find_macro(const satf_import_fit *fits, int n,
   for (int c = 0; c < n; c++)
     out->macro_of[c] = -1;
   for (int p = 0; p < n; p++) {
+    if (progress && (p % 64 == 63 || p == n - 1))
+      progress(progress_ctx, (size_t)p + 1, (size_t)n);
     if (out->macro_of[p] >= 0)
       continue;
     int id = out->n_macro++;

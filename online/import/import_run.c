@@ -675,9 +675,13 @@ static satf_status steps(run *u, satf_error *err) {
       (st = satf_import_write_fit_report(u->o->fit_report, u->fits,
                                          r->n_clusters, err)) != SATF_OK)
     return st;
-  if ((st = satf_import_find_macro(u->fits, r->n_clusters,
-                                   (float)u->o->macro_tol, &u->macro, err)) !=
-      SATF_OK)
+  satf_progress bar;
+  satf_progress_begin(&bar, stderr, "macro-clusters", "clusters", 1,
+                      u->o->quiet);
+  st = satf_import_find_macro(u->fits, r->n_clusters, (float)u->o->macro_tol,
+                              progress_cb, &bar, &u->macro, err);
+  satf_progress_end(&bar);
+  if (st != SATF_OK)
     return st;
   u->have_macro = 1;
   r->t_macro = satf_now_seconds() - u->t0;

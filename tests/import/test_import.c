@@ -432,6 +432,12 @@ static void similarity_recovered(void **state) {
     assert_float_equal(got[k], m[k], 1e-9);
 }
 
+/* Records satf_import_find_macro's last progress call. */
+static void macro_progress(void *ctx, size_t done, size_t total) {
+  size_t *seen = ctx;
+  seen[0] = done;
+  seen[1] = total;
+}
 static void macro_clusters_from_copies(void **state) {
   (void)state;
   enum { N = 150, M = 16, COPIES = 4 };
@@ -482,8 +488,12 @@ static void macro_clusters_from_copies(void **state) {
     free(members);
   }
   satf_import_macro macro;
-  assert_int_equal(satf_import_find_macro(fits, COPIES, 0.05f, &macro, &err),
+  size_t seen[2] = {0, 0}; /* the last progress: done, total */
+  assert_int_equal(satf_import_find_macro(fits, COPIES, 0.05f, macro_progress,
+                                          seen, &macro, &err),
                    SATF_OK);
+  assert_int_equal(seen[0], COPIES);
+  assert_int_equal(seen[1], COPIES);
   assert_int_equal(macro.n_macro, 1);
   assert_int_equal(macro.prototype[0], 0);
   for (int k = 0; k < COPIES; k++) {
@@ -528,8 +538,9 @@ static void macro_clusters_from_copies(void **state) {
 
   /* no tolerance: every cluster its own prototype */
   satf_import_macro_free(&macro);
-  assert_int_equal(satf_import_find_macro(fits, COPIES, 0.0f, &macro, &err),
-                   SATF_OK);
+  assert_int_equal(
+      satf_import_find_macro(fits, COPIES, 0.0f, NULL, NULL, &macro, &err),
+      SATF_OK);
   assert_int_equal(macro.n_macro, COPIES);
   assert_int_equal(macro.bytes_shared, macro.bytes_separate);
   satf_import_macro_free(&macro);
