@@ -612,10 +612,10 @@ float hierarchy_hair_width(const satf_renderer *r) {
  * the slab of its outer shell's depth (glsl/dom_fs.glsl), so the slab must
  * be of the shells' scale: on the imported shared ponytail, 3,333 of its
  * 3,567 prototypes are single strands drawn as strands, radius 0.09 at
- * the median, which made the slab a third of 0.29 where its 234 shell
- * clusters average 3.1: their inner layers took the optical depth of the
- * whole cluster (which their records and s-maps already shadow), in dark
- * blotches over the crown. */
+ * the median, which made the slab a third of 0.29 (or a hair's width,
+ * dom_place's floor) where its 234 shell clusters average 3.1: their inner
+ * layers took the optical depth of the whole cluster (which their records
+ * and s-maps already shadow), in dark blotches over the crown. */
 float hierarchy_shell_radius(const satf_renderer *r) {
   float sum = 0.0f;
   int n = 0;
