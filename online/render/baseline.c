@@ -444,7 +444,8 @@ static void dom_patches(satf_renderer *r, void *ctx, int opacity) {
 }
 
 static void baseline_dom(satf_renderer *r) {
-  draw_dom(r, hierarchy_hair_width(r), dom_patches, r->baseline);
+  draw_dom(r, dom_cluster_radius(r->scene, r->nprotos), hierarchy_hair_width(r),
+           dom_patches, r->baseline);
 }
 
 /* The full pixel shader's uniforms: the clusters' material, lights,

@@ -118,9 +118,11 @@ static int fiber_maps(const satf_renderer *r, const inst *in, int part,
     view_light_local(in->inv, &r->view.lights[l], lights[l].local);
     memcpy(lights[l].rgb, col + 3 * l, sizeof lights[l].rgb);
   }
+  satf_map_options opt = r->map_opt;
+  opt.orientation_free &= r->protos[in->proto].from_strands;
   return satf_maps_fiber_build(r->maps, r->fiber, &in->geom, in->eye, lights,
                                r->view.nlights, r->effects.secondary_highlight,
-                               &r->map_opt, part, parts, sums, in->texels);
+                               &opt, part, parts, sums, in->texels);
 }
 
 /* Whether some sector of `in` keeps the azimuths of its last look-up: then

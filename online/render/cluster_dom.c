@@ -167,12 +167,13 @@ void cluster_dom_update(satf_renderer *r) {
    * |luminance change| <= 7.9% of the cluster shadows'; bench_dom --anim,
    * docs/performance.md), so the default keeps only hair that (nearly) stands
    * still */
-  dom_place(&r->dom, &r->view, r->scene, r->nprotos, hierarchy_hair_width(r));
+  float cluster_r = hierarchy_shell_radius(r);
+  dom_place(&r->dom, &r->view, cluster_r, hierarchy_hair_width(r));
   if (dom_keep(r)) {
     r->dom.reuses++;
     return;
   }
-  draw_dom(r, hierarchy_hair_width(r), dom_clusters, NULL);
+  draw_dom(r, cluster_r, hierarchy_hair_width(r), dom_clusters, NULL);
   memcpy(r->dom.drawn_viewproj, r->dom.viewproj, sizeof r->dom.drawn_viewproj);
   memcpy(r->dom.eye, r->view.camera.position, sizeof r->dom.eye);
   view_light_vector(&r->view.lights[0], r->dom.light);

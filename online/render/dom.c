@@ -43,14 +43,16 @@ void dom_release(dom_map *d) {
  * slabs a sixth of a strand (the ponytail back-lit: direct light through
  * the map 0.70 of Cycles' unblocked fraction, the frame 0.60 of Cycles'
  * luminance; at one diameter 0.93). */
-void dom_place(dom_map *d, const view *v, const satf_scene *scene, int nprotos,
-               float hair_width) {
+float dom_cluster_radius(const satf_scene *scene, int nprotos) {
+  float sum = 0.0f;
+  for (int m = 0; m < nprotos; m++)
+    sum += scene->macro_clusters[m].prototype.a.values[0];
+  return sum / (float)(nprotos > 0 ? nprotos : 1);
+}
+
+void dom_place(dom_map *d, const view *v, float cluster_r, float hair_width) {
   float rad = 0.0f;
   view_key_light(v, d->viewproj, &rad);
-  float cluster_r = 0.0f;
-  for (int m = 0; m < nprotos; m++)
-    cluster_r += scene->macro_clusters[m].prototype.a.values[0];
-  cluster_r /= (float)(nprotos > 0 ? nprotos : 1);
   float slab = 0.66f * cluster_r * 0.5f;
   d->slab = (slab > hair_width ? slab : hair_width) / (2.0f * rad);
 }

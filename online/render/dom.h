@@ -51,11 +51,13 @@ typedef struct dom_map {
 satf_status dom_create(dom_map *d, satf_error *err);
 void dom_release(dom_map *d);
 /* d->viewproj along v's key light over the scene bounds, and d->slab a
- * third of the mean macro-cluster radius deep (the prototypes' radius at
- * their root, nprotos of them), never thinner than hair_width (a hair's
- * diameter; 0: no floor). */
-void dom_place(dom_map *d, const view *v, const satf_scene *scene, int nprotos,
-               float hair_width);
+ * third of the mean macro-cluster radius `cluster_r` deep
+ * (dom_cluster_radius), never thinner than hair_width (a hair's diameter;
+ * 0: no floor). */
+void dom_place(dom_map *d, const view *v, float cluster_r, float hair_width);
+/* The mean radius at their root of the scene's first nprotos
+ * prototypes. */
+float dom_cluster_radius(const satf_scene *scene, int nprotos);
 /* Binds `prog` and sets its u_dom_depth (texture unit 1) and u_dom_slab. */
 void dom_uniforms(const dom_map *d, GLuint prog);
 

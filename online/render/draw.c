@@ -128,9 +128,10 @@ void draw_hair_depth_test(int on) {
   }
 }
 
-void draw_dom(satf_renderer *r, float hair_width, dom_hair_fn hair, void *ctx) {
+void draw_dom(satf_renderer *r, float cluster_r, float hair_width,
+              dom_hair_fn hair, void *ctx) {
   dom_map *d = &r->dom;
-  dom_place(d, &r->view, r->scene, r->nprotos, hair_width);
+  dom_place(d, &r->view, cluster_r, hair_width);
   d->valid = 0; /* whoever drew it, a kept map is gone */
   satf_gl_target_bind(d->depth);
   glClearColor(0, 0, 0, 0);

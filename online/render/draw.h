@@ -40,6 +40,7 @@ typedef void (*dom_hair_fn)(satf_renderer *r, void *ctx, int opacity);
 /* The map of any hair: placed for r's view (dom_place with hair_width),
  * both passes with the meshes as opaque occluders, the state restored;
  * r->dom.valid cleared (whoever drew it, a kept map is gone). */
-void draw_dom(satf_renderer *r, float hair_width, dom_hair_fn hair, void *ctx);
+void draw_dom(satf_renderer *r, float cluster_r, float hair_width,
+              dom_hair_fn hair, void *ctx);
 
 #endif

@@ -608,6 +608,25 @@ float hierarchy_hair_width(const satf_renderer *r) {
   return w > 0.0f ? w : hierarchy_density_width(r);
 }
 
+/* A shell cluster puts its whole alpha (every layer's, both faces) into
+ * the slab of its outer shell's depth (glsl/dom_fs.glsl), so the slab must
+ * be of the shells' scale: on the imported shared ponytail, 3,333 of its
+ * 3,567 prototypes are single strands drawn as strands, radius 0.09 at
+ * the median, which made the slab a third of 0.29 (or a hair's width,
+ * dom_place's floor) where its 234 shell clusters average 3.1: their inner
+ * layers took the optical depth of the whole cluster (which their records
+ * and s-maps already shadow), in dark blotches over the crown. */
+float hierarchy_shell_radius(const satf_renderer *r) {
+  float sum = 0.0f;
+  int n = 0;
+  for (int m = 0; m < r->nprotos; m++)
+    if (!r->protos[m].sparse) {
+      sum += r->scene->macro_clusters[m].prototype.a.values[0];
+      n++;
+    }
+  return n > 0 ? sum / (float)n : dom_cluster_radius(r->scene, r->nprotos);
+}
+
 typedef struct depth_key {
   float d2;
   float centre[3];

@@ -36,7 +36,79 @@ struct satf_maps_fiber {
   satf_fiber fiber;
   float v_ms;   /* the longitudinal variance of multiple scattering */
   int channels; /* the database's (satf_db_channels) */
+  /* per sample and relative azimuth bin (view minus light, rel_bins over
+   * the full circle): its records' mean alpha, then each lobe channel
+   * (SATF_DB_CH_R on) per unit coverage, over the sector orientations
+   * seen from outside (rel_levels) */
+  float *rel;
+  int rel_bins;
 };
+
+/* Floats per (sample, bin) of satf_maps_fiber.rel: alpha and the lobes. */
+static int rel_stride(const satf_maps_fiber *f) {
+  return 1 + f->channels - SATF_DB_CH_R;
+}
+
+/* Whether azimuth i of n (2 pi i / n from the sector's outward normal,
+ * trace.h) lies on the outer side of the sector (as maps.c's front). */
+static int front(int i, int n) { return 4 * i < n || 4 * i > 3 * n; }
+
+/* The orientation-free levels of the physical records (maps.h:
+ * satf_map_options.orientation_free; maps.c does the same for Phong
+ * records). As a sector turns round its cluster, its view and light
+ * azimuths turn together: what stays is their difference, which sets how
+ * the fibre lobes mix (a back-lit sector's TT, a front-lit one's R). So a
+ * sample's level is kept per difference, averaged over the orientations
+ * whose view lies on the sector's outer side (the light anywhere: a
+ * back light reaches the front sectors from inside, through the hair). */
+static satf_status rel_levels(satf_maps_fiber *f, satf_error *err) {
+  const satf_build_params *p = satf_db_params(f->db);
+  int nb = p->n_view, st = rel_stride(f), w = p->trace.width;
+  f->rel_bins = nb;
+  f->rel = calloc((size_t)p->samples * (size_t)nb * (size_t)st, sizeof *f->rel);
+  double *sum = malloc((size_t)nb * (size_t)st * sizeof *sum);
+  int *count = malloc((size_t)nb * sizeof *count);
+  if (!f->rel || !sum || !count) {
+    free(sum);
+    free(count);
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "cannot allocate the fibre records' levels");
+  }
+  for (int s = 0; s < p->samples; s++) {
+    memset(sum, 0, (size_t)nb * (size_t)st * sizeof *sum);
+    memset(count, 0, (size_t)nb * sizeof *count);
+    for (int iv = 0; iv < p->n_view; iv++) {
+      if (!front(iv, p->n_view))
+        continue;
+      for (int il = 0; il < p->n_light; il++) {
+        double rel = (double)iv / p->n_view - (double)il / p->n_light;
+        int b = (int)lround((rel - floor(rel)) * nb) % nb;
+        const float *rec = satf_db_record_channels(f->db, s, iv, il);
+        double *d = sum + (size_t)b * st;
+        for (int c = 0; c < st; c++) { /* SATF_DB_CH_ALPHA on */
+          const float *ch = rec + (size_t)(SATF_DB_CH_ALPHA + c) * w;
+          double t = 0.0;
+          for (int x = 0; x < w; x++)
+            t += ch[x];
+          d[c] += t;
+        }
+        count[b]++;
+      }
+    }
+    float *out = f->rel + (size_t)s * nb * st;
+    for (int b = 0; b < nb; b++) {
+      const double *d = sum + (size_t)b * st;
+      if (count[b] == 0 || d[0] <= 1e-3 * count[b])
+        continue; /* no coverage: no level (alpha 0) */
+      out[b * st] = (float)(d[0] / (count[b] * (double)w));
+      for (int c = 1; c < st; c++)
+        out[b * st + c] = (float)(d[c] / d[0]);
+    }
+  }
+  free(sum);
+  free(count);
+  return SATF_OK;
+}
 
 /* The hair's RGB absorption as strictly ascending levels, and the level of
  * each colour (equal values share one). */
@@ -128,6 +200,11 @@ satf_status satf_maps_fiber_create(const satf_db *db,
     return st;
   }
   f->channels = satf_db_channels(f->db);
+  st = rel_levels(f, err);
+  if (st != SATF_OK) {
+    satf_maps_fiber_destroy(f);
+    return st;
+  }
   *out = f;
   return SATF_OK;
 }
@@ -135,6 +212,7 @@ satf_status satf_maps_fiber_create(const satf_db *db,
 void satf_maps_fiber_destroy(satf_maps_fiber *f) {
   if (f) {
     free(f->mp);
+    free(f->rel);
     satf_db_destroy(f->db);
     free(f);
   }
@@ -224,18 +302,96 @@ static void look_at(const satf_maps_fiber *f, const satf_shell_geom *g,
   satf_db_cell_find(f->db, s->view.azimuth, s->light[0].azimuth, &s->key);
 }
 
+/* The lobes' orientation-free level (rel_levels) of the samples nb
+ * blends, at view minus light azimuth, linear between the bins, over the
+ * samples with coverage: lv gets the lobe channels from SATF_DB_CH_R on.
+ * 0 when none has coverage. */
+static int rel_level(const satf_maps_fiber *f, const satf_db_neighbors *nb,
+                     float view, float light, float *lv) {
+  int st = rel_stride(f), nbins = f->rel_bins;
+  float rel = (view - light) / SATF_TWO_PI_F;
+  float pos = (rel - floorf(rel)) * (float)nbins;
+  int b0 = (int)pos;
+  float t = pos - (float)b0;
+  b0 %= nbins;
+  int bins[2] = {b0, (b0 + 1) % nbins};
+  float bw[2] = {1.0f - t, t};
+  float wsum = 0.0f;
+  for (int c = 1; c < st; c++)
+    lv[c - 1] = 0.0f;
+  for (int n = 0; n < nb->count; n++)
+    for (int e = 0; e < 2; e++) {
+      const float *r =
+          f->rel + ((size_t)nb->index[n] * nbins + (size_t)bins[e]) * st;
+      float ww = nb->weight[n] * bw[e];
+      if (r[0] <= 0.0f || ww <= 0.0f)
+        continue;
+      for (int c = 1; c < st; c++)
+        lv[c - 1] += ww * r[c];
+      wsum += ww;
+    }
+  if (wsum <= 0.0f)
+    return 0;
+  for (int c = 1; c < st; c++)
+    lv[c - 1] /= wsum;
+  return 1;
+}
+
+/* Per colour, what turns a light's record row (lobes r, tt, tr, ms at M_p
+ * mp; alpha in `alpha`, or in key's fourth lanes for a fill light) into
+ * one of its orientation-free level (rel_level); 1 where the row or the
+ * samples have no coverage or no radiance. The row's own level is that of
+ * the HSV row it is laid as: each record sample weighted by its share `cw`
+ * of the row's columns (lay_fiber_row resamples the record to the view). */
+static v4f level_scale(const satf_maps_fiber *f, const satf_db_neighbors *nb,
+                       const sector_look *s, const direction *light, v4f mp,
+                       const float *const tt[3], const float *const tr[3],
+                       const float *const ms[3], const float *r,
+                       const float *alpha, const float *key, const float *cw,
+                       int w) {
+  v4f one = {1.0f, 1.0f, 1.0f, 1.0f};
+  float lv[1 + 3 * 3];
+  if (!rel_level(f, nb, s->view.azimuth, light->azimuth, lv))
+    return one;
+  double sum[3] = {0.0, 0.0, 0.0}, sum_a = 0.0;
+  for (int x = 0; x < w; x++) {
+    if (cw[x] == 0.0f)
+      continue;
+    sum_a += cw[x] * (alpha ? alpha[x] : key[4 * x + 3]);
+    for (int c = 0; c < 3; c++)
+      sum[c] += cw[x] * (mp[0] * r[x] + mp[1] * tt[c][x] + mp[2] * tr[c][x] +
+                         mp[3] * ms[c][x]);
+  }
+  if (sum_a <= 1e-4 * w)
+    return one;
+  int n = f->levels;
+  for (int c = 0; c < 3; c++) {
+    int k = f->level_of[c];
+    double level = mp[0] * lv[0] + mp[1] * lv[1 + k] + mp[2] * lv[1 + n + k] +
+                   mp[3] * lv[1 + 2 * n + k];
+    double own = sum[c] / sum_a;
+    if (own > 0.0 && level > 0.0)
+      one[c] = (float)(level / own);
+  }
+  return one;
+}
+
 /* The record of a boundary sector for every light, summed into key (the
  * first light's radiance, which the deep opacity map and eq. 12 shadow)
  * and fill (the others'): E (M_R R + M_TT TT + M_TRT TRT + M_MS MS)
  * (satf/db.h fibre records, d'Eon 2011 eq. 7 for M_p), per record sample,
  * still premultiplied by coverage. Both hold 4 floats a sample, the
  * colour in 0-2 (interleaved as the texels, for lay_fiber_row); key has
- * the alpha in 3, fill 0. */
+ * the alpha in 3, fill 0. With column weights cw (orientation-free
+ * records; NULL: the records' own level) each light's row keeps its
+ * structure but takes, per colour, the level (radiance per unit coverage)
+ * of its samples' records seen from outside at the same view minus light
+ * azimuth (rel_levels), as maps.c's lay_row does for Phong records. */
 static void sector_radiance(const satf_maps_fiber *f, const sector_look *s,
                             const satf_db_neighbors *nb,
                             const satf_fiber_light *lights, int n_lights,
-                            int trt, int w, float *restrict key,
-                            float *restrict fill) {
+                            int trt, const float *cw, int w,
+                            float *restrict key, float *restrict fill) {
   int n = f->levels;
   /* alpha and the lobes (SATF_DB_CH_ALPHA on): the reflectance channel,
    * a total for Phong-style readers, is never read here */
@@ -277,6 +433,9 @@ static void sector_radiance(const satf_maps_fiber *f, const sector_look *s,
      * first other one store theirs where a cleared sum was loaded, added
      * to and stored again (perf: build_column's hottest instruction), the
      * further ones add */
+    if (cw)
+      e *= level_scale(f, li == 0 ? nb : &nearest, s, i, mp, tt, tr, ms, r,
+                       li == 0 ? rec : NULL, key, cw, w);
     int add = li > 1;
     for (int x = 0; x < w; x++) {
       v4f vt = {tt[0][x], tt[1][x], tt[2][x], 0.0f};
@@ -326,6 +485,20 @@ static void lay_fiber_row(const satf_maps *m, const float *restrict key,
     sum[x] += a;
     memcpy(row + 8 * x, &tk, sizeof tk);
     memcpy(row + 8 * x + 4, &tf, sizeof tf);
+  }
+}
+
+/* Each record sample's share of an HSV row's columns seen from azimuth
+ * `view` (the weights lay_fiber_row resamples it with), into cw[0..w]. */
+static void column_weights(const satf_maps *m, float view, float *cw) {
+  int w = satf_maps_width(m);
+  const uint16_t *idx;
+  const float *fr;
+  maps_columns(m, view, &idx, &fr);
+  memset(cw, 0, ((size_t)w + 1) * sizeof *cw);
+  for (int x = 0; x < w; x++) {
+    cw[idx[x]] += 1.0f - fr[x];
+    cw[idx[x] + 1] += fr[x];
   }
 }
 
@@ -385,7 +558,11 @@ static int build_column(const satf_maps *m, const satf_maps_fiber *f,
                              opt->k_nearest, &found);
       nb = &found;
     }
-    sector_radiance(f, cur, nb, lights, n_lights, trt, w, key, fill);
+    float cw[MAPS_MAX_WIDTH + 1];
+    if (opt->orientation_free)
+      column_weights(m, cur->view.azimuth, cw);
+    sector_radiance(f, cur, nb, lights, n_lights, trt,
+                    opt->orientation_free ? cw : NULL, w, key, fill);
     lookups += n_lights;
     lay_fiber_row(m, key, fill, cur->view.azimuth, sums + (size_t)i * w, row);
     /* the top row of HSV i and the bottom row of HSV i - 1, the same

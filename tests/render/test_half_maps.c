@@ -174,8 +174,11 @@ static double assert_maps_are_rounded(const satf_renderer *r, int kept) {
     assert_non_null(f);
     assert_non_null(back);
     assert_non_null(h);
+    /* the options the renderer looks this instance up with (kk_layer) */
+    satf_map_options opt = r->map_opt;
+    opt.orientation_free &= r->protos[in->proto].from_strands;
     for (int k = 0; k < g->shell.layers; k++)
-      satf_maps_build_layer(r->maps, g, in->angles, &r->map_opt, k,
+      satf_maps_build_layer(r->maps, g, in->angles, &opt, k,
                             f + (size_t)k * layer);
     satf_maps_shadow_sums(g, r->w, f);
     half_pack(f, h, n);

@@ -431,6 +431,98 @@ static void test_fill_lights_sum(void **state) {
   satf_scene_destroy(sc);
 }
 
+/* The key light's level (green radiance per unit coverage) of each
+ * column of HSVs of the outer layer of `in`'s maps into level[su]: 0 for
+ * a column without coverage. */
+static void column_levels(const satf_renderer *r, const inst *in,
+                          double *level) {
+  const satf_shell_params *sh = &in->geom.shell;
+  size_t n = satf_maps_layer_texels(&in->geom, r->w), slice = 8 * n;
+  float *v = malloc(slice * sizeof *v);
+  assert_non_null(v);
+  half_unpack(in->texels + (size_t)(sh->layers - 1) * slice, v, slice);
+  for (int j = 0; j < sh->su; j++) {
+    double ga = 0.0, a = 0.0;
+    for (int row = 0; row < 2 * sh->st; row++)
+      for (int x = 0; x < r->w; x++) {
+        const float *t = v + 8 * (((size_t)row * sh->su + j) * r->w + x);
+        ga += (double)t[1] * t[3];
+        a += t[3];
+      }
+    level[j] = a > 1e-3 * 2 * sh->st * r->w ? ga / a : 0.0;
+  }
+  free(v);
+}
+
+/* The spread (highest over lowest) of the outer layer's column levels of
+ * the one cluster, its sectors all of one feature vector, looked up with
+ * orientation-free records (its density taken as its strands', as an
+ * imported cluster's) or without. */
+static double level_spread(int from_strands) {
+  char json[2048];
+  scene_json(json, sizeof json, "", FRONT, 0);
+  /* from far off (the same view): every sector sees the eye and the light
+   * at one difference of azimuths, which the perspective of the eye at 9
+   * would turn by up to 6 degrees */
+  const char *near = "[0, 0, 9], \"target\": [0, 0, 0],"
+                     "              \"fov_y\": 40";
+  const char *cam = strstr(json, near);
+  assert_non_null(cam);
+  char far[2048];
+  snprintf(far, sizeof far,
+           "%.*s[0, 0, 900], \"target\": [0, 0, 0], "
+           "\"fov_y\": 0.4%s",
+           (int)(cam - json), json, cam + strlen(near));
+  memcpy(json, far, sizeof json);
+  satf_scene *s = fixture_scene(json);
+  assert_non_null(s);
+  satf_renderer *r;
+  satf_error err;
+  assert_int_equal(satf_renderer_create(s, fiber_db, W, H, 1, &r, &err),
+                   SATF_OK);
+  inst *in = &r->insts[0];
+  size_t q = satf_shell_sector_count(&in->geom.shell);
+  for (size_t i = 0; i < q; i++) /* the first sector's, and no cached */
+    memcpy(in->geom.features + 3 * i, in->geom.features, 3 * sizeof(float));
+  in->geom.neighbors = NULL; /* neighbours: looked up from the features */
+  r->protos[in->proto].from_strands = from_strands;
+  satf_image *img = NULL;
+  satf_frame_timing t;
+  assert_int_equal(satf_renderer_render_image(r, 0, &img, &t, &err), SATF_OK);
+  double *level = malloc((size_t)in->geom.shell.su * sizeof *level);
+  assert_non_null(level);
+  column_levels(r, in, level);
+  double lo = INFINITY, hi = 0.0;
+  int seen = 0;
+  for (int j = 0; j < in->geom.shell.su; j++)
+    if (level[j] > 0.0) {
+      lo = fmin(lo, level[j]);
+      hi = fmax(hi, level[j]);
+      seen++;
+    }
+  assert_true(seen >= in->geom.shell.su / 2);
+  free(level);
+  satf_image_destroy(img);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(s);
+  return hi / lo;
+}
+
+/* Orientation-free records in the physical maps (maps_fiber.c,
+ * satf_map_options.orientation_free): as a sector turns round a straight
+ * cluster its view and light azimuths turn together, so one feature
+ * vector gives every column of HSVs one level, where the records' own
+ * levels (a cluster of procedural density) shade it as a cylinder. */
+static void test_orientation_free_level(void **state) {
+  (void)state;
+  double own = level_spread(0), free_ = level_spread(1);
+  printf("column levels over the circumference: highest / lowest %.3f, "
+         "orientation-free %.3f\n",
+         own, free_);
+  assert_true(own > 1.2);
+  assert_true(free_ < 1.01);
+}
+
 /* A physical scene with a Phong database: refused with a message that
  * says what is needed. */
 static void test_phong_database_refused(void **state) {
@@ -458,6 +550,7 @@ int main(void) {
       cmocka_unit_test(test_phong_database_refused),
       cmocka_unit_test(test_layout_sums),
       cmocka_unit_test(test_fill_lights_sum),
+      cmocka_unit_test(test_orientation_free_level),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

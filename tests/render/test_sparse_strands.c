@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "render_fixture.h"
+#include "renderer_internal.h"
 #include "satf/common.h"
 #include "satf/render.h"
 #include "test_util.h"
@@ -276,6 +277,39 @@ static void test_sparse_setting_bounds(void **state) {
   satf_scene_destroy(s);
 }
 
+/* The deep opacity map's slab follows the clusters drawn with shells
+ * (hierarchy_shell_radius): a shell cluster puts all its alpha at its
+ * outer shell's depth, so a slab of the thin sparse cluster's scale
+ * would darken its inner layers with its whole optical depth. Drawn as
+ * its strand, the sparse cluster (radius 0.1) does not count; drawn as a
+ * cluster (sparse strands 0), it does: the mean of 0.1 and 1.5. */
+static void test_dom_slab_of_shell_clusters(void **state) {
+  fixture_gl *f = *state;
+  satf_scene *s = fixture_scene(scene_text(0.0f, 0.0f, 1, 0.0f));
+  assert_non_null(s);
+  satf_renderer *r = NULL;
+  satf_error err;
+  if (satf_renderer_create(s, f->db, W, H, 0, &r, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  satf_image *img = NULL;
+  satf_frame_timing t;
+  assert_int_equal(satf_renderer_render_image(r, 0, &img, &t, &err), SATF_OK);
+  assert_float_equal(hierarchy_shell_radius(r), 1.5f, 1e-6f);
+  float slab = r->dom.slab;
+  assert_int_equal(satf_renderer_set_sparse_strands(r, 0, &err), SATF_OK);
+  assert_float_equal(hierarchy_shell_radius(r), 0.8f, 1e-6f);
+  satf_image_destroy(img);
+  img = NULL;
+  assert_int_equal(satf_renderer_render_image(r, 0, &img, &t, &err), SATF_OK);
+  printf("slab with the sparse cluster as its strand %.5f, as a cluster "
+         "%.5f\n",
+         (double)slab, (double)r->dom.slab);
+  assert_float_equal(r->dom.slab, slab * 0.8f / 1.5f, 1e-4f * slab);
+  satf_image_destroy(img);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(s);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_sparse_cluster_is_its_strand),
@@ -283,6 +317,7 @@ int main(void) {
       cmocka_unit_test(test_opaque_strand_hides_what_is_behind),
       cmocka_unit_test(test_sparse_strand_moves_with_scene),
       cmocka_unit_test(test_sparse_setting_bounds),
+      cmocka_unit_test(test_dom_slab_of_shell_clusters),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
