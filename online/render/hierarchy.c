@@ -278,6 +278,9 @@ static satf_status build_proto(satf_renderer *r, int index,
   return SATF_OK;
 }
 
+static satf_status create_map_textures(const satf_renderer *r, proto *p,
+                                       satf_error *err);
+
 /* What a prototype drawn as a cluster needs beyond its geometry: its
  * procedural or track strands and their features (once per prototype, SATF
  * sec. 3.1; a VDB's are per instance, place_inst), the database neighbours,
@@ -285,8 +288,6 @@ static satf_status build_proto(satf_renderer *r, int index,
  * its strands: in an imported hairstyle most clusters are single strands
  * (the shared ponytail: 3,821 of 4,053, holding 92% of the HSVs), whose
  * features and maps cost most of the set-up and are never drawn. */
-static satf_status create_map_textures(const satf_renderer *r, proto *p,
-                                       satf_error *err);
 static satf_status prepare_proto(satf_renderer *r, int index, satf_error *err) {
   proto *p = &r->protos[index];
   const satf_scene_cluster *c = &r->scene->macro_clusters[index].prototype;
