@@ -28,6 +28,8 @@
 # usage: compare-cycles.sh [BUILD_DIR] [OUT_DIR] [SPP] [REF_DIR] [SAMPLES]
 #        [RES] [HAIRS]   (HAIRS: a space-separated subset of
 #        "ponytail bangs fur curls straight")
+# Environment: SATF_RENDER_ARGS, more options for satf's cluster renders
+# (e.g. "--composite exact" to measure that mode).
 set -euo pipefail
 build=${1:-build}
 out=${2:-docs/gallery}
@@ -36,6 +38,7 @@ refs=${4:-}
 samples=${5:-1}
 res=${6:-640x480}
 hairs=${7:-ponytail bangs fur curls straight}
+read -r -a extra <<<"${SATF_RENDER_ARGS:-}"
 cd "$(dirname "$0")/.."
 shared=${SATF_SHARED:-../shared} # where the shared data and tools are
 data=$shared/data/hair
@@ -125,7 +128,8 @@ for hair in $hairs; do
   cycles "cycles_$hair" "$work/${hair}_front.json" "$strands" 0.6
   start=$(date +%s%N)
   "$bin/satf-render" "$work/${hair}_front.json" --db out/satf-fiber.hrirdb.exr \
-    -q --size "$res" --samples "$samples" -o "$work/${hair}_satf.exr"
+    -q --size "$res" --samples "$samples" ${extra[@]+"${extra[@]}"} \
+    -o "$work/${hair}_satf.exr"
   echo "satf-render: $(((($(date +%s%N) - start) / 1000000))) ms, set-up included"
   "$bin/satf-render" "$work/${hair}_front.json" --strands --shading physical \
     -q --size "$res" --samples "$samples" -o "$work/${hair}_strands.exr"
@@ -148,11 +152,13 @@ case " $hairs " in *" ponytail "*)
   strands=$(scene_copy "$work/ponytail.json" "$work/ponytail_back.json" back)
   cycles cycles_ponytail_back "$work/ponytail_back.json" "$strands" 0.6
   "$bin/satf-render" "$work/ponytail_back.json" --db out/satf-fiber.hrirdb.exr \
-    -q --size "$res" --samples "$samples" -o "$work/ponytail_back.exr"
+    -q --size "$res" --samples "$samples" ${extra[@]+"${extra[@]}"} \
+    -o "$work/ponytail_back.exr"
   compare "ponytail back-lit: satf against Cycles" "$refs/cycles_ponytail_back.exr" \
     "$work/ponytail_back.exr" "$out/cycles_ponytail_back.png"
   "$bin/satf-render" "$work/ponytail_front.json" --db out/satf-default.hrirdb.exr \
-    -q --shading kk --size "$res" --samples "$samples" -o "$work/ponytail_kk.exr"
+    -q --shading kk --size "$res" --samples "$samples" ${extra[@]+"${extra[@]}"} \
+    -o "$work/ponytail_kk.exr"
   compare "ponytail, kk shading: satf against Cycles" "$refs/cycles_ponytail.exr" \
     "$work/ponytail_kk.exr" "$out/cycles_ponytail_kk.png"
   ;;

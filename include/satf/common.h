@@ -218,6 +218,9 @@ typedef struct satf_progress {
 } satf_progress;
 
 double satf_now_seconds(void);
+/* The process's peak resident memory so far, in MB (0 where the system
+ * does not say). */
+double satf_peak_memory_mb(void);
 
 void satf_progress_begin(satf_progress *p, FILE *out, const char *label,
                          const char *unit, size_t units_per_item, int quiet);

@@ -9,7 +9,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include "import_internal.h"
@@ -37,11 +36,6 @@ typedef struct run {
 
 static void progress_cb(void *ctx, size_t done, size_t total) {
   satf_progress_update(ctx, done, total);
-}
-
-static double peak_rss_mb(void) {
-  struct rusage ru;
-  return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : 0.0;
 }
 
 /* The bounds of the box lo..hi after the row-major transform m. */
@@ -661,13 +655,13 @@ static satf_status steps(run *u, satf_error *err) {
       (st = default_thickness(u, err)) != SATF_OK)
     return st;
   r->t_read = satf_now_seconds() - u->t0;
-  r->mb_read = peak_rss_mb();
+  r->mb_read = satf_peak_memory_mb();
   if (u->o->mesh)
     r->mesh_apart = !roots_meet_mesh(u);
   if ((st = cluster(u, err)) != SATF_OK)
     return st;
   r->t_cluster = satf_now_seconds() - u->t0;
-  r->mb_cluster = peak_rss_mb();
+  r->mb_cluster = satf_peak_memory_mb();
   if ((st = fit(u, err)) != SATF_OK)
     return st;
   r->t_fit = satf_now_seconds() - u->t0;
@@ -689,7 +683,7 @@ static satf_status steps(run *u, satf_error *err) {
   if ((st = build_scene(u, &scene, err)) == SATF_OK &&
       (st = check_scene(u, scene, err)) == SATF_OK) {
     r->t_check = r->t_vdb0 = satf_now_seconds() - u->t0;
-    r->mb_check = peak_rss_mb();
+    r->mb_check = satf_peak_memory_mb();
     st = publish(u, scene, err);
   }
   satf_scene_destroy(scene);
@@ -697,7 +691,7 @@ static satf_status steps(run *u, satf_error *err) {
     return st;
   r->t_end = satf_now_seconds() - u->t0;
   tally(u);
-  r->peak_mb = peak_rss_mb();
+  r->peak_mb = satf_peak_memory_mb();
   return SATF_OK;
 }
 

@@ -348,13 +348,14 @@ static satf_status render_still(const options *o, satf_renderer *r,
     st = satf_image_write_png_rgb(img, o->png, err);
   satf_image_destroy(img);
   if (st == SATF_OK && !o->quiet)
-    printf("%s: %s%s%s: %ldx%ld, %ld clusters, %ld layers, %.1fK HSVs, "
-           "%ld look-ups, %.1fM fragments, %ld pixels over 64 fragments "
-           "(nearest kept), frame %.1f ms (set-up %.2f s)\n",
-           PROG, o->exr ? o->exr : "", o->exr && o->png ? " + " : "",
-           o->png ? o->png : "", o->w, o->h, stats->clusters, stats->layers,
-           stats->hsvs / 1000.0, t.lookups, t.fragments / 1e6,
-           frame.overflow_pixels, t.total_ms, t_setup);
+    printf(
+        "%s: %s%s%s: %ldx%ld, %ld clusters, %ld layers, %.1fK HSVs, "
+        "%ld look-ups, %.1fM fragments, %ld pixels over 64 fragments "
+        "(nearest kept), frame %.1f ms (set-up %.2f s, peak memory %.0f MB)\n",
+        PROG, o->exr ? o->exr : "", o->exr && o->png ? " + " : "",
+        o->png ? o->png : "", o->w, o->h, stats->clusters, stats->layers,
+        stats->hsvs / 1000.0, t.lookups, t.fragments / 1e6,
+        frame.overflow_pixels, t.total_ms, t_setup, satf_peak_memory_mb());
   if (st == SATF_OK && !o->quiet && satf_renderer_strand_count(r) > 0)
     printf("%s: drawn: the scene's %d source strands, not its clusters "
            "(--strands)\n",
@@ -365,7 +366,8 @@ static satf_status render_still(const options *o, satf_renderer *r,
 /* --bench N: prints the Table 1 row. */
 static satf_status bench(const options *o, const satf_gl_context *ctx,
                          satf_renderer *r, const satf_scene *scene,
-                         const satf_render_stats *stats, satf_error *err) {
+                         const satf_render_stats *stats, double t_setup,
+                         satf_error *err) {
   satf_frame_timing mean;
   double fps;
   satf_status st =
@@ -410,6 +412,8 @@ static satf_status bench(const options *o, const satf_gl_context *ctx,
   printf("GL %d.%d on %s; %d CPU threads for the maps\n", major, minor,
          satf_gl_context_renderer(ctx),
          o->threads > 0 ? (int)o->threads : satf_cpu_count());
+  printf("set-up %.2f s (the renderer's creation), peak memory %.0f MB\n",
+         t_setup, satf_peak_memory_mb());
   return SATF_OK;
 }
 
@@ -439,7 +443,7 @@ static satf_status run(options *o, const satf_frontend *fe, satf_error *err) {
   if (st == SATF_OK && (o->exr || o->png))
     st = render_still(o, r, &stats, t_setup, err);
   if (st == SATF_OK && o->bench)
-    st = bench(o, ctx, r, fe->scene, &stats, err);
+    st = bench(o, ctx, r, fe->scene, &stats, t_setup, err);
   satf_renderer_destroy(r);
   satf_gl_context_destroy(ctx);
   return st;
