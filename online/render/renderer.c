@@ -158,6 +158,14 @@ void satf_renderer_set_composite(satf_renderer *r, satf_composite mode) {
 satf_composite satf_renderer_composite(const satf_renderer *r) {
   return r->composite;
 }
+void satf_renderer_set_pixel_filter(satf_renderer *r, satf_pixel_filter f) {
+  r->pixel_filter = f == SATF_PIXEL_FILTER_BLACKMAN_HARRIS
+                        ? SATF_PIXEL_FILTER_BLACKMAN_HARRIS
+                        : SATF_PIXEL_FILTER_BOX;
+}
+satf_pixel_filter satf_renderer_pixel_filter(const satf_renderer *r) {
+  return r->pixel_filter;
+}
 void satf_renderer_set_lod(satf_renderer *r, int on) { r->lod = on != 0; }
 int satf_renderer_lod(const satf_renderer *r) { return r->lod; }
 void satf_renderer_set_shadow_move(satf_renderer *r, float texels) {

@@ -146,6 +146,7 @@ struct satf_renderer {
    * instanced draws, the model matrices and the eye and lights in each
    * prototype frame (cluster_cpu_instance_data) */
   satf_composite composite;
+  satf_pixel_filter pixel_filter; /* strand_cover.glsl */
   GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve;
   GLuint prog_resolve_depth; /* SATF_AOV_DEPTH's resolve (depth.c) */
   GLuint prog_shade_lod, prog_shade_ordered_lod;

@@ -422,9 +422,12 @@ int strands_gpu_any_wide(const strands_gpu *s, const float viewproj[16],
   return any_wider(s, viewproj, h, 0.999f);
 }
 
-/* The vertex shader's view uniforms of `prog` for a w x h target. */
-static void bind_strands(GLuint prog, const float viewproj[16], int w, int h) {
+/* The vertex shader's view uniforms of `prog` for a w x h target, and the
+ * pixel filter of its coverage (strand_cover.glsl). */
+static void bind_strands(GLuint prog, const float viewproj[16], int w, int h,
+                         satf_pixel_filter filter) {
   glUseProgram(prog);
+  glUniform1i(glGetUniformLocation(prog, "u_pixel_filter"), (int)filter);
   glUniformMatrix4fv(glGetUniformLocation(prog, "u_viewproj"), 1, GL_TRUE,
                      viewproj);
   glUniform2f(glGetUniformLocation(prog, "u_viewport"), (float)w, (float)h);
@@ -448,7 +451,8 @@ int strands_gpu_opaque_depth(const satf_renderer *r, const strands_gpu *s,
                              const float viewproj[16]) {
   if (!s->prog_depth || !strands_gpu_any_wide(s, viewproj, r->view.height))
     return 0; /* hair thinner than a pixel covers none whole */
-  bind_strands(s->prog_depth, viewproj, r->view.width, r->view.height);
+  bind_strands(s->prog_depth, viewproj, r->view.width, r->view.height,
+               r->pixel_filter);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
@@ -465,7 +469,9 @@ static void draw_segments(const strands_gpu *s) {
 size_t strands_gpu_segments(const strands_gpu *s) { return s->nsegs; }
 
 void strands_gpu_dom(satf_renderer *r, strands_gpu *s, int opacity) {
-  bind_strands(s->prog_dom, r->dom.viewproj, DOM_SIZE, DOM_SIZE);
+  /* a box: the map's texels are coverage, not a film */
+  bind_strands(s->prog_dom, r->dom.viewproj, DOM_SIZE, DOM_SIZE,
+               SATF_PIXEL_FILTER_BOX);
   glUniform1i(glGetUniformLocation(s->prog_dom, "u_depth_only"), !opacity);
   if (opacity)
     dom_uniforms(&r->dom, s->prog_dom);
@@ -526,7 +532,7 @@ void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
   draw_shading_uniforms(r, p, aov);
   set_fiber_uniforms(r, s, p);
   draw_world_lights(r, p);
-  bind_strands(p, viewproj, r->view.width, r->view.height);
+  bind_strands(p, viewproj, r->view.width, r->view.height, r->pixel_filter);
   glUniform1i(glGetUniformLocation(p, "u_whole"), -1);
   if (list_mode >= 0)
     glUniform1i(glGetUniformLocation(p, "u_list_mode"), list_mode);

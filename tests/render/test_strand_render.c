@@ -65,9 +65,11 @@ typedef struct strand_spec {
   float y0;
 } strand_spec;
 
-/* Renders the strands (with AOVs when aovs); the caller destroys it. */
-static satf_image *render_strands(const fixture *f, const strand_spec *spec,
-                                  int n, int aovs, int shadows) {
+/* Renders the strands (with AOVs when aovs) through the pixel filter;
+ * the caller destroys it. */
+static satf_image *render_filtered(const fixture *f, const strand_spec *spec,
+                                   int n, int aovs, int shadows,
+                                   satf_pixel_filter filter) {
   satf_scene *scene = fixture_scene(scene_json);
   assert_non_null(scene);
   satf_renderer *r = NULL;
@@ -75,6 +77,8 @@ static satf_image *render_strands(const fixture *f, const strand_spec *spec,
   if (satf_renderer_create(scene, f->db, W, H, 0, &r, &err) != SATF_OK)
     fail_msg("%s", err.message);
   satf_renderer_effects(r)->cluster_shadows = shadows;
+  satf_renderer_set_pixel_filter(r, filter);
+  assert_int_equal(satf_renderer_pixel_filter(r), filter);
   int counts[8], at = 0;
   float xyz[8 * POINTS * 3], width[8 * POINTS];
   for (int i = 0; i < n; i++) {
@@ -98,6 +102,11 @@ static satf_image *render_strands(const fixture *f, const strand_spec *spec,
   satf_renderer_destroy(r);
   satf_scene_destroy(scene);
   return img;
+}
+
+static satf_image *render_strands(const fixture *f, const strand_spec *spec,
+                                  int n, int aovs, int shadows) {
+  return render_filtered(f, spec, n, aovs, shadows, SATF_PIXEL_FILTER_BOX);
 }
 
 static float at(const satf_image *img, const char *ch, int col, int row) {
@@ -176,6 +185,40 @@ static void test_subpixel_alpha_is_coverage(void **state) {
     assert_near(row_sum(img, row, 96, 105), 0.25, 0.06);
   }
   satf_image_destroy(img);
+}
+
+/* A strand a pixel wide centred on column 64's centre: through the box,
+ * pixel 64 alone with alpha 1; through Cycles' Blackman-Harris film filter
+ * (3 pixels of support, strand_cover.glsl) the same coverage, 1 summed
+ * across, spread as Cycles spreads it: the window's integral over
+ * [-0.5, 0.5] at the centre, 0.7628, and over [0.5, 1.5] on each
+ * neighbour, 0.1186 (worked out from the window's closed-form integral
+ * apart from the shader), nothing two pixels off (past the support's 1.5
+ * plus the strand's half width). */
+static void test_blackman_harris_fringe(void **state) {
+  double ppu = px_per_unit();
+  strand_spec s[1] = {{x_of_column(64.5), 0.0f, (float)(1.0 / ppu), 0, 0.0f}};
+  satf_image *box = render_strands(*state, s, 1, 0, 0);
+  satf_image *bh =
+      render_filtered(*state, s, 1, 0, 0, SATF_PIXEL_FILTER_BLACKMAN_HARRIS);
+  for (int row = 36; row <= 60; row += 8) {
+    printf("row %d: box %.3f %.3f %.3f, Blackman-Harris %.4f %.4f %.4f %.4f "
+           "(sum %.3f)\n",
+           row, at(box, "A", 63, row), at(box, "A", 64, row),
+           at(box, "A", 65, row), at(bh, "A", 62, row), at(bh, "A", 63, row),
+           at(bh, "A", 64, row), at(bh, "A", 65, row),
+           row_sum(bh, row, 58, 71));
+    assert_near(at(box, "A", 64, row), 1.0, 0.03);
+    assert_true(at(box, "A", 63, row) < 0.01f);
+    assert_near(at(bh, "A", 64, row), 0.7628, 0.01);
+    assert_near(at(bh, "A", 63, row), 0.1186, 0.01);
+    assert_near(at(bh, "A", 65, row), 0.1186, 0.01);
+    assert_true(at(bh, "A", 62, row) < 0.002f);
+    assert_true(at(bh, "A", 66, row) < 0.002f);
+    assert_near(row_sum(bh, row, 58, 71), 1.0, 0.05);
+  }
+  satf_image_destroy(box);
+  satf_image_destroy(bh);
 }
 
 /* Mean premultiplied colour per unit alpha over the strand at column col. */
@@ -342,6 +385,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_coverage_follows_strands),
       cmocka_unit_test(test_subpixel_alpha_is_coverage),
+      cmocka_unit_test(test_blackman_harris_fringe),
       cmocka_unit_test(test_strands_shadow_strands),
       cmocka_unit_test(test_wide_strands_occlude_per_pixel),
       cmocka_unit_test(test_strand_aovs),

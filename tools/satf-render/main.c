@@ -56,6 +56,11 @@ static void usage(FILE *out) {
       "  --threads N          CPU threads for the map stage (0 = all)\n"
       "  --samples N          anti-aliasing: N jittered samples per pixel\n"
       "                       (1-64; default: the scene's image.samples, 1)\n"
+      "  --pixel-filter F     box (default) or blackman-harris: the film\n"
+      "                       filter across hair drawn as strands; the\n"
+      "                       second is Cycles' default, for frames set\n"
+      "                       beside a path tracer's (a faint fringe on\n"
+      "                       thin hair; about twice the strands' cost)\n"
       "  --lod on|off         level of detail by size on screen: clusters a\n"
       "                       few pixels wide read fewer shell layers and\n"
       "                       draw coarser proxies, faded without popping\n"
@@ -79,6 +84,7 @@ typedef struct options {
   const char *scene_path, *db_path, *exr, *png, *mesh_path, *frames, *sheet;
   long w, h, bench, threads, samples;
   int resume, aov, quiet, composite, bg_in_exr, strands, lod;
+  int pixel_filter;  /* satf_pixel_filter */
   int interrupted;   /* --frames stopped by a signal (render_frames) */
   float shadow_move; /* --shadow-move, -1: off, NAN: not given */
   float strand_width;
@@ -146,6 +152,19 @@ static int parse_one(satf_cli_args *it, options *o) {
     }
     o->shadow_move = (float)t;
     return 0;
+  }
+  if (satf_cli_is(it, NULL, "--pixel-filter")) {
+    if (satf_cli_value(it, &val))
+      return -1;
+    if (!strcmp(val, "box") || !strcmp(val, "blackman-harris")) {
+      o->pixel_filter = !strcmp(val, "box") ? SATF_PIXEL_FILTER_BOX
+                                            : SATF_PIXEL_FILTER_BLACKMAN_HARRIS;
+      return 0;
+    }
+    fprintf(stderr,
+            "%s: --pixel-filter: expected box or blackman-harris, got '%s'\n",
+            PROG, val);
+    return -1;
   }
   if (satf_cli_is(it, NULL, "--composite")) {
     if (satf_cli_value(it, &val))
@@ -430,6 +449,7 @@ static satf_status run(options *o, const satf_frontend *fe, satf_error *err) {
   satf_render_stats stats; /* of the scene as loaded */
   if (st == SATF_OK) {
     satf_frontend_apply(r, &o->off, o->composite);
+    satf_renderer_set_pixel_filter(r, (satf_pixel_filter)o->pixel_filter);
     satf_renderer_set_lod(r, o->lod);
     if (!isnan(o->shadow_move))
       satf_renderer_set_shadow_move(r, o->shadow_move);

@@ -1,8 +1,8 @@
 #version 430 core
 /* strand_vs.glsl - the strand reference path (strands.c): each segment of
  * a strand is a camera-facing quad, expanded here in screen space. Its
- * half-width is half the strand's projected width plus half a pixel, the
- * reach of the analytic edge filter (strand_cover.glsl): a strand thinner
+ * half-width is half the strand's projected width plus the reach of the
+ * pixel filter (half a pixel for the box, strand_cover.glsl): a strand thinner
  * than a pixel is drawn a pixel wide and its alpha is its true coverage,
  * so thin hair is anti-aliased, not aliased lines. Every point of a
  * strand is two vertices (even index: the -side, odd: the +side); the
@@ -18,6 +18,7 @@ layout(location = 3) in uint a_strand;
 uniform mat4 u_viewproj;
 uniform vec2 u_viewport;  /* pixels */
 uniform float u_px_scale; /* pixels per scene unit at clip w = 1 */
+uniform int u_pixel_filter; /* strand_cover.glsl */
 out vec3 v_world;
 out vec3 v_tangent;
 out float v_t;
@@ -73,9 +74,10 @@ void main() {
   dir = len > 1e-4 ? dir / len : vec2(1.0, 0.0);
   vec2 across = vec2(-dir.y, dir.x);
   float width = a_pos.w * u_px_scale / c.w;
-  /* every pixel centre the filter reaches (distance < width/2 + 1/2),
-   * with a little room so none is lost to the edge rule */
-  float half_px = 0.5 * width + 0.55;
+  /* every pixel centre the filter reaches (distance < width/2 + its
+   * radius, strand_cover.glsl), with a little room so none is lost to the
+   * edge rule */
+  float half_px = 0.5 * width + (u_pixel_filter == 1 ? 1.55 : 0.55);
   c.xy += across * side * half_px * 2.0 / u_viewport * c.w;
   v_across = side * half_px;
   v_width = width;
