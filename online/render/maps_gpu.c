@@ -70,11 +70,15 @@ static satf_status upload_records(const satf_db *db, GLuint buf,
   int w = p->trace.width;
   size_t recs = (size_t)p->samples * (size_t)p->n_light * (size_t)p->n_view;
   size_t halfs = recs * 2 * (size_t)w;
-  if (halfs > (size_t)INT32_MAX)
+  GLint64 most = 0; /* at least 2^27 bytes (OpenGL 4.3) */
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &most);
+  if (halfs > (size_t)INT32_MAX || (double)halfs * 2.0 > (double)most)
     return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
-                          "database of %zu values: the GPU's maps index "
-                          "at most %d",
-                          halfs, INT32_MAX);
+                          "database of %zu reflectance and alpha values "
+                          "(%.0f MB as halfs): more than the GPU's maps can "
+                          "read in one buffer (%.0f MB here); use the CPU's "
+                          "maps (--maps cpu)",
+                          halfs, (double)halfs * 2e-6, (double)most * 1e-6);
   uint16_t *h = calloc(halfs + 1, sizeof *h); /* whole words */
   if (!h)
     return satf_error_set(err, SATF_ERR_NOMEM,
@@ -323,7 +327,7 @@ satf_status maps_gpu_build(satf_renderer *r, maps_gpu *g, const int *moved,
       run++;
     glBindImageTexture(0, in->tex, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glUniform1i(g->u_first, m);
-    glDispatchCompute((GLuint)(in->geom.shell.su * in->geom.shell.st), 1,
+    glDispatchCompute((GLuint)in->geom.shell.su, (GLuint)in->geom.shell.st,
                       (GLuint)run);
     m += run;
   }

@@ -39,6 +39,25 @@ static inline satf_db *fixture_db(void) {
   return db;
 }
 
+/* Two prototypes, three instances (one turned), several layers: maps of
+ * every kind in a fraction of a second. */
+#define FIXTURE_TWO_PROTOTYPES                                                 \
+  "{\"macro_clusters\": ["                                                     \
+  " {\"prototype\": {\"trajectory\": [[0, -2, 0], [0.3, 0, 0], [0, 2, 0]],"    \
+  "   \"a\": 0.5, \"shell\": {\"layers\": 3, \"st\": 6, \"su\": 6},"           \
+  "   \"density\": {\"strands\": 80, \"seed\": 3}},"                           \
+  "  \"instances\": [{\"translate\": [-1.2, 0, 0]},"                           \
+  "   {\"translate\": [1.2, 0, -0.5],"                                         \
+  "    \"rotate\": {\"axis\": [0, 1, 0], \"angle\": 40}}]},"                   \
+  " {\"prototype\": {\"trajectory\": [[0, -1.5, 0], [0, 1.5, 0]],"             \
+  "   \"a\": 0.4, \"shell\": {\"layers\": 2, \"st\": 4, \"su\": 8},"           \
+  "   \"density\": {\"strands\": 60, \"seed\": 5}},"                           \
+  "  \"instances\": [{\"translate\": [0, 0, 1]}]}],"                           \
+  " \"camera\": {\"position\": [0, 1, 14], \"target\": [0, 0, 0],"             \
+  "            \"fov_y\": 35},"                                                \
+  " \"lights\": [{\"direction\": [-0.5, -0.6, -0.6]}],"                        \
+  " \"background\": [0, 0, 0]}"
+
 /* A headless GL context of w x h and the fixture database: what a cmocka
  * group setup of a rendering test makes (free with fixture_gl_free). */
 typedef struct fixture_gl {

@@ -29,24 +29,6 @@
 
 FIXTURE_GL_GROUP(W, H)
 
-/* Two prototypes, three instances, several layers (test_half_maps.c's). */
-static const char *const SCENE =
-    "{\"macro_clusters\": ["
-    " {\"prototype\": {\"trajectory\": [[0, -2, 0], [0.3, 0, 0], [0, 2, 0]],"
-    "   \"a\": 0.5, \"shell\": {\"layers\": 3, \"st\": 6, \"su\": 6},"
-    "   \"density\": {\"strands\": 80, \"seed\": 3}},"
-    "  \"instances\": [{\"translate\": [-1.2, 0, 0]},"
-    "   {\"translate\": [1.2, 0, -0.5],"
-    "    \"rotate\": {\"axis\": [0, 1, 0], \"angle\": 40}}]},"
-    " {\"prototype\": {\"trajectory\": [[0, -1.5, 0], [0, 1.5, 0]],"
-    "   \"a\": 0.4, \"shell\": {\"layers\": 2, \"st\": 4, \"su\": 8},"
-    "   \"density\": {\"strands\": 60, \"seed\": 5}},"
-    "  \"instances\": [{\"translate\": [0, 0, 1]}]}],"
-    " \"camera\": {\"position\": [0, 1, 14], \"target\": [0, 0, 0],"
-    "            \"fov_y\": 35},"
-    " \"lights\": [{\"direction\": [-0.5, -0.6, -0.6]}],"
-    " \"background\": [0, 0, 0]}";
-
 /* Every texel of every drawn cluster's map textures (RGBA floats, the
  * prototypes' texture arrays in order); *n values. */
 static float *read_maps(const satf_renderer *r, size_t *n) {
@@ -214,7 +196,8 @@ static int check_scene(const satf_db *db, satf_scene *scene, const char *what) {
 
 static void test_procedural(void **state) {
   fixture_gl *f = *state;
-  assert_false(check_scene(f->db, fixture_scene(SCENE), "two prototypes"));
+  assert_false(check_scene(f->db, fixture_scene(FIXTURE_TWO_PROTOTYPES),
+                           "two prototypes"));
 }
 
 static void test_samples(void **state) {

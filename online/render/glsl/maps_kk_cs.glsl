@@ -4,7 +4,8 @@
  * textures (maps_gpu.c): what maps.c's satf_maps_update_layer and
  * satf_maps_shadow_sums make on the CPU, value for value up to float
  * rounding, in the layout of maps.h. One work group per HSV column (i, j)
- * of one instance, one invocation per texel column x of the HSV; the
+ * of one instance (work group (j, i, entry)), one invocation per texel
+ * column x of the HSV; the
  * layers run outer to inner, so each invocation keeps the s-map sums of
  * its two texels (eq. 12) in registers. The renderer defines MAPS_W (the
  * records' width), MAPS_BINS (maps.h: MAPS_AZIMUTH_BINS) and MAPS_K (the
@@ -104,6 +105,13 @@ float rec_half(int h) {
   return unpackHalf2x16((h & 1) == 0 ? w : w >> 16).x;
 }
 
+/* A record's reflectance at samples s and s + 1, then its alpha there,
+ * from the record's sample s at half h. */
+vec4 samples4(int h) {
+  return vec4(rec_half(h), rec_half(h + 1), rec_half(h + MAPS_W),
+              rec_half(h + MAPS_W + 1));
+}
+
 /* One look-up (eq. 4: satf_db_lookup_cell_range's blend, neighbour by
  * neighbour, corner by corner) of a record at (view, light) from the
  * neighbours at entry nb, read where lay_row reads it: reflectance and
@@ -115,10 +123,12 @@ vec2 lookup(int nb, float view, float light, int x, int free_level,
   float fv, fl;
   angle_cell(view, u_n_view, v0, v1, fv);
   angle_cell(light, u_n_light, l0, l1, fl);
-  float bw[4] = float[4]((1.0 - fv) * (1.0 - fl), fv * (1.0 - fl),
-                         (1.0 - fv) * fl, fv * fl);
-  int corner[4] = int[4](l0 * u_n_view + v0, l0 * u_n_view + v1,
-                         l1 * u_n_view + v0, l1 * u_n_view + v1);
+  /* the four corners' weights and records (vectors, not arrays: a
+   * rasteriser on the CPU keeps an indexed array in memory) */
+  vec4 bw = vec4((1.0 - fv) * (1.0 - fl), fv * (1.0 - fl), (1.0 - fv) * fl,
+                 fv * fl);
+  ivec4 corner = ivec4(l0 * u_n_view + v0, l0 * u_n_view + v1,
+                       l1 * u_n_view + v0, l1 * u_n_view + v1);
   /* maps.c: maps_columns */
   float turns = view / TWO_PI;
   turns -= floor(turns);
@@ -132,15 +142,10 @@ vec2 lookup(int nb, float view, float light, int x, int free_level,
     float w = uintBitsToFloat(e.y);
     if (w == 0.0)
       continue;
-    int rec0 = int(e.x) * u_n_light * u_n_view;
-    vec4 v = vec4(0.0);
-    for (int c = 0; c < 4; c++) {
-      int h = (rec0 + corner[c]) * 2 * MAPS_W + s;
-      float wc = w * bw[c];
-      v += wc * vec4(rec_half(h), rec_half(h + 1), rec_half(h + MAPS_W),
-                     rec_half(h + MAPS_W + 1));
-    }
-    acc += v;
+    ivec4 h = ((int(e.x) * u_n_light * u_n_view + corner) * 2 * MAPS_W) + s;
+    vec4 wc = w * bw;
+    acc += wc.x * samples4(h.x) + wc.y * samples4(h.y) +
+           wc.z * samples4(h.z) + wc.w * samples4(h.w);
     float sre = g_level[e.x];
     if (sre > 0.0) {
       l += w * sre;
@@ -166,8 +171,7 @@ vec4 texel(vec2 ra, float scale, float sums, float density) {
 void main() {
   MapsInst in_ = g_inst[u_first + int(gl_WorkGroupID.z)];
   int su = in_.shell.x, st = in_.shell.y, layers = in_.shell.z;
-  int hsv = int(gl_WorkGroupID.x);
-  int i = hsv / su, j = hsv % su;
+  int i = int(gl_WorkGroupID.y), j = int(gl_WorkGroupID.x);
   int x = int(gl_LocalInvocationID.x);
   float sum0 = 0.0, sum1 = 0.0; /* eq. 12 at this column's two texels */
   for (int k = layers - 1; k >= 0; k--) {
@@ -192,15 +196,19 @@ void main() {
       a = lookup(in_.base.y + q0, top.view, top.light, x, in_.shell.w, la);
       c = lookup(in_.base.y + q1, bot.view, bot.light, x, in_.shell.w, lc);
     }
-    s_sum[0][x] = a.x;
-    s_sum[1][x] = a.y;
-    s_sum[2][x] = c.x;
-    s_sum[3][x] = c.y;
-    barrier();
+    /* the rows' sums, which only the orientation-free level reads (the
+     * same for the whole work group: the barriers stay in uniform flow) */
     vec4 sums = vec4(0.0);
-    for (int y = 0; y < MAPS_W; y++)
-      sums += vec4(s_sum[0][y], s_sum[1][y], s_sum[2][y], s_sum[3][y]);
-    barrier(); /* read before the next layer writes */
+    if (in_.shell.w != 0) {
+      s_sum[0][x] = a.x;
+      s_sum[1][x] = a.y;
+      s_sum[2][x] = c.x;
+      s_sum[3][x] = c.y;
+      barrier();
+      for (int y = 0; y < MAPS_W; y++)
+        sums += vec4(s_sum[0][y], s_sum[1][y], s_sum[2][y], s_sum[3][y]);
+      barrier(); /* read before the next layer writes */
+    }
     ivec3 at = ivec3(j * MAPS_W + x, 2 * i, in_.base.w + k);
     imageStore(u_maps, at,
                texel(a, row_scale(la, sums.x, sums.y), sum0, density));
