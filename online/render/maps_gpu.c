@@ -32,8 +32,8 @@ typedef struct gpu_inst {
 } gpu_inst;
 
 struct maps_gpu {
-  GLuint prog, buf[BUF_COUNT];
-  GLint u_first;
+  GLuint prog, prog_sums, buf[BUF_COUNT];
+  GLint u_first, u_first_sums;
   int k; /* neighbours per entry (MAPS_K) */
   /* per instance: the geometry serial its sectors and neighbours were
    * uploaded for (0: none) and where they start (gpu_inst.base[0..2]) */
@@ -48,6 +48,8 @@ void maps_gpu_destroy(maps_gpu *g) {
     return;
   if (g->prog)
     glDeleteProgram(g->prog);
+  if (g->prog_sums)
+    glDeleteProgram(g->prog_sums);
   glDeleteBuffers(BUF_COUNT, g->buf);
   free(g->serial);
   free(g->base);
@@ -112,6 +114,9 @@ satf_status maps_gpu_create(const satf_renderer *r, maps_gpu **out,
            MAPS_AZIMUTH_BINS, g->k);
   satf_status st = shaders_compute("maps (GPU)", satf_glsl_maps_kk_cs, defines,
                                    &g->prog, err);
+  if (st == SATF_OK)
+    st = shaders_compute("maps' s-map sums (GPU)", satf_glsl_maps_sums_cs,
+                         defines, &g->prog_sums, err);
   if (st != SATF_OK) {
     maps_gpu_destroy(g);
     return st;
@@ -152,6 +157,7 @@ satf_status maps_gpu_create(const satf_renderer *r, maps_gpu **out,
   glUniform1f(glGetUniformLocation(g->prog, "u_threshold"),
               r->map_opt.k_threshold);
   g->u_first = glGetUniformLocation(g->prog, "u_first");
+  g->u_first_sums = glGetUniformLocation(g->prog_sums, "u_first");
   glUseProgram(0);
   st = satf_gl_check("maps (GPU) tables", err);
   if (st != SATF_OK) {
@@ -284,6 +290,38 @@ static int geometry_stale(const satf_renderer *r, const maps_gpu *g) {
   return 0;
 }
 
+/* Work groups of 64 for `n` invocations, as x by y (x at most 32768:
+ * OpenGL allows 65535 a dimension); the shaders number them y-major. */
+static void groups(size_t n, GLuint *x, GLuint *y) {
+  size_t g = (n + 63) / 64;
+  *x = (GLuint)(g < 32768 ? (g > 0 ? g : 1) : 32768);
+  *y = (GLuint)((g + *x - 1) / *x);
+}
+
+/* The bound program over the n instances moved[], one dispatch per
+ * texture (a run of instances of one prototype: hierarchy.c gives each
+ * prototype's instances their textures in order), work group z the
+ * instance's entry: an invocation per HSV (sums 0) or per texel of a
+ * layer (sums 1). */
+static void dispatch(const satf_renderer *r, const int *moved, int n,
+                     GLint u_first, int sums, GLenum access) {
+  for (int m = 0; m < n;) {
+    const inst *in = &r->insts[moved[m]];
+    const satf_shell_params *sh = &in->geom.shell;
+    int run = 1;
+    while (m + run < n && r->insts[moved[m + run]].tex == in->tex)
+      run++;
+    glBindImageTexture(0, in->tex, 0, GL_TRUE, 0, access, GL_RGBA16F);
+    glUniform1i(u_first, m);
+    GLuint x, y;
+    groups(sums ? satf_maps_layer_texels(&in->geom, r->w)
+                : satf_shell_hsv_count(sh),
+           &x, &y);
+    glDispatchCompute(x, y, (GLuint)run);
+    m += run;
+  }
+}
+
 satf_status maps_gpu_build(satf_renderer *r, maps_gpu *g, const int *moved,
                            int n, double *upload_ms, satf_error *err) {
   double t0 = satf_now_seconds();
@@ -314,26 +352,17 @@ satf_status maps_gpu_build(satf_renderer *r, maps_gpu *g, const int *moved,
                g->insts, GL_STREAM_DRAW);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
   *upload_ms = 1e3 * (satf_now_seconds() - t0);
-  glUseProgram(g->prog);
   for (int b = 0; b < BUF_COUNT; b++)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, g->buf[b]);
-  /* one dispatch per texture: a run of instances of one prototype
-   * (hierarchy.c gives each prototype's instances their textures in
-   * order), a work group per HSV column and instance */
-  for (int m = 0; m < n;) {
-    const inst *in = &r->insts[moved[m]];
-    int run = 1;
-    while (m + run < n && r->insts[moved[m + run]].tex == in->tex)
-      run++;
-    glBindImageTexture(0, in->tex, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    glUniform1i(g->u_first, m);
-    glDispatchCompute((GLuint)in->geom.shell.su, (GLuint)in->geom.shell.st,
-                      (GLuint)run);
-    m += run;
-  }
+  /* the maps, an invocation per HSV (maps_kk_cs.glsl), then their s-map
+   * sums, an invocation per texel of a layer (maps_sums_cs.glsl) */
+  glUseProgram(g->prog);
+  dispatch(r, moved, n, g->u_first, 0, GL_WRITE_ONLY);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  glUseProgram(g->prog_sums);
+  dispatch(r, moved, n, g->u_first_sums, 1, GL_READ_WRITE);
   /* the shading and the deep opacity map fetch them */
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT |
-                  GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
   glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
   glUseProgram(0);
   return satf_gl_check("maps (GPU)", err);

@@ -1,11 +1,12 @@
 /* maps_gpu.h - the paper's maps (maps.h) built on the GPU: the database's
  * records and maps.c's tables uploaded once, every prototype's sector
  * frames, features and cached neighbours once per geometry, and then per
- * frame one compute pass (glsl/maps_kk_cs.glsl) that writes every texel of
- * the instances whose eye or light moved straight into their textures, the
- * s-map sums of eq. 12 with them: no look-up on the CPU and no upload of
- * maps. The CPU's maps (maps.c, cluster_cpu.c) stay the reference; the
- * physical mode's maps (maps_fiber.h) are built on the CPU only. */
+ * frame two compute passes that write every texel of the instances whose
+ * eye or light moved straight into their textures (glsl/maps_kk_cs.glsl),
+ * then the s-map sums of eq. 12 (glsl/maps_sums_cs.glsl): no look-up on
+ * the CPU and no upload of maps. The CPU's maps (maps.c, cluster_cpu.c) stay
+ * the reference; the physical mode's maps (maps_fiber.h) are built on the CPU
+ * only. */
 #ifndef SATF_ONLINE_MAPS_GPU_H
 #define SATF_ONLINE_MAPS_GPU_H
 

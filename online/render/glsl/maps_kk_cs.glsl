@@ -1,16 +1,16 @@
 #version 430 core
-/* maps_kk_cs.glsl - the paper's maps (SATF sec. 6.2: eq. 4, 6, 7, 12) of
- * the instances whose eye or light moved, written straight into their
- * textures (maps_gpu.c): what maps.c's satf_maps_update_layer and
- * satf_maps_shadow_sums make on the CPU, value for value up to float
- * rounding, in the layout of maps.h. One work group per HSV column (i, j)
- * of one instance (work group (j, i, entry)), one invocation per texel
- * column x of the HSV; the
- * layers run outer to inner, so each invocation keeps the s-map sums of
- * its two texels (eq. 12) in registers. The renderer defines MAPS_W (the
- * records' width), MAPS_BINS (maps.h: MAPS_AZIMUTH_BINS) and MAPS_K (the
- * neighbours cached per look-up). */
-layout(local_size_x = MAPS_W) in;
+/* maps_kk_cs.glsl - the paper's maps (SATF sec. 6.2: eq. 4, 6, 7) of the
+ * instances whose eye or light moved, written straight into their
+ * textures (maps_gpu.c): what maps.c's satf_maps_update_layer makes on the
+ * CPU, value for value up to float rounding, in the layout of maps.h; the
+ * s-map sums of eq. 12 follow (maps_sums_cs.glsl). One invocation per HSV
+ * (i, k, j) of one instance (work group z: the instance's entry), which
+ * lays its two rows column by column. No shared memory and no barrier:
+ * llvmpipe runs a shader with barriers on coroutines, which cost it more
+ * than the look-ups (cluster_6a: 85 of 110 ms with nothing else done).
+ * The renderer defines MAPS_W (the records' width), MAPS_BINS (maps.h:
+ * MAPS_AZIMUTH_BINS) and MAPS_K (the neighbours cached per look-up). */
+layout(local_size_x = 64) in;
 
 layout(rgba16f, binding = 0) uniform writeonly image2DArray u_maps;
 
@@ -46,8 +46,6 @@ uniform float u_threshold;  /* eq. 6 */
 
 const float TWO_PI = 6.28318530717958647692;
 const float PI = 3.14159265358979323846;
-
-shared float s_sum[4][MAPS_W];
 
 /* maps.c: maps_azimuth */
 float azimuth(int q, vec3 d) {
@@ -105,6 +103,46 @@ float rec_half(int h) {
   return unpackHalf2x16((h & 1) == 0 ? w : w >> 16).x;
 }
 
+/* One look-up (eq. 4) at (view, light) from the neighbours at entry nb:
+ * where its four stored azimuth pairs start (as record offsets, in halfs)
+ * and their weights (satf_db_lookup_cell_range's blend), the resampling
+ * row of `view` (maps.c: maps_columns) and the neighbours' blended level
+ * (orientation-free), else 0. */
+struct Look {
+  ivec4 corner;
+  vec4 bw;
+  int nb, bin;
+  float level;
+};
+
+Look look_at(int nb, float view, float light, int free_level) {
+  int v0, v1, l0, l1;
+  float fv, fl;
+  angle_cell(view, u_n_view, v0, v1, fv);
+  angle_cell(light, u_n_light, l0, l1, fl);
+  Look k;
+  k.bw = vec4((1.0 - fv) * (1.0 - fl), fv * (1.0 - fl), (1.0 - fv) * fl,
+              fv * fl);
+  k.corner = ivec4(l0 * u_n_view + v0, l0 * u_n_view + v1,
+                   l1 * u_n_view + v0, l1 * u_n_view + v1) *
+             (2 * MAPS_W);
+  k.nb = nb * MAPS_K;
+  float turns = view / TWO_PI;
+  turns -= floor(turns);
+  k.bin = (int(turns * float(MAPS_BINS) + 0.5) % MAPS_BINS) * MAPS_W;
+  float l = 0.0, wsum = 0.0;
+  for (int n = 0; n < MAPS_K; n++) {
+    uvec2 e = g_nb[k.nb + n];
+    float w = uintBitsToFloat(e.y);
+    if (w > 0.0 && g_level[e.x] > 0.0) {
+      l += w * g_level[e.x];
+      wsum += w;
+    }
+  }
+  k.level = free_level != 0 && wsum > 0.0 ? l / wsum : 0.0;
+  return k;
+}
+
 /* A record's reflectance at samples s and s + 1, then its alpha there,
  * from the record's sample s at half h. */
 vec4 samples4(int h) {
@@ -112,110 +150,83 @@ vec4 samples4(int h) {
               rec_half(h + MAPS_W + 1));
 }
 
-/* One look-up (eq. 4: satf_db_lookup_cell_range's blend, neighbour by
- * neighbour, corner by corner) of a record at (view, light) from the
- * neighbours at entry nb, read where lay_row reads it: reflectance and
- * alpha at the column of this invocation (x) as seen from `view`; *level:
- * the neighbours' blended level (orientation-free), else 0. */
-vec2 lookup(int nb, float view, float light, int x, int free_level,
-            out float level) {
-  int v0, v1, l0, l1;
-  float fv, fl;
-  angle_cell(view, u_n_view, v0, v1, fv);
-  angle_cell(light, u_n_light, l0, l1, fl);
-  /* the four corners' weights and records (vectors, not arrays: a
-   * rasteriser on the CPU keeps an indexed array in memory) */
-  vec4 bw = vec4((1.0 - fv) * (1.0 - fl), fv * (1.0 - fl), (1.0 - fv) * fl,
-                 fv * fl);
-  ivec4 corner = ivec4(l0 * u_n_view + v0, l0 * u_n_view + v1,
-                       l1 * u_n_view + v0, l1 * u_n_view + v1);
-  /* maps.c: maps_columns */
-  float turns = view / TWO_PI;
-  turns -= floor(turns);
-  int b = int(turns * float(MAPS_BINS) + 0.5) % MAPS_BINS;
-  vec2 col = g_col[b * MAPS_W + x];
+/* The looked-up record's reflectance and alpha at column x (lay_row's
+ * maps_sample of the blend): the neighbours in order, each its four
+ * corners, as the CPU sums them. */
+vec2 column(Look k, int x) {
+  vec2 col = g_col[k.bin + x];
   int s = int(col.x);
   vec4 acc = vec4(0.0); /* re[s], re[s + 1], al[s], al[s + 1] */
-  float l = 0.0, wsum = 0.0;
   for (int n = 0; n < MAPS_K; n++) {
-    uvec2 e = g_nb[nb * MAPS_K + n];
+    uvec2 e = g_nb[k.nb + n];
     float w = uintBitsToFloat(e.y);
-    if (w == 0.0)
+    if (w == 0.0) /* past the neighbours found */
       continue;
-    ivec4 h = ((int(e.x) * u_n_light * u_n_view + corner) * 2 * MAPS_W) + s;
-    vec4 wc = w * bw;
+    ivec4 h = int(e.x) * (u_n_light * u_n_view * 2 * MAPS_W) + k.corner + s;
+    vec4 wc = w * k.bw;
     acc += wc.x * samples4(h.x) + wc.y * samples4(h.y) +
            wc.z * samples4(h.z) + wc.w * samples4(h.w);
-    float sre = g_level[e.x];
-    if (sre > 0.0) {
-      l += w * sre;
-      wsum += w;
-    }
   }
-  level = free_level != 0 && wsum > 0.0 ? l / wsum : 0.0;
   return vec2(acc.x + col.y * (acc.y - acc.x), acc.z + col.y * (acc.w - acc.z));
 }
 
-/* maps.c: lay_row's scale, from the row's sums over its columns */
-float row_scale(float level, float sum_r, float sum_a) {
+/* maps.c: lay_row's scale: the database's, times the level over the
+ * row's own reflectance per unit coverage where a level is given */
+float row_scale(Look k) {
   float scale = u_re_scale;
-  if (level > 0.0 && sum_r > 0.0 && sum_a > 1e-4 * float(MAPS_W))
-    scale *= level / (sum_r / sum_a);
+  if (k.level <= 0.0)
+    return scale;
+  float sum_r = 0.0, sum_a = 0.0;
+  for (int x = 0; x < MAPS_W; x++) {
+    vec2 ra = column(k, x);
+    sum_r += ra.x;
+    sum_a += ra.y;
+  }
+  if (sum_r > 0.0 && sum_a > 1e-4 * float(MAPS_W))
+    scale *= k.level / (sum_r / sum_a);
   return scale;
 }
 
-vec4 texel(vec2 ra, float scale, float sums, float density) {
-  return vec4(ra.y > 1e-4 ? scale * ra.x / ra.y : 0.0, ra.y, sums, density);
+/* lay_row: one row of the HSV, the s-map sum left 0 (maps_sums_cs.glsl) */
+void lay_row(Look k, float scale, ivec3 at, float density) {
+  for (int x = 0; x < MAPS_W; x++, at.x++) {
+    vec2 ra = column(k, x);
+    imageStore(u_maps, at,
+               vec4(ra.y > 1e-4 ? scale * ra.x / ra.y : 0.0, ra.y, 0.0,
+                    density));
+  }
 }
 
 void main() {
   MapsInst in_ = g_inst[u_first + int(gl_WorkGroupID.z)];
   int su = in_.shell.x, st = in_.shell.y, layers = in_.shell.z;
-  int i = int(gl_WorkGroupID.y), j = int(gl_WorkGroupID.x);
-  int x = int(gl_LocalInvocationID.x);
-  float sum0 = 0.0, sum1 = 0.0; /* eq. 12 at this column's two texels */
-  for (int k = layers - 1; k >= 0; k--) {
-    int q0 = (i * layers + k) * su + j, q1 = q0 + layers * su;
-    Params top = sector_params(in_.base.x + q0, in_.eye.xyz, in_.light);
-    Params bot = sector_params(in_.base.x + q1, in_.eye.xyz, in_.light);
-    /* eq. 6: features scaled to [0, 1], azimuths in units of pi */
-    vec3 df = (top.f - bot.f) * u_fscale;
-    float dv = angle_diff(top.view, bot.view) / PI;
-    float dl = angle_diff(top.light, bot.light) / PI;
-    bool uniform_hsv = sqrt(dot(df, df) + dv * dv + dl * dl) < u_threshold;
-    float density = 0.5 * (top.f.x + bot.f.x);
-    vec2 a, c;
-    float la, lc;
-    if (uniform_hsv) { /* one look-up at the averaged parameters */
-      float view = top.view + 0.5 * angle_diff(top.view, bot.view);
-      float light = top.light + 0.5 * angle_diff(top.light, bot.light);
-      a = lookup(in_.base.z + q0, view, light, x, in_.shell.w, la);
-      c = a;
-      lc = la;
-    } else { /* eq. 7: the two boundary sectors' records */
-      a = lookup(in_.base.y + q0, top.view, top.light, x, in_.shell.w, la);
-      c = lookup(in_.base.y + q1, bot.view, bot.light, x, in_.shell.w, lc);
-    }
-    /* the rows' sums, which only the orientation-free level reads (the
-     * same for the whole work group: the barriers stay in uniform flow) */
-    vec4 sums = vec4(0.0);
-    if (in_.shell.w != 0) {
-      s_sum[0][x] = a.x;
-      s_sum[1][x] = a.y;
-      s_sum[2][x] = c.x;
-      s_sum[3][x] = c.y;
-      barrier();
-      for (int y = 0; y < MAPS_W; y++)
-        sums += vec4(s_sum[0][y], s_sum[1][y], s_sum[2][y], s_sum[3][y]);
-      barrier(); /* read before the next layer writes */
-    }
-    ivec3 at = ivec3(j * MAPS_W + x, 2 * i, in_.base.w + k);
-    imageStore(u_maps, at,
-               texel(a, row_scale(la, sums.x, sums.y), sum0, density));
-    at.y++;
-    imageStore(u_maps, at,
-               texel(c, row_scale(lc, sums.z, sums.w), sum1, density));
-    sum0 += a.y;
-    sum1 += c.y;
+  /* HSV (i, k, j) in maps.c's order (maps_gpu.c: groups) */
+  int q0 = int((gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) *
+                   gl_WorkGroupSize.x + gl_LocalInvocationID.x);
+  if (q0 >= st * layers * su)
+    return;
+  int j = q0 % su, k = q0 / su % layers, i = q0 / (su * layers);
+  int q1 = q0 + layers * su;
+  Params top = sector_params(in_.base.x + q0, in_.eye.xyz, in_.light);
+  Params bot = sector_params(in_.base.x + q1, in_.eye.xyz, in_.light);
+  /* eq. 6: features scaled to [0, 1], azimuths in units of pi */
+  vec3 df = (top.f - bot.f) * u_fscale;
+  float dv = angle_diff(top.view, bot.view) / PI;
+  float dl = angle_diff(top.light, bot.light) / PI;
+  float density = 0.5 * (top.f.x + bot.f.x);
+  ivec3 at = ivec3(j * MAPS_W, 2 * i, in_.base.w + k);
+  if (sqrt(dot(df, df) + dv * dv + dl * dl) < u_threshold) {
+    /* uniform: one look-up at the averaged parameters, both rows */
+    float view = top.view + 0.5 * angle_diff(top.view, bot.view);
+    float light = top.light + 0.5 * angle_diff(top.light, bot.light);
+    Look one = look_at(in_.base.z + q0, view, light, in_.shell.w);
+    float scale = row_scale(one);
+    lay_row(one, scale, at, density);
+    lay_row(one, scale, at + ivec3(0, 1, 0), density);
+  } else { /* eq. 7: the two boundary sectors' records */
+    Look a = look_at(in_.base.y + q0, top.view, top.light, in_.shell.w);
+    Look b = look_at(in_.base.y + q1, bot.view, bot.light, in_.shell.w);
+    lay_row(a, row_scale(a), at, density);
+    lay_row(b, row_scale(b), at + ivec3(0, 1, 0), density);
   }
 }
