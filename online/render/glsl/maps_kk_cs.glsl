@@ -143,57 +143,84 @@ Look look_at(int nb, float view, float light, int free_level) {
   return k;
 }
 
-/* A record's reflectance at samples s and s + 1, then its alpha there,
- * from the record's sample s at half h. */
-vec4 samples4(int h) {
-  return vec4(rec_half(h), rec_half(h + 1), rec_half(h + MAPS_W),
-              rec_half(h + MAPS_W + 1));
-}
+/* The looked-up record (satf_db_lookup_cell_range's blend: the
+ * neighbours in order, each its four corners, as the CPU sums them), its
+ * reflectance then its alpha; per invocation. */
+float g_re[MAPS_W], g_al[MAPS_W];
 
-/* The looked-up record's reflectance and alpha at column x (lay_row's
- * maps_sample of the blend): the neighbours in order, each its four
- * corners, as the CPU sums them. */
-vec2 column(Look k, int x) {
-  vec2 col = g_col[k.bin + x];
-  int s = int(col.x);
-  vec4 acc = vec4(0.0); /* re[s], re[s + 1], al[s], al[s + 1] */
+void blend(Look k) {
+  for (int s = 0; s < MAPS_W; s++) {
+    g_re[s] = 0.0;
+    g_al[s] = 0.0;
+  }
   for (int n = 0; n < MAPS_K; n++) {
     uvec2 e = g_nb[k.nb + n];
     float w = uintBitsToFloat(e.y);
     if (w == 0.0) /* past the neighbours found */
       continue;
-    ivec4 h = int(e.x) * (u_n_light * u_n_view * 2 * MAPS_W) + k.corner + s;
-    vec4 wc = w * k.bw;
-    acc += wc.x * samples4(h.x) + wc.y * samples4(h.y) +
-           wc.z * samples4(h.z) + wc.w * samples4(h.w);
+    ivec4 h = int(e.x) * (u_n_light * u_n_view * 2 * MAPS_W) + k.corner;
+    vec4 c = w * k.bw;
+#if MAPS_W % 2 == 0
+    /* records start at even halfs: two samples a word */
+    h >>= 1;
+    for (int s = 0; s < MAPS_W; s += 2, h++) {
+      vec2 a = unpackHalf2x16(g_rec[h.x]), b = unpackHalf2x16(g_rec[h.y]);
+      vec2 d = unpackHalf2x16(g_rec[h.z]), f = unpackHalf2x16(g_rec[h.w]);
+      vec2 v = c.x * a + c.y * b + c.z * d + c.w * f;
+      g_re[s] += v.x;
+      g_re[s + 1] += v.y;
+      a = unpackHalf2x16(g_rec[h.x + MAPS_W / 2]);
+      b = unpackHalf2x16(g_rec[h.y + MAPS_W / 2]);
+      d = unpackHalf2x16(g_rec[h.z + MAPS_W / 2]);
+      f = unpackHalf2x16(g_rec[h.w + MAPS_W / 2]);
+      v = c.x * a + c.y * b + c.z * d + c.w * f;
+      g_al[s] += v.x;
+      g_al[s + 1] += v.y;
+    }
+#else
+    for (int s = 0; s < MAPS_W; s++, h++) {
+      g_re[s] += c.x * rec_half(h.x) + c.y * rec_half(h.y) +
+                 c.z * rec_half(h.z) + c.w * rec_half(h.w);
+      g_al[s] += c.x * rec_half(h.x + MAPS_W) + c.y * rec_half(h.y + MAPS_W) +
+                 c.z * rec_half(h.z + MAPS_W) + c.w * rec_half(h.w + MAPS_W);
+    }
+#endif
   }
-  return vec2(acc.x + col.y * (acc.y - acc.x), acc.z + col.y * (acc.w - acc.z));
 }
 
-/* maps.c: lay_row's scale: the database's, times the level over the
- * row's own reflectance per unit coverage where a level is given */
-float row_scale(Look k) {
+/* The blended record's reflectance and alpha at column x (lay_row's
+ * maps_sample). */
+vec2 column(Look k, int x) {
+  vec2 col = g_col[k.bin + x];
+  int s = int(col.x);
+  return vec2(g_re[s] + col.y * (g_re[s + 1] - g_re[s]),
+              g_al[s] + col.y * (g_al[s + 1] - g_al[s]));
+}
+
+/* maps.c: lay_row, the record of look-up k across row `at` (and the row
+ * below it with `both`: a uniform HSV's), the s-map sums left 0
+ * (maps_sums_cs.glsl). Its reflectance divided by alpha, times the
+ * database's scale, and times the level over the row's own reflectance
+ * per unit coverage where a level is given. */
+void lay_row(Look k, ivec3 at, float density, bool both) {
+  blend(k);
   float scale = u_re_scale;
-  if (k.level <= 0.0)
-    return scale;
-  float sum_r = 0.0, sum_a = 0.0;
-  for (int x = 0; x < MAPS_W; x++) {
-    vec2 ra = column(k, x);
-    sum_r += ra.x;
-    sum_a += ra.y;
+  if (k.level > 0.0) {
+    float sum_r = 0.0, sum_a = 0.0;
+    for (int x = 0; x < MAPS_W; x++) {
+      vec2 ra = column(k, x);
+      sum_r += ra.x;
+      sum_a += ra.y;
+    }
+    if (sum_r > 0.0 && sum_a > 1e-4 * float(MAPS_W))
+      scale *= k.level / (sum_r / sum_a);
   }
-  if (sum_r > 0.0 && sum_a > 1e-4 * float(MAPS_W))
-    scale *= k.level / (sum_r / sum_a);
-  return scale;
-}
-
-/* lay_row: one row of the HSV, the s-map sum left 0 (maps_sums_cs.glsl) */
-void lay_row(Look k, float scale, ivec3 at, float density) {
   for (int x = 0; x < MAPS_W; x++, at.x++) {
     vec2 ra = column(k, x);
-    imageStore(u_maps, at,
-               vec4(ra.y > 1e-4 ? scale * ra.x / ra.y : 0.0, ra.y, 0.0,
-                    density));
+    vec4 t = vec4(ra.y > 1e-4 ? scale * ra.x / ra.y : 0.0, ra.y, 0.0, density);
+    imageStore(u_maps, at, t);
+    if (both)
+      imageStore(u_maps, at + ivec3(0, 1, 0), t);
   }
 }
 
@@ -219,14 +246,12 @@ void main() {
     /* uniform: one look-up at the averaged parameters, both rows */
     float view = top.view + 0.5 * angle_diff(top.view, bot.view);
     float light = top.light + 0.5 * angle_diff(top.light, bot.light);
-    Look one = look_at(in_.base.z + q0, view, light, in_.shell.w);
-    float scale = row_scale(one);
-    lay_row(one, scale, at, density);
-    lay_row(one, scale, at + ivec3(0, 1, 0), density);
+    lay_row(look_at(in_.base.z + q0, view, light, in_.shell.w), at, density,
+            true);
   } else { /* eq. 7: the two boundary sectors' records */
-    Look a = look_at(in_.base.y + q0, top.view, top.light, in_.shell.w);
-    Look b = look_at(in_.base.y + q1, bot.view, bot.light, in_.shell.w);
-    lay_row(a, row_scale(a), at, density);
-    lay_row(b, row_scale(b), at + ivec3(0, 1, 0), density);
+    lay_row(look_at(in_.base.y + q0, top.view, top.light, in_.shell.w), at,
+            density, false);
+    lay_row(look_at(in_.base.y + q1, bot.view, bot.light, in_.shell.w),
+            at + ivec3(0, 1, 0), density, false);
   }
 }
