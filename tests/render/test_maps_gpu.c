@@ -69,11 +69,12 @@ static double half_step(double v) {
 }
 
 /* The GPU's maps against the CPU's: each value within two of its half
- * steps plus the float sums' drift (eq. 12's sums over up to 15 layers,
- * the level's row sums: 1e-4 relatively), the reflectance (channel 0,
- * re / alpha) where alpha is above 1e-3 (below it a tiny alpha's rounding
- * moves the quotient). Except at most FLIPS of the values: the last bit
- * of the GPU's atan against the CPU's atan2f decides a row whose view
+ * steps plus the sums' drift, 1e-4 relatively (the GPU adds eq. 12's
+ * alphas as the texture keeps them, halfs, as the CPU does for the texels
+ * it keeps; the level's row sums run in another order), the reflectance
+ * (channel 0, re / alpha) where alpha is above 1e-3 (below it a tiny
+ * alpha's rounding moves the quotient). Except at most FLIPS of the values: the
+ * last bit of the GPU's atan against the CPU's atan2f decides a row whose view
  * azimuth lies on the boundary of two of maps.c's resampling bins
  * (hair_7a: at 405.50006 bins; 160 of its 6.9 M values differ, by up to
  * 0.003 with the s-map sums under them) and an HSV whose eq. 6 distance
