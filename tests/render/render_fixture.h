@@ -185,4 +185,20 @@ static inline int fixture_same_bits(const satf_image *a, const satf_image *b,
   return memcmp(pa, pb, n * sizeof(float)) == 0;
 }
 
+#ifdef SATF_TOOLS_COMPARE_METRICS_H
+/* img's R, G, B and A as satf-compare's image (metrics.h, included before
+ * this header by the tests that measure frames). */
+static inline compare_image fixture_compare_image(const satf_image *img,
+                                                  const char *name) {
+  compare_image c = {name,
+                     satf_image_width(img),
+                     satf_image_height(img),
+                     fixture_plane(img, "R"),
+                     fixture_plane(img, "G"),
+                     fixture_plane(img, "B"),
+                     fixture_plane(img, "A")};
+  return c;
+}
+#endif
+
 #endif

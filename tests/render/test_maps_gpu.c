@@ -107,17 +107,6 @@ static void assert_maps_equal(const char *what, const float *cpu,
              (double)cpu[first_bad]);
 }
 
-static compare_image as_compare(const satf_image *img, const char *name) {
-  compare_image c = {name,
-                     W,
-                     H,
-                     fixture_plane(img, "R"),
-                     fixture_plane(img, "G"),
-                     fixture_plane(img, "B"),
-                     fixture_plane(img, "A")};
-  return c;
-}
-
 /* A frame in `mode` and its maps. */
 static satf_image *frame(satf_renderer *r, satf_maps_mode mode, float **maps,
                          size_t *n) {
@@ -131,7 +120,8 @@ static satf_image *frame(satf_renderer *r, satf_maps_mode mode, float **maps,
   return img;
 }
 
-/* The frames and maps of r in both modes, the CPU's first. */
+/* The frames and maps of r in both modes, `first` first, against each
+ * other. */
 static void assert_modes_agree(satf_renderer *r, const char *what,
                                satf_maps_mode first) {
   float *maps[2];
@@ -143,8 +133,8 @@ static void assert_modes_agree(satf_renderer *r, const char *what,
   img[other] = frame(r, other, &maps[other], &n[other]);
   assert_true(n[0] == n[1] && n[0] > 0);
   assert_maps_equal(what, maps[SATF_MAPS_CPU], maps[SATF_MAPS_GPU], n[0]);
-  compare_image a = as_compare(img[SATF_MAPS_CPU], "cpu");
-  compare_image b = as_compare(img[SATF_MAPS_GPU], "gpu");
+  compare_image a = fixture_compare_image(img[SATF_MAPS_CPU], "cpu");
+  compare_image b = fixture_compare_image(img[SATF_MAPS_GPU], "gpu");
   compare_result res;
   satf_error err;
   assert_int_equal(compare_measure(&a, &b, &res, &err), SATF_OK);
