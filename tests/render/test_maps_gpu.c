@@ -5,7 +5,8 @@
  * for procedural clusters (several prototypes, instances and layers; the
  * samples of Fig. 6a and 7a) and for an imported curtain, whose records
  * take the orientation-free level; again after the eye and the light move
- * in the GPU mode (its instances built again). */
+ * in the GPU mode (its instances built again), and after an instance
+ * moves and a prototype bends. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -191,6 +192,32 @@ static void test_procedural(void **state) {
                            "two prototypes"));
 }
 
+/* An animation step in the GPU mode: an instance moves and a prototype
+ * bends (its frames rebuilt: the GPU's copy of them must follow). */
+static void test_scene_change(void **state) {
+  fixture_gl *f = *state;
+  satf_scene *scene = fixture_scene(FIXTURE_TWO_PROTOTYPES);
+  satf_scene *next = fixture_scene(FIXTURE_TWO_PROTOTYPES);
+  assert_non_null(scene);
+  assert_non_null(next);
+  satf_renderer *r = fixture_renderer(scene, f->db, W, H, 2);
+  assert_non_null(r);
+  satf_error err;
+  assert_int_equal(satf_renderer_set_maps(r, SATF_MAPS_GPU, &err), SATF_OK);
+  satf_image *img = fixture_render_image(r);
+  assert_non_null(img);
+  satf_image_destroy(img);
+  next->macro_clusters[0].instances[1].m[3] += 0.25f;
+  next->macro_clusters[1].prototype.trajectory[0] += 0.4f;
+  int rebuilt = 0;
+  assert_int_equal(satf_renderer_set_scene(r, next, &rebuilt, &err), SATF_OK);
+  assert_int_equal(rebuilt, 1);
+  assert_modes_agree(r, "two prototypes, one moved, one bent", SATF_MAPS_GPU);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(next);
+  satf_scene_destroy(scene);
+}
+
 static void test_samples(void **state) {
   fixture_gl *f = *state;
   const char *names[] = {"cluster_6a.json", "hair_7a.json"};
@@ -255,6 +282,7 @@ static void test_imported(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_procedural),
+      cmocka_unit_test(test_scene_change),
       cmocka_unit_test(test_samples),
       cmocka_unit_test(test_imported),
   };
