@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "half.h"
+#include "maps_gpu.h"
 #include "mat4.h"
 #include "satf/common.h"
 #include "satf/math.h"
@@ -350,8 +351,48 @@ static satf_status build_maps(satf_renderer *r, long *lookups,
   return SATF_OK;
 }
 
+/* The paper's maps built on the GPU (maps_gpu.h): the instances whose eye
+ * or key light moved in their frame (inst_still: the same test as the
+ * CPU's, without its azimuths, which the GPU finds) are built whole; I is
+ * that test, C the GPU's pass (to its end), M the CPU's uploads of eyes
+ * and lights (and of geometry where it changed). t->lookups counts the
+ * HSVs built, at least one look-up each. */
+static satf_status gpu_update_maps(satf_renderer *r, satf_frame_timing *t,
+                                   satf_error *err) {
+  double t0 = satf_now_seconds();
+  int *moved = malloc((size_t)(r->ninsts > 0 ? r->ninsts : 1) * sizeof(int));
+  if (!moved)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  int n = 0;
+  t->lookups = 0;
+  for (int i = 0; i < r->ninsts; i++) {
+    inst *in = &r->insts[i];
+    in->still = r->protos[in->proto].sparse || inst_still(r, 1, in);
+    if (!in->still) {
+      in->replaced = 0;
+      moved[n++] = i;
+      t->lookups += (long)satf_shell_hsv_count(&in->geom.shell);
+    }
+  }
+  double t1 = satf_now_seconds(), up = 0.0;
+  satf_status st =
+      n > 0 ? maps_gpu_build(r, r->mgpu, moved, n, &up, err) : SATF_OK;
+  free(moved);
+  r->maps_changed = n;
+  if (n > 0) /* the deep opacity map reads their alpha */
+    r->dom.maps_stale = 1;
+  glFinish();
+  double t2 = satf_now_seconds();
+  t->index_ms = 1e3 * (t1 - t0);
+  t->upload_ms = up;
+  t->maps_ms = 1e3 * (t2 - t1) - up;
+  return st;
+}
+
 satf_status cluster_cpu_update_maps(satf_renderer *r, satf_frame_timing *t,
                                     satf_error *err) {
+  if (r->maps_mode == SATF_MAPS_GPU && !r->fiber && r->mgpu)
+    return gpu_update_maps(r, t, err);
   double t0 = satf_now_seconds();
   satf_status st = update_angles(r, err);
   if (st != SATF_OK)

@@ -2,13 +2,18 @@
 #include "maps.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "satf/math.h"
 
 /* Resampling tables are kept for this many view azimuths. */
-#define AZIMUTH_BINS 1024
+#define AZIMUTH_BINS MAPS_AZIMUTH_BINS
+
+/* The next geometry's serial (satf_shell_geom.serial); atomic, for
+ * renderers built on several threads at once. */
+static _Atomic unsigned long next_serial;
 
 size_t satf_shell_sector_count(const satf_shell_params *s) {
   return (size_t)(s->st + 1) * (size_t)s->layers * (size_t)s->su;
@@ -29,6 +34,7 @@ satf_status satf_shell_geom_create(const satf_cluster *cluster,
   if (st != SATF_OK)
     return st;
   g->shell = *shell;
+  g->serial = ++next_serial;
   size_t n = satf_shell_sector_count(shell);
   g->frames = malloc(n * 9 * sizeof(float));
   g->features = calloc(n * 3, sizeof(float));
@@ -128,6 +134,7 @@ satf_status satf_maps_prepare(const satf_maps *m, satf_shell_geom *g,
                                &c->hsv[sector_index(sh, i, k, j)]);
       }
   g->neighbors = c;
+  g->serial = ++next_serial;
   return SATF_OK;
 }
 
@@ -394,6 +401,19 @@ const satf_db_neighbors *maps_sector_neighbors(const satf_shell_geom *g,
                                                size_t q, int k) {
   return g->neighbors && g->neighbors->k == k ? &g->neighbors->sector[q] : NULL;
 }
+
+const satf_db_neighbors *maps_hsv_neighbors(const satf_shell_geom *g, size_t q,
+                                            int k) {
+  return g->neighbors && g->neighbors->k == k ? &g->neighbors->hsv[q] : NULL;
+}
+
+void maps_column_table(const satf_maps *m, const uint16_t **index,
+                       const float **frac) {
+  *index = m->index;
+  *frac = m->frac;
+}
+
+const float *maps_sample_levels(const satf_maps *m) { return m->sample_re; }
 
 /* Lays a record across one HSV row (see maps.h), with the reflectance
  * divided by alpha: eq. 5 accumulates reflectance weighted by opacity, and

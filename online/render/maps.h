@@ -31,6 +31,10 @@ typedef struct satf_shell_geom {
    * HSV's averaged features (satf_maps_prepare): they change only with the
    * density, so frames only blend azimuths. NULL: searched per look-up. */
   satf_neighbor_cache *neighbors;
+  /* new with every new frames or neighbours (satf_shell_geom_create,
+   * satf_maps_prepare): copies of the geometry that other memory holds
+   * (the GPU's, maps_gpu.c) are current while it stays */
+  unsigned long serial;
 } satf_shell_geom;
 
 satf_status satf_shell_geom_create(const satf_cluster *cluster,
@@ -142,6 +146,17 @@ const satf_db_neighbors *maps_sector_neighbors(const satf_shell_geom *g,
                                                size_t q, int k);
 void maps_columns(const satf_maps *maps, float view, const uint16_t **index,
                   const float **frac);
+/* The cached neighbours of HSV q (its averaged features) under the same
+ * condition as maps_sector_neighbors. */
+const satf_db_neighbors *maps_hsv_neighbors(const satf_shell_geom *g, size_t q,
+                                            int k);
+/* The whole resampling table behind maps_columns: MAPS_AZIMUTH_BINS rows
+ * of width columns, view azimuth bin b = 2 pi b / MAPS_AZIMUTH_BINS at
+ * row b; and per database sample the level lay_row takes (sample_re). */
+#define MAPS_AZIMUTH_BINS 1024
+void maps_column_table(const satf_maps *maps, const uint16_t **index,
+                       const float **frac);
+const float *maps_sample_levels(const satf_maps *maps);
 /* Azimuth of d in the plane of the sector whose frame (satf_shell_geom's 9
  * floats) is `frame`: from its outward normal N towards its phase
  * direction T, in [0, 2 pi); what satf_maps_angles computes. */

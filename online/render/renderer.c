@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "maps_gpu.h"
 #include "mat4.h"
 #include "path.h"
 #include "satf/common.h"
@@ -113,6 +114,7 @@ void satf_renderer_destroy(satf_renderer *r) {
   resources_release(r);
   samples_release(&r->accum);
   dom_release(&r->dom);
+  maps_gpu_destroy(r->mgpu);
   satf_maps_destroy(r->maps);
   satf_maps_fiber_destroy(r->fiber);
   if (r->fgpu)
@@ -173,6 +175,36 @@ void satf_renderer_set_shadow_move(satf_renderer *r, float texels) {
 }
 float satf_renderer_shadow_move(const satf_renderer *r) {
   return r->dom.move_tol;
+}
+satf_status satf_renderer_set_maps(satf_renderer *r, satf_maps_mode mode,
+                                   satf_error *err) {
+  if (mode != SATF_MAPS_CPU && mode != SATF_MAPS_GPU)
+    return satf_error_set(err, SATF_ERR_ARGUMENT, "maps mode %d", (int)mode);
+  /* the physical mode's maps are the CPU's whatever the mode */
+  if (mode == SATF_MAPS_GPU && !r->mgpu && !r->fiber) {
+    satf_status st = maps_gpu_create(r, &r->mgpu, err);
+    if (st != SATF_OK)
+      return st;
+  }
+  if (mode != r->maps_mode) /* the other mode's maps are not these */
+    for (int i = 0; i < r->ninsts; i++)
+      if (r->insts[i].looked_up)
+        cluster_cpu_forget_lookups(&r->insts[i]);
+  r->maps_mode = mode;
+  return SATF_OK;
+}
+satf_maps_mode satf_renderer_maps(const satf_renderer *r) {
+  return r->maps_mode;
+}
+const char *satf_maps_mode_name(satf_maps_mode mode) {
+  return mode == SATF_MAPS_GPU ? "gpu" : "cpu";
+}
+int satf_maps_mode_parse(const char *name, satf_maps_mode *mode) {
+  if (!strcmp(name, "cpu") || !strcmp(name, "gpu")) {
+    *mode = name[0] == 'g' ? SATF_MAPS_GPU : SATF_MAPS_CPU;
+    return 0;
+  }
+  return -1;
 }
 unsigned satf_renderer_texture(const satf_renderer *r) {
   return satf_gl_target_color_texture(r->out, 0);

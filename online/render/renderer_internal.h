@@ -140,7 +140,11 @@ struct satf_renderer {
   int scratch_n;
   size_t scratch_floats;
   int maps_changed; /* instances whose maps the last frame changed */
-  int incremental;  /* 0: every HSV looked up every frame (the reference) */
+  /* where the paper's maps are built (satf_renderer_set_maps): the CPU
+   * (cluster_cpu.c) or the GPU (maps_gpu.h: mgpu, made on first use) */
+  satf_maps_mode maps_mode;
+  struct maps_gpu *mgpu;
+  int incremental; /* 0: every HSV looked up every frame (the reference) */
   /* the clusters' drawing (cluster_gpu.c): compositing mode, programs (with
    * the level of detail compiled in: *_lod), and per instance, for
    * instanced draws, the model matrices and the eye and lights in each

@@ -19,7 +19,8 @@ extern const char glsl_text_lighting[], glsl_text_layer_vs[],
     glsl_text_strand_fs[], glsl_text_strand_dom_fs[], glsl_text_baseline_vs[],
     glsl_text_baseline_fs[], glsl_text_baseline_lighting[],
     glsl_text_accum_fs[], glsl_text_fiber[], glsl_text_fiber_cluster[],
-    glsl_text_strand_light_cs[];
+    glsl_text_strand_light_cs[], glsl_text_maps_kk_cs[],
+    glsl_text_maps_sums_cs[];
 
 const char *const satf_glsl_lighting = glsl_text_lighting;
 const char *const satf_glsl_layer_vs = glsl_text_layer_vs;
@@ -42,6 +43,8 @@ const char *const satf_glsl_strand_vs = glsl_text_strand_vs;
 const char *const satf_glsl_strand_fs = glsl_text_strand_fs;
 const char *const satf_glsl_strand_dom_fs = glsl_text_strand_dom_fs;
 const char *const satf_glsl_strand_light_cs = glsl_text_strand_light_cs;
+const char *const satf_glsl_maps_kk_cs = glsl_text_maps_kk_cs;
+const char *const satf_glsl_maps_sums_cs = glsl_text_maps_sums_cs;
 const char *const satf_glsl_fiber = glsl_text_fiber;
 const char *const satf_glsl_fiber_cluster = glsl_text_fiber_cluster;
 

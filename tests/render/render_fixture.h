@@ -39,6 +39,25 @@ static inline satf_db *fixture_db(void) {
   return db;
 }
 
+/* Two prototypes, three instances (one turned), several layers: maps of
+ * every kind in a fraction of a second. */
+#define FIXTURE_TWO_PROTOTYPES                                                 \
+  "{\"macro_clusters\": ["                                                     \
+  " {\"prototype\": {\"trajectory\": [[0, -2, 0], [0.3, 0, 0], [0, 2, 0]],"    \
+  "   \"a\": 0.5, \"shell\": {\"layers\": 3, \"st\": 6, \"su\": 6},"           \
+  "   \"density\": {\"strands\": 80, \"seed\": 3}},"                           \
+  "  \"instances\": [{\"translate\": [-1.2, 0, 0]},"                           \
+  "   {\"translate\": [1.2, 0, -0.5],"                                         \
+  "    \"rotate\": {\"axis\": [0, 1, 0], \"angle\": 40}}]},"                   \
+  " {\"prototype\": {\"trajectory\": [[0, -1.5, 0], [0, 1.5, 0]],"             \
+  "   \"a\": 0.4, \"shell\": {\"layers\": 2, \"st\": 4, \"su\": 8},"           \
+  "   \"density\": {\"strands\": 60, \"seed\": 5}},"                           \
+  "  \"instances\": [{\"translate\": [0, 0, 1]}]}],"                           \
+  " \"camera\": {\"position\": [0, 1, 14], \"target\": [0, 0, 0],"             \
+  "            \"fov_y\": 35},"                                                \
+  " \"lights\": [{\"direction\": [-0.5, -0.6, -0.6]}],"                        \
+  " \"background\": [0, 0, 0]}"
+
 /* A headless GL context of w x h and the fixture database: what a cmocka
  * group setup of a rendering test makes (free with fixture_gl_free). */
 typedef struct fixture_gl {
@@ -165,5 +184,21 @@ static inline int fixture_same_bits(const satf_image *a, const satf_image *b,
   size_t n = (size_t)satf_image_width(a) * (size_t)satf_image_height(a);
   return memcmp(pa, pb, n * sizeof(float)) == 0;
 }
+
+#ifdef SATF_TOOLS_COMPARE_METRICS_H
+/* img's R, G, B and A as satf-compare's image (metrics.h, included before
+ * this header by the tests that measure frames). */
+static inline compare_image fixture_compare_image(const satf_image *img,
+                                                  const char *name) {
+  compare_image c = {name,
+                     satf_image_width(img),
+                     satf_image_height(img),
+                     fixture_plane(img, "R"),
+                     fixture_plane(img, "G"),
+                     fixture_plane(img, "B"),
+                     fixture_plane(img, "A")};
+  return c;
+}
+#endif
 
 #endif

@@ -137,24 +137,6 @@ static void test_paths_agree(void **state) {
 
 FIXTURE_GL_GROUP(W, H)
 
-/* Two prototypes, three instances, several layers. */
-static const char *const SCENE =
-    "{\"macro_clusters\": ["
-    " {\"prototype\": {\"trajectory\": [[0, -2, 0], [0.3, 0, 0], [0, 2, 0]],"
-    "   \"a\": 0.5, \"shell\": {\"layers\": 3, \"st\": 6, \"su\": 6},"
-    "   \"density\": {\"strands\": 80, \"seed\": 3}},"
-    "  \"instances\": [{\"translate\": [-1.2, 0, 0]},"
-    "   {\"translate\": [1.2, 0, -0.5],"
-    "    \"rotate\": {\"axis\": [0, 1, 0], \"angle\": 40}}]},"
-    " {\"prototype\": {\"trajectory\": [[0, -1.5, 0], [0, 1.5, 0]],"
-    "   \"a\": 0.4, \"shell\": {\"layers\": 2, \"st\": 4, \"su\": 8},"
-    "   \"density\": {\"strands\": 60, \"seed\": 5}},"
-    "  \"instances\": [{\"translate\": [0, 0, 1]}]}],"
-    " \"camera\": {\"position\": [0, 1, 14], \"target\": [0, 0, 0],"
-    "            \"fov_y\": 35},"
-    " \"lights\": [{\"direction\": [-0.5, -0.6, -0.6]}],"
-    " \"background\": [0, 0, 0]}";
-
 /* Every instance's texels equal its float maps, built from scratch for
  * its current azimuths, rounded to halfs; returns the largest relative
  * difference (over values above 1e-3) between the two. With kept texels
@@ -207,7 +189,7 @@ static double assert_maps_are_rounded(const satf_renderer *r, int kept) {
 
 static void test_renderer_maps_are_rounded_floats(void **state) {
   fixture_gl *f = *state;
-  satf_scene *scene = fixture_scene(SCENE);
+  satf_scene *scene = fixture_scene(FIXTURE_TWO_PROTOTYPES);
   assert_non_null(scene);
   satf_renderer *r = fixture_renderer(scene, f->db, W, H, 2);
   assert_non_null(r);
@@ -222,7 +204,7 @@ static void test_renderer_maps_are_rounded_floats(void **state) {
   assert_true(fixture_render_lookups(r) > 0);
   assert_maps_are_rounded(r, 0);
   /* one instance moves: the others keep their halfs */
-  satf_scene *next = fixture_scene(SCENE);
+  satf_scene *next = fixture_scene(FIXTURE_TWO_PROTOTYPES);
   assert_non_null(next);
   next->macro_clusters[0].instances[1].m[3] += 0.25f;
   satf_error err;

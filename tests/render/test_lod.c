@@ -225,17 +225,6 @@ static void no_popping(void **state) {
   assert_true(most <= 3.0 * total / STEPS);
 }
 
-static compare_image as_compare(const satf_image *img, const char *name) {
-  compare_image c = {name,
-                     W,
-                     H,
-                     fixture_plane(img, "R"),
-                     fixture_plane(img, "G"),
-                     fixture_plane(img, "B"),
-                     fixture_plane(img, "A")};
-  return c;
-}
-
 /* Eight dense clusters receding from 8 to 60 units before the camera:
  * 6 to 27 pixels wide at W x H, so the near ones read every layer and the
  * far ones fewer, as in a hairstyle seen whole. */
@@ -271,7 +260,8 @@ static void image_bound(void **state) {
   assert_non_null(lod);
   satf_render_stats s;
   satf_renderer_stats(r, &s);
-  compare_image a = as_compare(full, "full"), b = as_compare(lod, "lod");
+  compare_image a = fixture_compare_image(full, "full"),
+                b = fixture_compare_image(lod, "lod");
   compare_result res;
   assert_int_equal(compare_measure(&a, &b, &res, &err), SATF_OK);
   printf("LOD vs full: soft IoU %.4f, SSIM %.4f; levels %ld/%ld/%ld/%ld, "

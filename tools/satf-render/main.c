@@ -67,6 +67,13 @@ static void usage(FILE *out) {
       "                       (default off: within soft IoU 0.97, SSIM 0.95\n"
       "                       of full detail on every sample, but no faster\n"
       "                       on llvmpipe yet; zoomed-out fur drifts)\n"
+      "  --maps cpu|gpu       where the paper's maps are built when the eye\n"
+      "                       or a light moves: cpu, looked up on the CPU\n"
+      "                       and uploaded (the reference); gpu, a compute\n"
+      "                       pass from the database kept on the GPU (the\n"
+      "                       same maps; no look-up or upload on the CPU;\n"
+      "                       the physical mode's maps stay on the CPU)\n"
+      "                       (default %s)\n"
       "  --shadow-move T|off  keep the cluster shadows' deep opacity map\n"
       "                       while no cluster moved more than T of its\n"
       "                       texels or slabs since it was drawn (default\n"
@@ -75,18 +82,19 @@ static void usage(FILE *out) {
       "%s%s%s%s%s"
       "  -q, --quiet          no summary\n"
       "  -h, --help           this help\n",
-      PROG, satf_frontend_shading_help, satf_frontend_effect_help,
-      satf_frontend_strand_help, satf_frontend_sparse_help,
-      satf_frontend_budget_help);
+      PROG, satf_maps_mode_name(SATF_MAPS_DEFAULT), satf_frontend_shading_help,
+      satf_frontend_effect_help, satf_frontend_strand_help,
+      satf_frontend_sparse_help, satf_frontend_budget_help);
 }
 
 typedef struct options {
   const char *scene_path, *db_path, *exr, *png, *mesh_path, *frames, *sheet;
   long w, h, bench, threads, samples;
   int resume, aov, quiet, composite, bg_in_exr, strands, lod;
-  int pixel_filter;  /* satf_pixel_filter */
-  int interrupted;   /* --frames stopped by a signal (render_frames) */
-  float shadow_move; /* --shadow-move, -1: off, NAN: not given */
+  int pixel_filter;    /* satf_pixel_filter */
+  satf_maps_mode maps; /* --maps */
+  int interrupted;     /* --frames stopped by a signal (render_frames) */
+  float shadow_move;   /* --shadow-move, -1: off, NAN: not given */
   float strand_width;
   double budget;      /* --memory-budget, bytes (0: the default) */
   int shading;        /* --shading: SATF_MATERIAL_*, -1: the scene's */
@@ -135,6 +143,14 @@ static int parse_one(satf_cli_args *it, options *o) {
     if (o->lod < 0)
       fprintf(stderr, "%s: --lod: expected on or off, got '%s'\n", PROG, val);
     return o->lod < 0 ? -1 : 0;
+  }
+  if (satf_cli_is(it, NULL, "--maps")) {
+    if (satf_cli_value(it, &val))
+      return -1;
+    if (satf_maps_mode_parse(val, &o->maps) == 0)
+      return 0;
+    fprintf(stderr, "%s: --maps: expected cpu or gpu, got '%s'\n", PROG, val);
+    return -1;
   }
   if (satf_cli_is(it, NULL, "--shadow-move")) {
     if (satf_cli_value(it, &val))
@@ -252,6 +268,7 @@ static int parse_args(int argc, char **argv, options *o) {
   o->sparse_strands = -1;
   o->composite = SATF_COMPOSITE_EXACT;
   o->lod = 0;
+  o->maps = SATF_MAPS_DEFAULT;
   o->shadow_move = NAN;
   satf_cli_args it;
   satf_cli_begin(&it, PROG, argc, argv);
@@ -451,6 +468,9 @@ static satf_status run(options *o, const satf_frontend *fe, satf_error *err) {
     satf_frontend_apply(r, &o->off, o->composite);
     satf_renderer_set_pixel_filter(r, (satf_pixel_filter)o->pixel_filter);
     satf_renderer_set_lod(r, o->lod);
+    st = satf_renderer_set_maps(r, o->maps, err);
+  }
+  if (st == SATF_OK) {
     if (!isnan(o->shadow_move))
       satf_renderer_set_shadow_move(r, o->shadow_move);
     satf_renderer_stats(r, &stats);
