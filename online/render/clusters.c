@@ -7,6 +7,7 @@
 
 #include <string.h>
 
+#include "draw.h"
 #include "path.h"
 #include "satf/common.h"
 #include "shaders.h"
@@ -20,6 +21,12 @@ static satf_status composite(satf_renderer *r, satf_aov aov,
                              const float viewproj[16], long *count,
                              satf_error *err) {
   r->stats.overflow_pixels = 0;
+  if (aov != SATF_AOV_DEPTH && r->composite == SATF_COMPOSITE_EXACT &&
+      sparse_only(r)) {
+    draw_begin_frame(r, aov, viewproj); /* the meshes */
+    sparse_composite(r, aov, viewproj);
+    return SATF_OK;
+  }
   /* the depth needs the fragments in depth order: always the arrays */
   if (r->composite == SATF_COMPOSITE_ORDERED && aov != SATF_AOV_DEPTH)
     return cluster_gpu_ordered(r, aov, viewproj, err);

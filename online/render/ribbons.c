@@ -537,3 +537,31 @@ void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
   if (list_mode >= 0)
     glUniform1i(glGetUniformLocation(p, "u_list_mode"), list_mode);
 }
+
+/* The fragments the strands cover whole first, with the depth test and
+ * writes of opaque surfaces (exact visibility among overlapping wide
+ * strands, which painter's order per segment gets wrong where long ribbons
+ * cross at nearly the same depth); then the partly covered fragments,
+ * segments in their sorted order (far to near), "over" blended and tested
+ * against all that depth. */
+void strands_gpu_composite(const satf_renderer *r, strands_gpu *s, satf_aov aov,
+                           const float viewproj[16]) {
+  size_t segs = strands_gpu_segments(s);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
+  glDisable(GL_CULL_FACE); /* a ribbon faces the eye either way round */
+  strands_gpu_begin(r, s, aov, viewproj, -1);
+  /* hair thinner than a pixel covers none whole */
+  if (strands_gpu_any_wide(s, viewproj, r->view.height)) {
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    strands_gpu_whole(s, 1);
+    strands_gpu_draw(s, 0, segs);
+  }
+  draw_hair_depth_test(1);
+  strands_gpu_whole(s, 0);
+  strands_gpu_draw(s, 0, segs);
+  glDisable(GL_BLEND);
+  draw_hair_depth_test(0);
+}

@@ -251,6 +251,7 @@ satf_status sparse_build(satf_renderer *r, satf_error *err) {
     st = strands_gpu_create(n, counts, xyz, width, 0.0f, 1, &r->sparse, err);
   if (st == SATF_OK && r->sparse)
     strands_gpu_in_order(r->sparse);
+  r->sparse_sorted = 0;
   free(counts);
   free(xyz);
   free(width);
@@ -281,10 +282,30 @@ void sparse_dom(satf_renderer *r, int opacity) {
 
 void sparse_ordered_begin(satf_renderer *r, satf_aov aov,
                           const float viewproj[16]) {
+  if (r->sparse && r->sparse_sorted) { /* the instances' ranges again */
+    strands_gpu_in_order(r->sparse);
+    r->sparse_sorted = 0;
+  }
   /* once a frame: binding the material, lights and view per instance cost
    * the ponytail's 584 sparse instances more than their draws */
   if (r->sparse)
     strands_gpu_begin(r, r->sparse, aov, viewproj, -1);
+}
+
+int sparse_only(const satf_renderer *r) {
+  if (!r->sparse)
+    return 0;
+  for (int i = 0; i < r->ninsts; i++)
+    if (!r->protos[r->insts[i].proto].sparse)
+      return 0;
+  return 1;
+}
+
+void sparse_composite(satf_renderer *r, satf_aov aov,
+                      const float viewproj[16]) {
+  strands_gpu_sort(r->sparse, r->view.camera.position);
+  r->sparse_sorted = 1;
+  strands_gpu_composite(r, r->sparse, aov, viewproj);
 }
 
 int sparse_ordered(satf_renderer *r, int i) {

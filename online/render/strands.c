@@ -61,35 +61,6 @@ static float hair_width(const satf_renderer *r) {
   return w > 0.0f ? w : hierarchy_density_width(r);
 }
 
-/* The meshes as the cluster path draws them; then the fragments strands
- * cover whole, with the depth test and writes of opaque surfaces (exact
- * visibility among overlapping wide strands, which painter's order per
- * segment gets wrong where long ribbons cross at nearly the same depth);
- * then the partly covered fragments, segments far to near, "over" blended
- * and tested against all that depth. */
-static void composite(satf_renderer *r, satf_aov aov,
-                      const float viewproj[16]) {
-  strands_gpu *s = r->strands;
-  size_t segs = strands_gpu_segments(s);
-  draw_begin_frame(r, aov, viewproj);
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
-  strands_gpu_begin(r, s, aov, viewproj, -1);
-  /* hair thinner than a pixel covers none whole */
-  if (strands_gpu_any_wide(s, viewproj, r->view.height)) {
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    strands_gpu_whole(s, 1);
-    strands_gpu_draw(s, 0, segs);
-  }
-  draw_hair_depth_test(1);
-  strands_gpu_whole(s, 0);
-  strands_gpu_draw(s, 0, segs);
-  glDisable(GL_BLEND);
-  draw_hair_depth_test(0);
-}
-
 /* The depth AOV's fill (depth.h): every fragment, whole or partly
  * covered, into the per-pixel arrays. */
 static void depth_fill(satf_renderer *r, void *ctx, const float viewproj[16],
@@ -121,7 +92,8 @@ static satf_status strands_frame(satf_renderer *r, satf_aov aov, int refresh,
     if (st != SATF_OK)
       return st;
   } else {
-    composite(r, aov, viewproj);
+    draw_begin_frame(r, aov, viewproj); /* the meshes */
+    strands_gpu_composite(r, s, aov, viewproj);
   }
   glFinish();
   double t3 = satf_now_seconds();

@@ -65,13 +65,20 @@ static satf_scene *stack_scene_of(int near, int far, int far_first,
            "  \"trajectory\": [[0, -3, 0], [0, 3, 0]], \"a\": 0.8,"
            "  \"shell\": {\"layers\": 2, \"st\": 8, \"su\": 8},"
            "  \"density\": %s},"
-           " \"instances\": [%s]}],"
+           " \"instances\": [%s]}%s],"
            " \"camera\": {\"position\": [0, 0, 60], \"target\": [0, 0, 0],"
            "              \"fov_y\": 10},"
            " \"lights\": [{\"direction\": [-0.7, -0.1, -0.7]}],"
            " \"effects\": {\"cluster_shadows\": false},"
            " \"background\": [0, 0, 0]%s}",
            density, inst,
+           /* with the strands, a cluster of shells behind the camera: a
+            * scene of strands alone composites them without the arrays
+            * (sparse_composite) */
+           sparse ? ", {\"prototype\": {\"trajectory\": [[0, -1, 200], "
+                    "[0, 1, 200]], \"a\": 0.5, \"shell\": {\"layers\": "
+                    "2, \"st\": 4, \"su\": 8}}}"
+                  : "",
            /* a strand's highlight noise follows its index, which the
             * listing order changes */
            sparse ? ", \"material\": {\"noise\": 0}" : "");

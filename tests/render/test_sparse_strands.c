@@ -116,6 +116,43 @@ static float px(const satf_image *img, const char *ch, int col, int row) {
   return fixture_plane(img, ch)[(size_t)row * W + (size_t)col];
 }
 
+/* A scene whose every cluster is drawn as its strands composites them as
+ * the strand path does, without the fragment arrays (sparse_composite: no
+ * fragment stored), and looks as it does through the arrays, which it
+ * takes when a cluster drawn as shells is in the scene (here behind the
+ * camera, so it covers nothing): the same strand, every pixel within
+ * 2e-3, in the exact mode and the ordered one. */
+static void test_strands_alone_without_arrays(void **state) {
+  for (int ordered = 0; ordered <= 1; ordered++) {
+    how h = {-1, 0, ordered};
+    long alone = -1, arrays = -1;
+    satf_image *a =
+        render_counted(*state, scene_text(0.0f, 0.0f, 0, 0.0f), h, &alone);
+    satf_image *b =
+        render_counted(*state, scene_text(0.0f, 0.0f, 1, 100.0f), h, &arrays);
+    double worst = 0.0, covered = 0.0;
+    const char *ch[4] = {"R", "G", "B", "A"};
+    for (int k = 0; k < 4; k++)
+      for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+          double d = fabs(px(a, ch[k], x, y) - px(b, ch[k], x, y));
+          worst = d > worst ? d : worst;
+          covered += k == 3 ? px(a, "A", x, y) : 0.0;
+        }
+    printf("%s: fragments stored %ld alone, %ld with a shell cluster; "
+           "largest difference %.2e over %.1f pixels of coverage\n",
+           ordered ? "ordered" : "exact", alone, arrays, worst, covered);
+    assert_true(covered > 50.0);
+    assert_true(worst < 2e-3);
+    if (!ordered) {
+      assert_int_equal(alone, 0);
+      assert_true(arrays > 100);
+    }
+    satf_image_destroy(a);
+    satf_image_destroy(b);
+  }
+}
+
 /* Alpha summed over a row, and its centre column. */
 static double row_alpha(const satf_image *img, int row, double *centre) {
   double s = 0.0, m = 0.0;
@@ -202,14 +239,16 @@ static void test_sparse_strand_sorted_with_clusters(void **state) {
  * a pixel without, 0.26 with). The strand here, 2.4 pixels wide, lies in
  * front of the whole cluster (a cluster's fragment has its proxy's depth,
  * the front of the hull holding its hair: a strand at z = 2 is behind
- * that, and hides nothing). Without the pre-pass nothing is hidden. */
+ * that, and hides nothing). Without the pre-pass nothing is hidden. The
+ * strand's own fragments are counted with the cluster behind the camera:
+ * a scene of strands alone has no fragment arrays (sparse_composite). */
 static void test_opaque_strand_hides_what_is_behind(void **state) {
   how h = {-1, 0, 0};
   long alone, strand, front;
   satf_image *a =
       render_counted(*state, scene_text(40.0f, 0.0f, 1, 0.0f), h, &alone);
   satf_image *b =
-      render_counted(*state, scene_text(0.0f, 5.0f, 0, 0.0f), h, &strand);
+      render_counted(*state, scene_text(0.0f, 5.0f, 1, 100.0f), h, &strand);
   satf_image *c =
       render_counted(*state, scene_text(0.0f, 5.0f, 1, 0.0f), h, &front);
   long hidden = alone + strand - front;
@@ -317,6 +356,7 @@ int main(void) {
       cmocka_unit_test(test_opaque_strand_hides_what_is_behind),
       cmocka_unit_test(test_sparse_strand_moves_with_scene),
       cmocka_unit_test(test_sparse_setting_bounds),
+      cmocka_unit_test(test_strands_alone_without_arrays),
       cmocka_unit_test(test_dom_slab_of_shell_clusters),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
