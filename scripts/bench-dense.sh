@@ -13,7 +13,9 @@
 # Environment: SATF_DENSE_SCALE (default 1) multiplies every strand count,
 # for a quick run (0.1: a tenth of each); SATF_DENSE_KINDS (default
 # "straight fur ponytail") picks the scenes; SATF_DENSE_PATHS (default
-# "clusters strands") and SATF_DENSE_SHADINGS (default "kk physical").
+# "clusters strands") and SATF_DENSE_SHADINGS (default "kk physical");
+# SATF_DENSE_ARGS, more satf-render options for every run (e.g. "--maps
+# gpu" on a machine with a GPU).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -23,6 +25,7 @@ scale=${SATF_DENSE_SCALE:-1}
 kinds=${SATF_DENSE_KINDS:-straight fur ponytail}
 paths=${SATF_DENSE_PATHS:-clusters strands}
 shadings=${SATF_DENSE_SHADINGS:-kk physical}
+read -r -a extra <<<"${SATF_DENSE_ARGS:-}"
 db=out/satf-default.hrirdb.exr
 fdb=out/satf-fiber.hrirdb.exr
 for f in "$build/bin/satf-import" "$build/bin/satf-render" "$db" "$fdb"; do
@@ -80,7 +83,7 @@ bench() {
   else
     args+=(--db "$db" --shading kk)
   fi
-  txt=$("$build/bin/satf-render" "$scene" "${args[@]}" --size 640x480 \
+  txt=$("$build/bin/satf-render" "$scene" "${args[@]}" ${extra[@]+"${extra[@]}"} --size 640x480 \
     --bench "$frames" -q 2>&1) || {
     echo "bench-dense: $scene $path $shading failed:" >&2
     echo "$txt" >&2
