@@ -57,4 +57,21 @@ int satf_maps_fiber_build(const satf_maps *maps, const satf_maps_fiber *fiber,
                           float *sums, uint16_t *texels);
 size_t satf_maps_fiber_scratch_floats(const satf_shell_geom *g, int width);
 
+/* What satf_maps_fiber_build reads, for the GPU's copy (maps_gpu.h): the
+ * re-levelled database, M_p's table (mp_size^2 nodes, node (a, b) at
+ * sin theta_i = -1 + 2 a / (mp_size - 1), sin theta_o likewise in b, the
+ * four lobes R, TT, TRT, MS side by side), the orientation-free levels
+ * (per sample and rel_bins relative azimuth bins, rel_stride floats:
+ * alpha, then the lobe channels from SATF_DB_CH_R on), the absorption
+ * levels and each colour's. */
+typedef struct maps_fiber_tables {
+  const satf_db *db;
+  const float *mp;
+  int mp_size;
+  const float *rel;
+  int rel_bins, rel_stride;
+  int levels, level_of[3];
+} maps_fiber_tables;
+void maps_fiber_tables_get(const satf_maps_fiber *fiber, maps_fiber_tables *t);
+
 #endif

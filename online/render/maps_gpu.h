@@ -5,12 +5,15 @@
  * eye or light moved straight into their textures (glsl/maps_kk_cs.glsl),
  * then the s-map sums of eq. 12 (glsl/maps_sums_cs.glsl): no look-up on
  * the CPU and no upload of maps. The CPU's maps (maps.c, cluster_cpu.c) stay
- * the reference; the physical mode's maps (maps_fiber.h) are built on the CPU
- * only. */
+ * the reference. In the physical mode (r->fiber) the pass is
+ * glsl/maps_fiber_cs.glsl, an invocation per boundary sector, from the
+ * tables maps_gpu_fiber.h uploads: what maps_fiber.c's
+ * satf_maps_fiber_build writes, 8 halfs a texel. */
 #ifndef SATF_ONLINE_MAPS_GPU_H
 #define SATF_ONLINE_MAPS_GPU_H
 
 #include "satf/common.h"
+#include "satf/gl.h"
 
 struct satf_renderer;
 typedef struct maps_gpu maps_gpu;
@@ -20,6 +23,9 @@ typedef struct maps_gpu maps_gpu;
 satf_status maps_gpu_create(const struct satf_renderer *r, maps_gpu **out,
                             satf_error *err);
 void maps_gpu_destroy(maps_gpu *g);
+
+/* Buffer buf's store replaced by `bytes` of data (4 where bytes is 0). */
+void maps_gpu_upload(GLuint buf, size_t bytes, const void *data);
 
 /* Every layer of the n instances r->insts[moved[0..n)] (each of a
  * prototype drawn as a cluster), written into their textures, ready to be
