@@ -73,6 +73,20 @@ void maps_gpu_upload(GLuint buf, size_t bytes, const void *data) {
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
 }
 
+satf_status maps_gpu_buffer_fits(size_t n, size_t size, const char *what,
+                                 const char *as, satf_error *err) {
+  GLint64 most = 0; /* at least 2^27 bytes (OpenGL 4.3) */
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &most);
+  if (n > (size_t)INT32_MAX || (double)n * (double)size > (double)most)
+    return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
+                          "database of %zu %s (%.0f MB as %s): more than the "
+                          "GPU's maps can read in one buffer (%.0f MB here); "
+                          "use the CPU's maps (--maps cpu)",
+                          n, what, (double)n * (double)size * 1e-6, as,
+                          (double)most * 1e-6);
+  return SATF_OK;
+}
+
 /* The database's reflectance and alpha, every record, as the halfs they
  * are (satf_db_finalize rounds them), in maps_kk_cs.glsl's order. */
 static satf_status upload_records(const satf_db *db, GLuint buf,
@@ -81,15 +95,10 @@ static satf_status upload_records(const satf_db *db, GLuint buf,
   int w = p->trace.width;
   size_t recs = (size_t)p->samples * (size_t)p->n_light * (size_t)p->n_view;
   size_t halfs = recs * 2 * (size_t)w;
-  GLint64 most = 0; /* at least 2^27 bytes (OpenGL 4.3) */
-  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &most);
-  if (halfs > (size_t)INT32_MAX || (double)halfs * 2.0 > (double)most)
-    return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
-                          "database of %zu reflectance and alpha values "
-                          "(%.0f MB as halfs): more than the GPU's maps can "
-                          "read in one buffer (%.0f MB here); use the CPU's "
-                          "maps (--maps cpu)",
-                          halfs, (double)halfs * 2e-6, (double)most * 1e-6);
+  satf_status st = maps_gpu_buffer_fits(
+      halfs, 2, "reflectance and alpha values", "halfs", err);
+  if (st != SATF_OK)
+    return st;
   uint16_t *h = calloc(halfs + 1, sizeof *h); /* whole words */
   if (!h)
     return satf_error_set(err, SATF_ERR_NOMEM,

@@ -29,14 +29,10 @@ satf_status maps_gpu_fiber_tables(const satf_renderer *r, GLuint prog,
    * database's values are no halfs) */
   size_t values = (size_t)p->samples * (size_t)p->n_view * (size_t)p->n_light *
                   (size_t)satf_db_channels(t.db) * (size_t)p->trace.width;
-  GLint64 most = 0; /* at least 2^27 bytes (OpenGL 4.3) */
-  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &most);
-  if (values > (size_t)INT32_MAX || (double)values * 4.0 > (double)most)
-    return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
-                          "fibre database of %zu values (%.0f MB as floats): "
-                          "more than the GPU's maps can read in one buffer "
-                          "(%.0f MB here); use the CPU's maps (--maps cpu)",
-                          values, (double)values * 4e-6, (double)most * 1e-6);
+  satf_status st =
+      maps_gpu_buffer_fits(values, 4, "fibre record values", "floats", err);
+  if (st != SATF_OK)
+    return st;
   maps_gpu_upload(records, values * sizeof(float),
                   satf_db_record_channels(t.db, 0, 0, 0));
   maps_gpu_upload(mp, (size_t)t.mp_size * (size_t)t.mp_size * 4 * sizeof(float),

@@ -31,8 +31,8 @@
 #define W 96
 #define H 72
 
-/* the GL context, the fixture's database and a fibre database small
- * enough for a test (seconds; as test_physical.c's) */
+/* the GL context, the fixture's database and a fibre database
+ * (fixture_fiber_db) */
 typedef struct state {
   fixture_gl *gl;
   satf_db *fiber;
@@ -40,21 +40,12 @@ typedef struct state {
 
 static int setup(void **st) {
   state *s = calloc(1, sizeof *s);
-  if (!s || !(s->gl = fixture_gl_create(W, H)))
-    return -1;
-  *st = s;
-  satf_build_params p = satf_build_params_default_fiber();
-  p.samples = 24;
-  p.n_view = p.n_light = 12;
-  p.grid = 12;
-  p.trace.width = 16;
-  p.fiber.sub_rays = 4;
-  satf_error err;
-  if (satf_build(&p, 0, NULL, NULL, &s->fiber, &err) != SATF_OK) {
-    fprintf(stderr, "fibre database: %s\n", err.message);
+  if (!s || !(s->gl = fixture_gl_create(W, H))) {
+    free(s);
     return -1;
   }
-  return 0;
+  *st = s;
+  return (s->fiber = fixture_fiber_db()) ? 0 : -1;
 }
 
 static int teardown(void **st) {
