@@ -118,20 +118,10 @@ typedef struct inst_jobs {
  * instance's frame, looked up every frame (the longitudinal angles and
  * every light change the maps, not only the key light's azimuths); laid
  * straight into the instance's halfs, with `sums` as scratch. */
-void cluster_cpu_fiber_lights(const satf_renderer *r, const inst *in,
-                              satf_fiber_light *lights) {
-  float col[3 * SATF_SCENE_MAX_LIGHTS];
-  view_light_colors(&r->view, col);
-  for (int l = 0; l < r->view.nlights; l++) {
-    view_light_local(in->inv, &r->view.lights[l], lights[l].local);
-    memcpy(lights[l].rgb, col + 3 * l, sizeof lights[l].rgb);
-  }
-}
-
 static int fiber_maps(const satf_renderer *r, const inst *in, int part,
                       int parts, float *sums) {
   satf_fiber_light lights[SATF_SCENE_MAX_LIGHTS];
-  cluster_cpu_fiber_lights(r, in, lights);
+  maps_fiber_lights(&r->view, in->inv, lights);
   satf_map_options opt = r->map_opt;
   opt.orientation_free &= r->protos[in->proto].from_strands;
   return satf_maps_fiber_build(r->maps, r->fiber, &in->geom, in->eye, lights,

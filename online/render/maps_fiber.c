@@ -209,6 +209,16 @@ satf_status satf_maps_fiber_create(const satf_db *db,
   return SATF_OK;
 }
 
+void maps_fiber_lights(const view *v, const float inv[16],
+                       satf_fiber_light *lights) {
+  float col[3 * SATF_SCENE_MAX_LIGHTS];
+  view_light_colors(v, col);
+  for (int l = 0; l < v->nlights; l++) {
+    view_light_local(inv, &v->lights[l], lights[l].local);
+    memcpy(lights[l].rgb, col + 3 * l, sizeof lights[l].rgb);
+  }
+}
+
 void maps_fiber_tables_get(const satf_maps_fiber *f, maps_fiber_tables *t) {
   t->db = f->db;
   t->mp = (const float *)f->mp;

@@ -24,6 +24,7 @@
 
 #include "maps.h"
 #include "satf/scene.h"
+#include "view.h"
 
 typedef struct satf_maps_fiber satf_maps_fiber;
 
@@ -34,6 +35,11 @@ typedef struct satf_fiber_light {
   float local[4];
   float rgb[3];
 } satf_fiber_light;
+
+/* The lights of view v in the frame whose inverse transform is inv, with
+ * their irradiance, the key light first (v->nlights of them). */
+void maps_fiber_lights(const view *v, const float inv[16],
+                       satf_fiber_light *lights);
 
 /* Fails with SATF_ERR_INCOMPATIBLE for a Phong database. */
 satf_status satf_maps_fiber_create(const satf_db *db,

@@ -10,6 +10,7 @@
 #include "renderer_internal.h"
 #include "satf/common.h"
 #include "shaders.h"
+#include "storage.h"
 
 /* the shader storage buffers, at these bindings (maps_kk_cs.glsl; the
  * records are the fibre records and the last three the physical mode's,
@@ -66,27 +67,6 @@ void maps_gpu_destroy(maps_gpu *g) {
   free(g);
 }
 
-void maps_gpu_upload(GLuint buf, size_t bytes, const void *data) {
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, buf);
-  glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)(bytes > 0 ? bytes : 4),
-               data, GL_STATIC_DRAW);
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-}
-
-satf_status maps_gpu_buffer_fits(size_t n, size_t size, const char *what,
-                                 const char *as, satf_error *err) {
-  GLint64 most = 0; /* at least 2^27 bytes (OpenGL 4.3) */
-  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &most);
-  if (n > (size_t)INT32_MAX || (double)n * (double)size > (double)most)
-    return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
-                          "database of %zu %s (%.0f MB as %s): more than the "
-                          "GPU's maps can read in one buffer (%.0f MB here); "
-                          "use the CPU's maps (--maps cpu)",
-                          n, what, (double)n * (double)size * 1e-6, as,
-                          (double)most * 1e-6);
-  return SATF_OK;
-}
-
 /* The database's reflectance and alpha, every record, as the halfs they
  * are (satf_db_finalize rounds them), in maps_kk_cs.glsl's order. */
 static satf_status upload_records(const satf_db *db, GLuint buf,
@@ -95,8 +75,8 @@ static satf_status upload_records(const satf_db *db, GLuint buf,
   int w = p->trace.width;
   size_t recs = (size_t)p->samples * (size_t)p->n_light * (size_t)p->n_view;
   size_t halfs = recs * 2 * (size_t)w;
-  satf_status st = maps_gpu_buffer_fits(
-      halfs, 2, "reflectance and alpha values", "halfs", err);
+  satf_status st =
+      storage_fits(halfs, 2, "reflectance and alpha values", "halfs", err);
   if (st != SATF_OK)
     return st;
   uint16_t *h = calloc(halfs + 1, sizeof *h); /* whole words */
@@ -112,7 +92,7 @@ static satf_status upload_records(const satf_db *db, GLuint buf,
         half_pack(re, o, (size_t)w);
         half_pack(al, o + w, (size_t)w);
       }
-  maps_gpu_upload(buf, (halfs + 1) / 2 * 4, h);
+  storage_upload(buf, (halfs + 1) / 2 * 4, h);
   free(h);
   return SATF_OK;
 }
@@ -165,10 +145,10 @@ satf_status maps_gpu_create(const satf_renderer *r, maps_gpu **out,
     col[2 * c] = (float)index[c];
     col[2 * c + 1] = frac[c];
   }
-  maps_gpu_upload(g->buf[BUF_COLUMNS], cols * 2 * sizeof *col, col);
+  storage_upload(g->buf[BUF_COLUMNS], cols * 2 * sizeof *col, col);
   free(col);
-  maps_gpu_upload(g->buf[BUF_LEVELS], (size_t)samples * sizeof(float),
-                  maps_sample_levels(r->maps));
+  storage_upload(g->buf[BUF_LEVELS], (size_t)samples * sizeof(float),
+                 maps_sample_levels(r->maps));
   const satf_build_params *p = satf_db_params(r->db);
   float lo[SATF_FEATURES], hi[SATF_FEATURES], scale[SATF_FEATURES];
   satf_db_feature_range(r->db, lo, hi);
@@ -303,10 +283,10 @@ static satf_status upload_geometry(const satf_renderer *r, maps_gpu *g,
     s0 += ns;
     e0 += ns + nh;
   }
-  maps_gpu_upload(g->buf[BUF_SECTORS], sectors * SECTOR_FLOATS * sizeof *sec,
-                  sec);
-  maps_gpu_upload(g->buf[BUF_NEIGHBORS],
-                  entries * 2 * (size_t)g->k * sizeof *nb, nb);
+  storage_upload(g->buf[BUF_SECTORS], sectors * SECTOR_FLOATS * sizeof *sec,
+                 sec);
+  storage_upload(g->buf[BUF_NEIGHBORS], entries * 2 * (size_t)g->k * sizeof *nb,
+                 nb);
   free(sec);
   free(nb);
   return SATF_OK;

@@ -13,7 +13,6 @@
 #define SATF_ONLINE_MAPS_GPU_H
 
 #include "satf/common.h"
-#include "satf/gl.h"
 
 struct satf_renderer;
 typedef struct maps_gpu maps_gpu;
@@ -23,14 +22,6 @@ typedef struct maps_gpu maps_gpu;
 satf_status maps_gpu_create(const struct satf_renderer *r, maps_gpu **out,
                             satf_error *err);
 void maps_gpu_destroy(maps_gpu *g);
-
-/* Buffer buf's store replaced by `bytes` of data (4 where bytes is 0). */
-void maps_gpu_upload(GLuint buf, size_t bytes, const void *data);
-/* SATF_OK where n values of `size` bytes (a database's `what`, as `as`)
- * fit in one shader storage buffer and are indexed by an int; else
- * SATF_ERR_INCOMPATIBLE and a message pointing to the CPU's maps. */
-satf_status maps_gpu_buffer_fits(size_t n, size_t size, const char *what,
-                                 const char *as, satf_error *err);
 
 /* Every layer of the n instances r->insts[moved[0..n)] (each of a
  * prototype drawn as a cluster), written into their textures, ready to be

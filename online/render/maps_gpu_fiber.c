@@ -4,8 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "maps_gpu.h"
 #include "renderer_internal.h"
+#include "storage.h"
 
 void maps_gpu_fiber_defines(const satf_renderer *r, char *out, size_t size) {
   maps_fiber_tables t;
@@ -30,17 +30,17 @@ satf_status maps_gpu_fiber_tables(const satf_renderer *r, GLuint prog,
   size_t values = (size_t)p->samples * (size_t)p->n_view * (size_t)p->n_light *
                   (size_t)satf_db_channels(t.db) * (size_t)p->trace.width;
   satf_status st =
-      maps_gpu_buffer_fits(values, 4, "fibre record values", "floats", err);
+      storage_fits(values, 4, "fibre record values", "floats", err);
   if (st != SATF_OK)
     return st;
-  maps_gpu_upload(records, values * sizeof(float),
-                  satf_db_record_channels(t.db, 0, 0, 0));
-  maps_gpu_upload(mp, (size_t)t.mp_size * (size_t)t.mp_size * 4 * sizeof(float),
-                  t.mp);
-  maps_gpu_upload(rel,
-                  (size_t)p->samples * (size_t)t.rel_bins *
-                      (size_t)t.rel_stride * sizeof(float),
-                  t.rel);
+  storage_upload(records, values * sizeof(float),
+                 satf_db_record_channels(t.db, 0, 0, 0));
+  storage_upload(mp, (size_t)t.mp_size * (size_t)t.mp_size * 4 * sizeof(float),
+                 t.mp);
+  storage_upload(rel,
+                 (size_t)p->samples * (size_t)t.rel_bins *
+                     (size_t)t.rel_stride * sizeof(float),
+                 t.rel);
   glUseProgram(prog);
   glUniform1i(glGetUniformLocation(prog, "u_n_view"), p->n_view);
   glUniform1i(glGetUniformLocation(prog, "u_n_light"), p->n_light);
@@ -50,7 +50,7 @@ satf_status maps_gpu_fiber_tables(const satf_renderer *r, GLuint prog,
 
 void maps_gpu_fiber_lights(const satf_renderer *r, const inst *in, float *out) {
   satf_fiber_light lights[SATF_SCENE_MAX_LIGHTS];
-  cluster_cpu_fiber_lights(r, in, lights);
+  maps_fiber_lights(&r->view, in->inv, lights);
   memset(out, 0, MAPS_GPU_FIBER_LIGHT_VEC4S * 4 * sizeof(float));
   for (int l = 0; l < r->view.nlights; l++) {
     memcpy(out + 8 * l, lights[l].local, sizeof lights[l].local);

@@ -254,11 +254,6 @@ satf_status cluster_cpu_update_maps(satf_renderer *r, satf_frame_timing *t,
 void cluster_cpu_forget_lookups(inst *in);
 /* Frees the map threads' scratch buffers. */
 void cluster_cpu_release(satf_renderer *r);
-/* The scene's lights in instance in's frame with their irradiance, the
- * key light first (r->view.nlights of them), as the physical maps take
- * them (maps_fiber.h; maps_gpu.h). */
-void cluster_cpu_fiber_lights(const satf_renderer *r, const inst *in,
-                              satf_fiber_light *lights);
 /* The per-instance data of the instanced draws (r->inst_models,
  * r->inst_shading: glsl/cluster_vs.glsl, glsl/shade_fs.glsl) for the
  * current camera, lights and transforms. */
