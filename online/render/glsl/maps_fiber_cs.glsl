@@ -33,7 +33,6 @@ layout(std430, binding = 7) readonly buffer fiber_mp { vec4 g_mp[]; };
 /* the orientation-free levels (maps_fiber.c: rel_levels) */
 layout(std430, binding = 8) readonly buffer fiber_rel { float g_rel[]; };
 
-uniform int u_n_view, u_n_light;
 uniform int u_n_lights; /* the scene's lights, the key light first */
 uniform int u_trt;      /* 0: no TRT lobe (Fig. 4b's switch) */
 
@@ -88,20 +87,6 @@ vec3 rel_lobes(int o, vec4 mp) {
  * coverage) and alpha; a fill light's lobes; the fill lights' sum */
 vec4 g_key[MAPS_W];
 vec3 g_row[MAPS_W], g_fill[MAPS_W];
-
-/* The four records around (view, light), as offsets of sample 0's, and
- * their bilinear weights (hrir_db.c: corners_of). */
-void cell(float view, float light, out ivec4 corner, out vec4 bw) {
-  int v0, v1, l0, l1;
-  float fv, fl;
-  angle_cell(view, u_n_view, v0, v1, fv);
-  angle_cell(light, u_n_light, l0, l1, fl);
-  bw = vec4((1.0 - fv) * (1.0 - fl), fv * (1.0 - fl), (1.0 - fv) * fl,
-            fv * fl);
-  corner = ivec4(l0 * u_n_view + v0, l0 * u_n_view + v1,
-                 l1 * u_n_view + v0, l1 * u_n_view + v1) *
-           (FIBER_CH * MAPS_W);
-}
 
 /* The key light's records blended over the neighbours at nb (SATF eq.
  * 4), their lobes at M_p mp and alpha into g_key. */
@@ -222,7 +207,7 @@ void main() {
       mp.z = 0.0;
     ivec4 corner;
     vec4 bw;
-    cell(view.x, light.x, corner, bw);
+    cell(view.x, light.x, FIBER_CH * MAPS_W, corner, bw);
     if (li == 0)
       blend_key(nb, corner, bw, mp);
     else

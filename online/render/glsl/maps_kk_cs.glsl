@@ -23,7 +23,6 @@ layout(std430, binding = 2) readonly buffer maps_levels { float g_level[]; };
 #include "maps_inst.glsl"
 #include "maps_lookup.glsl"
 
-uniform int u_n_view, u_n_light;
 uniform float u_re_scale;   /* maps.c: reflectance_scale */
 uniform vec3 u_fscale;      /* 1 / each feature's range over the database */
 uniform float u_threshold;  /* eq. 6 */
@@ -74,16 +73,8 @@ struct Look {
 };
 
 Look look_at(int nb, float view, float light, int free_level) {
-  int v0, v1, l0, l1;
-  float fv, fl;
-  angle_cell(view, u_n_view, v0, v1, fv);
-  angle_cell(light, u_n_light, l0, l1, fl);
   Look k;
-  k.bw = vec4((1.0 - fv) * (1.0 - fl), fv * (1.0 - fl), (1.0 - fv) * fl,
-              fv * fl);
-  k.corner = ivec4(l0 * u_n_view + v0, l0 * u_n_view + v1,
-                   l1 * u_n_view + v0, l1 * u_n_view + v1) *
-             (2 * MAPS_W);
+  cell(view, light, 2 * MAPS_W, k.corner, k.bw);
   k.nb = nb * MAPS_K;
   k.bin = column_bin(view);
   float l = 0.0, wsum = 0.0;

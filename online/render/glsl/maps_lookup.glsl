@@ -38,6 +38,24 @@ void angle_cell(float theta, int n, out int i0, out int i1, out float f) {
   i1 = i0 + 1 == n ? 0 : i0 + 1;
 }
 
+uniform int u_n_view, u_n_light; /* the database's azimuths */
+
+/* The four records around (view, light), as offsets of sample 0's
+ * records of `stride` values, and their bilinear weights (hrir_db.c:
+ * corners_of). */
+void cell(float view, float light, int stride, out ivec4 corner,
+          out vec4 bw) {
+  int v0, v1, l0, l1;
+  float fv, fl;
+  angle_cell(view, u_n_view, v0, v1, fv);
+  angle_cell(light, u_n_light, l0, l1, fl);
+  bw = vec4((1.0 - fv) * (1.0 - fl), fv * (1.0 - fl), (1.0 - fv) * fl,
+            fv * fl);
+  corner = ivec4(l0 * u_n_view + v0, l0 * u_n_view + v1,
+                 l1 * u_n_view + v0, l1 * u_n_view + v1) *
+           stride;
+}
+
 /* the row of maps.c's resampling table for view azimuth `view`
  * (maps.c: maps_columns), as an offset into g_col */
 int column_bin(float view) {
