@@ -2,7 +2,10 @@
 #include "maps_gpu_fiber.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include "half.h"
 
 #include "renderer_internal.h"
 #include "storage.h"
@@ -25,16 +28,27 @@ satf_status maps_gpu_fiber_tables(const satf_renderer *r, GLuint prog,
   maps_fiber_tables t;
   maps_fiber_tables_get(r->fiber, &t);
   const satf_build_params *p = satf_db_params(t.db);
-  /* the records as floats, as the CPU's maps read them (a re-levelled
-   * database's values are no halfs) */
+  /* the records as halfs, two samples a word: exactly the values the CPU
+   * reads (satf_db_relevel finalises its database, rounding them to
+   * halfs), in half the loads and bytes of floats */
   size_t values = (size_t)p->samples * (size_t)p->n_view * (size_t)p->n_light *
                   (size_t)satf_db_channels(t.db) * (size_t)p->trace.width;
-  satf_status st =
-      storage_fits(values, 4, "fibre record values", "floats", err);
+  if (p->trace.width % 2)
+    return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
+                          "fibre records of %d samples: the GPU's physical "
+                          "maps read two samples at once (an even width); "
+                          "use the CPU's maps (--maps cpu)",
+                          p->trace.width);
+  satf_status st = storage_fits(values, 2, "fibre record values", "halfs", err);
   if (st != SATF_OK)
     return st;
-  storage_upload(records, values * sizeof(float),
-                 satf_db_record_channels(t.db, 0, 0, 0));
+  uint16_t *h = malloc(values * sizeof *h);
+  if (!h)
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "cannot allocate %zu fibre record halfs", values);
+  half_pack(satf_db_record_channels(t.db, 0, 0, 0), h, values);
+  storage_upload(records, values * sizeof *h, h);
+  free(h);
   storage_upload(mp, (size_t)t.mp_size * (size_t)t.mp_size * 4 * sizeof(float),
                  t.mp);
   storage_upload(rel,

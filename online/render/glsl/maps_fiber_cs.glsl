@@ -14,15 +14,17 @@
  * from the nearest alone, as on the CPU. The renderer defines MAPS_W,
  * MAPS_BINS, MAPS_K, FIBER_CH (the database's channels), FIBER_LEVELS,
  * FIBER_LEVEL_OF (each colour's absorption level), MP_SIZE, REL_BINS and
- * REL_STRIDE (maps_fiber.h: maps_fiber_tables). */
+ * REL_STRIDE (maps_fiber.h: maps_fiber_tables); MAPS_W is even. */
 layout(local_size_x = 64) in;
 
 layout(rgba32ui, binding = 0) uniform writeonly uimage2DArray u_maps;
 
-/* the re-levelled database's records as floats, every channel: record
- * (sample, view iv, light il) starts at ((sample * n_light + il) * n_view
- * + iv) * FIBER_CH * MAPS_W, channel c at c * MAPS_W of it (satf/db.h) */
-layout(std430, binding = 0) readonly buffer fiber_records { float g_rec[]; };
+/* the re-levelled database's records as halfs, two to a word (MAPS_W is
+ * even, so a record's channels start at even halfs), every channel:
+ * record (sample, view iv, light il) starts at half ((sample * n_light +
+ * il) * n_view + iv) * FIBER_CH * MAPS_W, channel c at c * MAPS_W of it
+ * (satf/db.h) */
+layout(std430, binding = 0) readonly buffer fiber_records { uint g_rec[]; };
 #include "maps_inst.glsl"
 #include "maps_lookup.glsl"
 /* per instance entry, SATF_MAX_LIGHTS lights of two vec4s: the light in
@@ -62,16 +64,23 @@ vec4 mp_lookup(float si, float so) {
   return lo + fy * (hi - lo);
 }
 
-/* Per colour, the lobes at M_p mp of the record channels from `o` on:
- * R at o, then TT, TRT and MS per absorption level (SATF_DB_CH_*), each
- * `step` apart (a record's samples, or a level's bins). */
-vec3 lobes(int o, int step, vec4 mp) {
-  ivec3 tt = o + (1 + LEVEL_OF) * step;
-  ivec3 tr = tt + FIBER_LEVELS * step, ms = tr + FIBER_LEVELS * step;
-  return mp.x * g_rec[o] +
-         mp.y * vec3(g_rec[tt.x], g_rec[tt.y], g_rec[tt.z]) +
-         mp.z * vec3(g_rec[tr.x], g_rec[tr.y], g_rec[tr.z]) +
-         mp.w * vec3(g_rec[ms.x], g_rec[ms.y], g_rec[ms.z]);
+/* record samples x and x + 1 at half h (even) */
+vec2 rec2(int h) { return unpackHalf2x16(g_rec[h >> 1]); }
+
+/* Per colour, the lobes at M_p mp of record samples x and x + 1, R's at
+ * half o (even), then TT, TRT and MS per absorption level
+ * (SATF_DB_CH_*), MAPS_W apart: sample x's in a, x + 1's in b. */
+void lobes(int o, vec4 mp, out vec3 a, out vec3 b) {
+  ivec3 tt = o + (1 + LEVEL_OF) * MAPS_W;
+  ivec3 tr = tt + FIBER_LEVELS * MAPS_W, ms = tr + FIBER_LEVELS * MAPS_W;
+  vec2 r = rec2(o);
+  vec2 t0 = rec2(tt.x), t1 = rec2(tt.y), t2 = rec2(tt.z);
+  vec2 u0 = rec2(tr.x), u1 = rec2(tr.y), u2 = rec2(tr.z);
+  vec2 m0 = rec2(ms.x), m1 = rec2(ms.y), m2 = rec2(ms.z);
+  a = mp.x * r.x + mp.y * vec3(t0.x, t1.x, t2.x) +
+      mp.z * vec3(u0.x, u1.x, u2.x) + mp.w * vec3(m0.x, m1.x, m2.x);
+  b = mp.x * r.y + mp.y * vec3(t0.y, t1.y, t2.y) +
+      mp.z * vec3(u0.y, u1.y, u2.y) + mp.w * vec3(m0.y, m1.y, m2.y);
 }
 
 /* the same over a sample's orientation-free levels (stride 1) */
@@ -102,9 +111,13 @@ void blend_key(int nb, ivec4 corner, vec4 bw, vec4 mp) {
     for (int c = 0; c < 4; c++) {
       int o = s0 + corner[c];
       float wc = w * bw[c];
-      for (int x = 0; x < MAPS_W; x++)
-        g_key[x] += wc * vec4(lobes(o + 2 * MAPS_W + x, MAPS_W, mp),
-                              g_rec[o + MAPS_W + x]);
+      for (int x = 0; x < MAPS_W; x += 2) {
+        vec3 a, b;
+        lobes(o + 2 * MAPS_W + x, mp, a, b);
+        vec2 al = rec2(o + MAPS_W + x);
+        g_key[x] += wc * vec4(a, al.x);
+        g_key[x + 1] += wc * vec4(b, al.y);
+      }
     }
   }
 }
@@ -113,11 +126,16 @@ void blend_key(int nb, ivec4 corner, vec4 bw, vec4 mp) {
  * at M_p mp into g_row. */
 void blend_fill(int s, ivec4 corner, vec4 bw, vec4 mp) {
   int s0 = s * (u_n_light * u_n_view * FIBER_CH * MAPS_W);
-  for (int x = 0; x < MAPS_W; x++) {
-    vec3 v = vec3(0.0);
-    for (int c = 0; c < 4; c++)
-      v += bw[c] * lobes(s0 + corner[c] + 2 * MAPS_W + x, MAPS_W, mp);
-    g_row[x] = v;
+  for (int x = 0; x < MAPS_W; x += 2) {
+    vec3 va = vec3(0.0), vb = vec3(0.0);
+    for (int c = 0; c < 4; c++) {
+      vec3 a, b;
+      lobes(s0 + corner[c] + 2 * MAPS_W + x, mp, a, b);
+      va += bw[c] * a;
+      vb += bw[c] * b;
+    }
+    g_row[x] = va;
+    g_row[x + 1] = vb;
   }
 }
 
