@@ -287,8 +287,8 @@ float satf_renderer_shadow_move(const satf_renderer *r);
  * CPU's: on llvmpipe (2 threads) the compute pass takes 3-10 times the
  * CPU's look-ups and upload (640x480, an orbit: cluster_6a 57 against 6
  * ms, hair_7c 239 against 86, the imported ponytail 642 against 84), and
- * 13-36 times in the physical mode (cluster_6a 141 against 10 ms, hair_7a
- * 938 against 26, the ponytail 2300 against 180). */
+ * 4-9 times in the physical mode (cluster_6a 170 against 18 ms, hair_7a
+ * 281 against 42, the ponytail 1132 against 314; a loaded machine). */
 typedef enum satf_maps_mode { SATF_MAPS_CPU = 0, SATF_MAPS_GPU } satf_maps_mode;
 #define SATF_MAPS_DEFAULT SATF_MAPS_CPU
 /* Switches (every instance's maps are built again at the next frame);
