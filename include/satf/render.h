@@ -278,15 +278,17 @@ int satf_renderer_lod(const satf_renderer *r);
 void satf_renderer_set_shadow_move(satf_renderer *r, float texels);
 float satf_renderer_shadow_move(const satf_renderer *r);
 
-/* Where the paper's maps (SATF sec. 6.2) are built when the eye or a light
- * moves: CPU, the database looked up on the CPU and the maps uploaded
- * (the reference); GPU, a compute pass writing them into their textures
- * from the database's records kept on the GPU (no look-up on the CPU and
- * no upload). The same maps up to half-float rounding. The physical
- * mode's maps are built on the CPU either way. The default is the CPU's:
- * on llvmpipe (2 threads) the compute pass takes 3-10 times the CPU's
- * look-ups and upload (640x480, an orbit: cluster_6a 57 against 6 ms,
- * hair_7c 239 against 86, the imported ponytail 642 against 84). */
+/* Where the maps (SATF sec. 6.2; the physical mode's, maps of every
+ * light's fibre lobes) are built when the eye or a light moves: CPU, the
+ * database looked up on the CPU and the maps uploaded (the reference);
+ * GPU, a compute pass writing them into their textures from the
+ * database's records kept on the GPU (no look-up on the CPU and no
+ * upload). The same maps up to half-float rounding. The default is the
+ * CPU's: on llvmpipe (2 threads) the compute pass takes 3-10 times the
+ * CPU's look-ups and upload (640x480, an orbit: cluster_6a 57 against 6
+ * ms, hair_7c 239 against 86, the imported ponytail 642 against 84), and
+ * 4-9 times in the physical mode (cluster_6a 170 against 18 ms, hair_7a
+ * 281 against 42, the ponytail 1132 against 314; a loaded machine). */
 typedef enum satf_maps_mode { SATF_MAPS_CPU = 0, SATF_MAPS_GPU } satf_maps_mode;
 #define SATF_MAPS_DEFAULT SATF_MAPS_CPU
 /* Switches (every instance's maps are built again at the next frame);

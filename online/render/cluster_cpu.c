@@ -58,6 +58,20 @@ static int angles_job(void *ctx, size_t i, int thread) {
   return 0;
 }
 
+/* Whether the scene's lights (all of them, their colours too) and the
+ * TRT switch are those of the last frame's maps, remembered for the
+ * next. */
+static int lights_unchanged(satf_renderer *r) {
+  size_t bytes = (size_t)r->view.nlights * sizeof(satf_scene_light);
+  int same = r->fiber_nlights == r->view.nlights &&
+             r->fiber_trt == r->effects.secondary_highlight &&
+             !memcmp(r->fiber_lights, r->view.lights, bytes);
+  memcpy(r->fiber_lights, r->view.lights, bytes);
+  r->fiber_nlights = r->view.nlights;
+  r->fiber_trt = r->effects.secondary_highlight;
+  return same;
+}
+
 /* Every instance's azimuths; the check for a still instance runs here on
  * one thread: for a frame where little moved, threads would cost more to
  * start than the check itself. */
@@ -66,13 +80,7 @@ static satf_status update_angles(satf_renderer *r, satf_error *err) {
   if (!moved)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   size_t n = 0;
-  size_t bytes = (size_t)r->view.nlights * sizeof(satf_scene_light);
-  int lights_same = r->fiber_nlights == r->view.nlights &&
-                    r->fiber_trt == r->effects.secondary_highlight &&
-                    !memcmp(r->fiber_lights, r->view.lights, bytes);
-  memcpy(r->fiber_lights, r->view.lights, bytes);
-  r->fiber_nlights = r->view.nlights;
-  r->fiber_trt = r->effects.secondary_highlight;
+  int lights_same = lights_unchanged(r);
   for (int i = 0; i < r->ninsts; i++) {
     /* a sparse cluster is drawn as its strands (sparse.c): no maps */
     r->insts[i].still = r->protos[r->insts[i].proto].sparse ||
@@ -113,12 +121,7 @@ typedef struct inst_jobs {
 static int fiber_maps(const satf_renderer *r, const inst *in, int part,
                       int parts, float *sums) {
   satf_fiber_light lights[SATF_SCENE_MAX_LIGHTS];
-  float col[3 * SATF_SCENE_MAX_LIGHTS];
-  view_light_colors(&r->view, col);
-  for (int l = 0; l < r->view.nlights; l++) {
-    view_light_local(in->inv, &r->view.lights[l], lights[l].local);
-    memcpy(lights[l].rgb, col + 3 * l, sizeof lights[l].rgb);
-  }
+  maps_fiber_lights(&r->view, in->inv, lights);
   satf_map_options opt = r->map_opt;
   opt.orientation_free &= r->protos[in->proto].from_strands;
   return satf_maps_fiber_build(r->maps, r->fiber, &in->geom, in->eye, lights,
@@ -351,9 +354,10 @@ static satf_status build_maps(satf_renderer *r, long *lookups,
   return SATF_OK;
 }
 
-/* The paper's maps built on the GPU (maps_gpu.h): the instances whose eye
- * or key light moved in their frame (inst_still: the same test as the
- * CPU's, without its azimuths, which the GPU finds) are built whole; I is
+/* The maps built on the GPU (maps_gpu.h), the paper's or the physical
+ * mode's: the instances whose eye or key light moved in their frame (any
+ * light in the physical mode; inst_still: the same test as the CPU's,
+ * without its azimuths, which the GPU finds) are built whole; I is
  * that test, C the GPU's pass (to its end), M the CPU's uploads of eyes
  * and lights (and of geometry where it changed). t->lookups counts the
  * HSVs built, at least one look-up each. */
@@ -363,11 +367,11 @@ static satf_status gpu_update_maps(satf_renderer *r, satf_frame_timing *t,
   int *moved = malloc((size_t)(r->ninsts > 0 ? r->ninsts : 1) * sizeof(int));
   if (!moved)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  int n = 0;
+  int n = 0, lights_same = lights_unchanged(r);
   t->lookups = 0;
   for (int i = 0; i < r->ninsts; i++) {
     inst *in = &r->insts[i];
-    in->still = r->protos[in->proto].sparse || inst_still(r, 1, in);
+    in->still = r->protos[in->proto].sparse || inst_still(r, lights_same, in);
     if (!in->still) {
       in->replaced = 0;
       moved[n++] = i;
@@ -391,7 +395,7 @@ static satf_status gpu_update_maps(satf_renderer *r, satf_frame_timing *t,
 
 satf_status cluster_cpu_update_maps(satf_renderer *r, satf_frame_timing *t,
                                     satf_error *err) {
-  if (r->maps_mode == SATF_MAPS_GPU && !r->fiber && r->mgpu)
+  if (r->maps_mode == SATF_MAPS_GPU && r->mgpu)
     return gpu_update_maps(r, t, err);
   double t0 = satf_now_seconds();
   satf_status st = update_angles(r, err);

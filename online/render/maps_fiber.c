@@ -209,6 +209,27 @@ satf_status satf_maps_fiber_create(const satf_db *db,
   return SATF_OK;
 }
 
+void maps_fiber_lights(const view *v, const float inv[16],
+                       satf_fiber_light *lights) {
+  float col[3 * SATF_SCENE_MAX_LIGHTS];
+  view_light_colors(v, col);
+  for (int l = 0; l < v->nlights; l++) {
+    view_light_local(inv, &v->lights[l], lights[l].local);
+    memcpy(lights[l].rgb, col + 3 * l, sizeof lights[l].rgb);
+  }
+}
+
+void maps_fiber_tables_get(const satf_maps_fiber *f, maps_fiber_tables *t) {
+  t->db = f->db;
+  t->mp = (const float *)f->mp;
+  t->mp_size = MP_TABLE;
+  t->rel = f->rel;
+  t->rel_bins = f->rel_bins;
+  t->rel_stride = rel_stride(f);
+  t->levels = f->levels;
+  memcpy(t->level_of, f->level_of, sizeof t->level_of);
+}
+
 void satf_maps_fiber_destroy(satf_maps_fiber *f) {
   if (f) {
     free(f->mp);

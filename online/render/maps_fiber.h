@@ -24,6 +24,7 @@
 
 #include "maps.h"
 #include "satf/scene.h"
+#include "view.h"
 
 typedef struct satf_maps_fiber satf_maps_fiber;
 
@@ -34,6 +35,11 @@ typedef struct satf_fiber_light {
   float local[4];
   float rgb[3];
 } satf_fiber_light;
+
+/* The lights of view v in the frame whose inverse transform is inv, with
+ * their irradiance, the key light first (v->nlights of them). */
+void maps_fiber_lights(const view *v, const float inv[16],
+                       satf_fiber_light *lights);
 
 /* Fails with SATF_ERR_INCOMPATIBLE for a Phong database. */
 satf_status satf_maps_fiber_create(const satf_db *db,
@@ -56,5 +62,22 @@ int satf_maps_fiber_build(const satf_maps *maps, const satf_maps_fiber *fiber,
                           const satf_map_options *opt, int part, int parts,
                           float *sums, uint16_t *texels);
 size_t satf_maps_fiber_scratch_floats(const satf_shell_geom *g, int width);
+
+/* What satf_maps_fiber_build reads, for the GPU's copy (maps_gpu.h): the
+ * re-levelled database, M_p's table (mp_size^2 nodes, node (a, b) at
+ * sin theta_i = -1 + 2 a / (mp_size - 1), sin theta_o likewise in b, the
+ * four lobes R, TT, TRT, MS side by side), the orientation-free levels
+ * (per sample and rel_bins relative azimuth bins, rel_stride floats:
+ * alpha, then the lobe channels from SATF_DB_CH_R on), the absorption
+ * levels and each colour's. */
+typedef struct maps_fiber_tables {
+  const satf_db *db;
+  const float *mp;
+  int mp_size;
+  const float *rel;
+  int rel_bins, rel_stride;
+  int levels, level_of[3];
+} maps_fiber_tables;
+void maps_fiber_tables_get(const satf_maps_fiber *fiber, maps_fiber_tables *t);
 
 #endif

@@ -6,11 +6,15 @@
 #include <string.h>
 
 #include "half.h"
+#include "maps_gpu_fiber.h"
 #include "renderer_internal.h"
 #include "satf/common.h"
 #include "shaders.h"
+#include "storage.h"
 
-/* the shader storage buffers, at these bindings (maps_kk_cs.glsl) */
+/* the shader storage buffers, at these bindings (maps_kk_cs.glsl; the
+ * records are the fibre records and the last three the physical mode's,
+ * maps_fiber_cs.glsl) */
 enum {
   BUF_RECORDS,
   BUF_COLUMNS,
@@ -18,6 +22,9 @@ enum {
   BUF_SECTORS,
   BUF_NEIGHBORS,
   BUF_INSTS,
+  BUF_LIGHTS,
+  BUF_MP,
+  BUF_REL,
   BUF_COUNT
 };
 
@@ -33,14 +40,16 @@ typedef struct gpu_inst {
 
 struct maps_gpu {
   GLuint prog, prog_sums, buf[BUF_COUNT];
-  GLint u_first, u_first_sums;
-  int k; /* neighbours per entry (MAPS_K) */
+  GLint u_first, u_first_sums, u_n_lights, u_trt;
+  int k;     /* neighbours per entry (MAPS_K) */
+  int fiber; /* the physical mode's maps (maps_fiber_cs.glsl) */
   /* per instance: the geometry serial its sectors and neighbours were
    * uploaded for (0: none) and where they start (gpu_inst.base[0..2]) */
   int ninsts;
   unsigned long *serial;
   int32_t (*base)[3];
   gpu_inst *insts; /* this frame's entries */
+  float *lights;   /* theirs in the physical mode (maps_gpu_fiber.h) */
 };
 
 void maps_gpu_destroy(maps_gpu *g) {
@@ -54,14 +63,8 @@ void maps_gpu_destroy(maps_gpu *g) {
   free(g->serial);
   free(g->base);
   free(g->insts);
+  free(g->lights);
   free(g);
-}
-
-static void upload(GLuint buf, size_t bytes, const void *data) {
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, buf);
-  glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)(bytes > 0 ? bytes : 4),
-               data, GL_STATIC_DRAW);
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
 }
 
 /* The database's reflectance and alpha, every record, as the halfs they
@@ -72,15 +75,10 @@ static satf_status upload_records(const satf_db *db, GLuint buf,
   int w = p->trace.width;
   size_t recs = (size_t)p->samples * (size_t)p->n_light * (size_t)p->n_view;
   size_t halfs = recs * 2 * (size_t)w;
-  GLint64 most = 0; /* at least 2^27 bytes (OpenGL 4.3) */
-  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &most);
-  if (halfs > (size_t)INT32_MAX || (double)halfs * 2.0 > (double)most)
-    return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
-                          "database of %zu reflectance and alpha values "
-                          "(%.0f MB as halfs): more than the GPU's maps can "
-                          "read in one buffer (%.0f MB here); use the CPU's "
-                          "maps (--maps cpu)",
-                          halfs, (double)halfs * 2e-6, (double)most * 1e-6);
+  satf_status st =
+      storage_fits(halfs, 2, "reflectance and alpha values", "halfs", err);
+  if (st != SATF_OK)
+    return st;
   uint16_t *h = calloc(halfs + 1, sizeof *h); /* whole words */
   if (!h)
     return satf_error_set(err, SATF_ERR_NOMEM,
@@ -94,7 +92,7 @@ static satf_status upload_records(const satf_db *db, GLuint buf,
         half_pack(re, o, (size_t)w);
         half_pack(al, o + w, (size_t)w);
       }
-  upload(buf, (halfs + 1) / 2 * 4, h);
+  storage_upload(buf, (halfs + 1) / 2 * 4, h);
   free(h);
   return SATF_OK;
 }
@@ -108,12 +106,18 @@ satf_status maps_gpu_create(const satf_renderer *r, maps_gpu **out,
   g->k = r->map_opt.k_nearest < 1              ? 1
          : r->map_opt.k_nearest > SATF_DB_KMAX ? SATF_DB_KMAX
                                                : r->map_opt.k_nearest;
-  char defines[160];
+  g->fiber = r->fiber != NULL;
+  char defines[400];
   snprintf(defines, sizeof defines,
-           "#define MAPS_W %d\n#define MAPS_BINS %d\n#define MAPS_K %d\n", r->w,
-           MAPS_AZIMUTH_BINS, g->k);
-  satf_status st = shaders_compute("maps (GPU)", satf_glsl_maps_kk_cs, defines,
-                                   &g->prog, err);
+           "#define MAPS_W %d\n#define MAPS_BINS %d\n#define MAPS_K %d\n"
+           "#define PHYSICAL %d\n",
+           r->w, MAPS_AZIMUTH_BINS, g->k, g->fiber);
+  if (g->fiber)
+    maps_gpu_fiber_defines(r, defines, sizeof defines);
+  satf_status st =
+      shaders_compute(g->fiber ? "physical maps (GPU)" : "maps (GPU)",
+                      g->fiber ? satf_glsl_maps_fiber_cs : satf_glsl_maps_kk_cs,
+                      defines, &g->prog, err);
   if (st == SATF_OK)
     st = shaders_compute("maps' s-map sums (GPU)", satf_glsl_maps_sums_cs,
                          defines, &g->prog_sums, err);
@@ -122,7 +126,9 @@ satf_status maps_gpu_create(const satf_renderer *r, maps_gpu **out,
     return st;
   }
   glGenBuffers(BUF_COUNT, g->buf);
-  st = upload_records(r->db, g->buf[BUF_RECORDS], err);
+  st = g->fiber ? maps_gpu_fiber_tables(r, g->prog, g->buf[BUF_RECORDS],
+                                        g->buf[BUF_MP], g->buf[BUF_REL], err)
+                : upload_records(r->db, g->buf[BUF_RECORDS], err);
   size_t cols = (size_t)MAPS_AZIMUTH_BINS * (size_t)r->w;
   int samples = satf_db_samples(r->db);
   float *col = st == SATF_OK ? malloc(cols * 2 * sizeof *col) : NULL;
@@ -139,10 +145,10 @@ satf_status maps_gpu_create(const satf_renderer *r, maps_gpu **out,
     col[2 * c] = (float)index[c];
     col[2 * c + 1] = frac[c];
   }
-  upload(g->buf[BUF_COLUMNS], cols * 2 * sizeof *col, col);
+  storage_upload(g->buf[BUF_COLUMNS], cols * 2 * sizeof *col, col);
   free(col);
-  upload(g->buf[BUF_LEVELS], (size_t)samples * sizeof(float),
-         maps_sample_levels(r->maps));
+  storage_upload(g->buf[BUF_LEVELS], (size_t)samples * sizeof(float),
+                 maps_sample_levels(r->maps));
   const satf_build_params *p = satf_db_params(r->db);
   float lo[SATF_FEATURES], hi[SATF_FEATURES], scale[SATF_FEATURES];
   satf_db_feature_range(r->db, lo, hi);
@@ -158,6 +164,8 @@ satf_status maps_gpu_create(const satf_renderer *r, maps_gpu **out,
               r->map_opt.k_threshold);
   g->u_first = glGetUniformLocation(g->prog, "u_first");
   g->u_first_sums = glGetUniformLocation(g->prog_sums, "u_first");
+  g->u_n_lights = glGetUniformLocation(g->prog, "u_n_lights");
+  g->u_trt = glGetUniformLocation(g->prog, "u_trt");
   glUseProgram(0);
   st = satf_gl_check("maps (GPU) tables", err);
   if (st != SATF_OK) {
@@ -196,12 +204,14 @@ static satf_status upload_geometry(const satf_renderer *r, maps_gpu *g,
     free(g->serial);
     free(g->base);
     free(g->insts);
+    free(g->lights);
     g->ninsts = 0;
     size_t n = (size_t)(r->ninsts > 0 ? r->ninsts : 1);
     g->serial = calloc(n, sizeof *g->serial);
     g->base = calloc(n, sizeof *g->base);
     g->insts = calloc(n, sizeof *g->insts);
-    if (!g->serial || !g->base || !g->insts)
+    g->lights = calloc(n * MAPS_GPU_FIBER_LIGHT_VEC4S * 4, sizeof *g->lights);
+    if (!g->serial || !g->base || !g->insts || !g->lights)
       return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
     g->ninsts = r->ninsts;
   }
@@ -273,8 +283,10 @@ static satf_status upload_geometry(const satf_renderer *r, maps_gpu *g,
     s0 += ns;
     e0 += ns + nh;
   }
-  upload(g->buf[BUF_SECTORS], sectors * SECTOR_FLOATS * sizeof *sec, sec);
-  upload(g->buf[BUF_NEIGHBORS], entries * 2 * (size_t)g->k * sizeof *nb, nb);
+  storage_upload(g->buf[BUF_SECTORS], sectors * SECTOR_FLOATS * sizeof *sec,
+                 sec);
+  storage_upload(g->buf[BUF_NEIGHBORS], entries * 2 * (size_t)g->k * sizeof *nb,
+                 nb);
   free(sec);
   free(nb);
   return SATF_OK;
@@ -301,22 +313,26 @@ static void groups(size_t n, GLuint *x, GLuint *y) {
 /* The bound program over the n instances moved[], one dispatch per
  * texture (a run of instances of one prototype: hierarchy.c gives each
  * prototype's instances their textures in order), work group z the
- * instance's entry: an invocation per HSV (sums 0) or per texel of a
- * layer (sums 1). */
-static void dispatch(const satf_renderer *r, const int *moved, int n,
-                     GLint u_first, int sums, GLenum access) {
+ * instance's entry: an invocation per HSV (sums 0; per boundary sector,
+ * one more row of them, in the physical mode) or per texel of a layer
+ * (sums 1). */
+static void dispatch(const satf_renderer *r, const maps_gpu *g,
+                     const int *moved, int n, GLint u_first, int sums,
+                     GLenum access) {
   for (int m = 0; m < n;) {
     const inst *in = &r->insts[moved[m]];
     const satf_shell_params *sh = &in->geom.shell;
     int run = 1;
     while (m + run < n && r->insts[moved[m + run]].tex == in->tex)
       run++;
-    glBindImageTexture(0, in->tex, 0, GL_TRUE, 0, access, GL_RGBA16F);
+    glBindImageTexture(0, in->tex, 0, GL_TRUE, 0, access,
+                       g->fiber ? GL_RGBA32UI : GL_RGBA16F);
     glUniform1i(u_first, m);
     GLuint x, y;
-    groups(sums ? satf_maps_layer_texels(&in->geom, r->w)
-                : satf_shell_hsv_count(sh),
-           &x, &y);
+    size_t items = sums       ? satf_maps_layer_texels(&in->geom, r->w)
+                   : g->fiber ? satf_shell_sector_count(sh)
+                              : satf_shell_hsv_count(sh);
+    groups(items, &x, &y);
     glDispatchCompute(x, y, (GLuint)run);
     m += run;
   }
@@ -345,25 +361,41 @@ satf_status maps_gpu_build(satf_renderer *r, maps_gpu *g, const int *moved,
     /* as kk_layer gives it (cluster_cpu.c) */
     e->shell[3] =
         r->map_opt.orientation_free && r->protos[in->proto].from_strands;
+    if (g->fiber)
+      maps_gpu_fiber_lights(
+          r, in, g->lights + (size_t)m * MAPS_GPU_FIBER_LIGHT_VEC4S * 4);
   }
+  size_t nn = (size_t)(n > 0 ? n : 1);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, g->buf[BUF_INSTS]);
-  glBufferData(GL_SHADER_STORAGE_BUFFER,
-               (GLsizeiptr)((size_t)(n > 0 ? n : 1) * sizeof *g->insts),
+  glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)(nn * sizeof *g->insts),
                g->insts, GL_STREAM_DRAW);
+  if (g->fiber) {
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, g->buf[BUF_LIGHTS]);
+    glBufferData(
+        GL_SHADER_STORAGE_BUFFER,
+        (GLsizeiptr)(nn * MAPS_GPU_FIBER_LIGHT_VEC4S * 4 * sizeof *g->lights),
+        g->lights, GL_STREAM_DRAW);
+  }
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
   *upload_ms = 1e3 * (satf_now_seconds() - t0);
   for (int b = 0; b < BUF_COUNT; b++)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)b, g->buf[b]);
-  /* the maps, an invocation per HSV (maps_kk_cs.glsl), then their s-map
-   * sums, an invocation per texel of a layer (maps_sums_cs.glsl) */
+  /* the maps, an invocation per HSV (maps_kk_cs.glsl) or boundary sector
+   * (maps_fiber_cs.glsl), then their s-map sums, an invocation per texel
+   * of a layer (maps_sums_cs.glsl) */
   glUseProgram(g->prog);
-  dispatch(r, moved, n, g->u_first, 0, GL_WRITE_ONLY);
+  if (g->fiber) {
+    glUniform1i(g->u_n_lights, r->view.nlights);
+    glUniform1i(g->u_trt, r->effects.secondary_highlight);
+  }
+  dispatch(r, g, moved, n, g->u_first, 0, GL_WRITE_ONLY);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   glUseProgram(g->prog_sums);
-  dispatch(r, moved, n, g->u_first_sums, 1, GL_READ_WRITE);
+  dispatch(r, g, moved, n, g->u_first_sums, 1, GL_READ_WRITE);
   /* the shading and the deep opacity map fetch them */
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-  glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                     g->fiber ? GL_RGBA32UI : GL_RGBA16F);
   glUseProgram(0);
   return satf_gl_check("maps (GPU)", err);
 }

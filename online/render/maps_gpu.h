@@ -5,8 +5,10 @@
  * eye or light moved straight into their textures (glsl/maps_kk_cs.glsl),
  * then the s-map sums of eq. 12 (glsl/maps_sums_cs.glsl): no look-up on
  * the CPU and no upload of maps. The CPU's maps (maps.c, cluster_cpu.c) stay
- * the reference; the physical mode's maps (maps_fiber.h) are built on the CPU
- * only. */
+ * the reference. In the physical mode (r->fiber) the pass is
+ * glsl/maps_fiber_cs.glsl, an invocation per boundary sector, from the
+ * tables maps_gpu_fiber.h uploads: what maps_fiber.c's
+ * satf_maps_fiber_build writes, 8 halfs a texel. */
 #ifndef SATF_ONLINE_MAPS_GPU_H
 #define SATF_ONLINE_MAPS_GPU_H
 

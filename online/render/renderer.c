@@ -180,8 +180,7 @@ satf_status satf_renderer_set_maps(satf_renderer *r, satf_maps_mode mode,
                                    satf_error *err) {
   if (mode != SATF_MAPS_CPU && mode != SATF_MAPS_GPU)
     return satf_error_set(err, SATF_ERR_ARGUMENT, "maps mode %d", (int)mode);
-  /* the physical mode's maps are the CPU's whatever the mode */
-  if (mode == SATF_MAPS_GPU && !r->mgpu && !r->fiber) {
+  if (mode == SATF_MAPS_GPU && !r->mgpu) {
     satf_status st = maps_gpu_create(r, &r->mgpu, err);
     if (st != SATF_OK)
       return st;

@@ -20,7 +20,7 @@ extern const char glsl_text_lighting[], glsl_text_layer_vs[],
     glsl_text_baseline_fs[], glsl_text_baseline_lighting[],
     glsl_text_accum_fs[], glsl_text_fiber[], glsl_text_fiber_cluster[],
     glsl_text_strand_light_cs[], glsl_text_maps_kk_cs[],
-    glsl_text_maps_sums_cs[];
+    glsl_text_maps_sums_cs[], glsl_text_maps_fiber_cs[];
 
 const char *const satf_glsl_lighting = glsl_text_lighting;
 const char *const satf_glsl_layer_vs = glsl_text_layer_vs;
@@ -45,6 +45,7 @@ const char *const satf_glsl_strand_dom_fs = glsl_text_strand_dom_fs;
 const char *const satf_glsl_strand_light_cs = glsl_text_strand_light_cs;
 const char *const satf_glsl_maps_kk_cs = glsl_text_maps_kk_cs;
 const char *const satf_glsl_maps_sums_cs = glsl_text_maps_sums_cs;
+const char *const satf_glsl_maps_fiber_cs = glsl_text_maps_fiber_cs;
 const char *const satf_glsl_fiber = glsl_text_fiber;
 const char *const satf_glsl_fiber_cluster = glsl_text_fiber_cluster;
 
@@ -87,7 +88,7 @@ satf_status shaders_program(const char *label, const char *vs, const char *fs,
 
 satf_status shaders_compute(const char *label, const char *cs,
                             const char *extra, GLuint *out, satf_error *err) {
-  char defines[256];
+  char defines[512];
   limits(defines, sizeof defines, extra);
   char *text = with_defines(cs, defines);
   satf_status st = text ? satf_gl_program_build_compute(label, text, out, err)

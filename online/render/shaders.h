@@ -36,9 +36,11 @@ extern const char *const satf_glsl_strand_fs;     /* eq. 9-11, coverage */
 extern const char *const satf_glsl_strand_dom_fs; /* strands in the DOM */
 /* the physical strands' light per point (compute) */
 extern const char *const satf_glsl_strand_light_cs;
-/* the paper's maps built on the GPU (maps_gpu.c) */
+/* the maps built on the GPU (maps_gpu.c): the paper's, their s-map sums
+ * and the physical mode's */
 extern const char *const satf_glsl_maps_kk_cs;
 extern const char *const satf_glsl_maps_sums_cs;
+extern const char *const satf_glsl_maps_fiber_cs;
 /* The fibre model of satf/fiber.h alone (no #version), for tests that
  * evaluate it: struct Fiber; vec3 fiber_single(Fiber f, vec3 wo, vec3 wi,
  * float h); vec3 fiber_dual_shade(Fiber f, sampler2D tables, vec3 wo,

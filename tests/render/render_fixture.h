@@ -58,6 +58,24 @@ static inline satf_db *fixture_db(void) {
   " \"lights\": [{\"direction\": [-0.5, -0.6, -0.6]}],"                        \
   " \"background\": [0, 0, 0]}"
 
+/* A fibre database small enough for a test (seconds): 24 sectors, 12 x 12
+ * azimuths, records of 16 samples; NULL, and a message, on failure. */
+static inline satf_db *fixture_fiber_db(void) {
+  satf_build_params p = satf_build_params_default_fiber();
+  p.samples = 24;
+  p.n_view = p.n_light = 12;
+  p.grid = 12;
+  p.trace.width = 16;
+  p.fiber.sub_rays = 4;
+  satf_db *db = NULL;
+  satf_error err;
+  if (satf_build(&p, 0, NULL, NULL, &db, &err) != SATF_OK) {
+    fprintf(stderr, "fibre database: %s\n", err.message);
+    return NULL;
+  }
+  return db;
+}
+
 /* A headless GL context of w x h and the fixture database: what a cmocka
  * group setup of a rendering test makes (free with fixture_gl_free). */
 typedef struct fixture_gl {

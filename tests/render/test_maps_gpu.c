@@ -1,12 +1,14 @@
-/* test_maps_gpu.c - the paper's maps built on the GPU (maps_gpu.h) are the
- * CPU's (maps.c, the reference): every texel of every drawn cluster's
- * textures, read back after a frame in each mode, within half-float
- * rounding per channel, and the frames alike (luminance SSIM >= 0.999),
- * for procedural clusters (several prototypes, instances and layers; the
- * samples of Fig. 6a and 7a) and for an imported curtain, whose records
- * take the orientation-free level; again after the eye and the light move
- * in the GPU mode (its instances built again), and after an instance
- * moves and a prototype bends. */
+/* test_maps_gpu.c - the maps built on the GPU (maps_gpu.h) are the CPU's
+ * (maps.c and, in the physical mode, maps_fiber.c: the reference): every
+ * texel of every drawn cluster's textures, read back after a frame in each
+ * mode, within half-float rounding per channel (all 8 halfs of a physical
+ * texel), and the frames alike (luminance SSIM >= 0.999), for procedural
+ * clusters (several prototypes, instances and layers; the samples of Fig.
+ * 6a and 7a) and for an imported curtain, whose records take the
+ * orientation-free level; again after the eye and the light move in the
+ * GPU mode (its instances built again), and after an instance moves and a
+ * prototype bends. The physical mode's run on a small fibre database,
+ * under a directional key light and a coloured point light. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -19,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "half.h"
 #include "metrics.h"
 #include "render_fixture.h"
 #include "renderer_internal.h"
@@ -28,17 +31,41 @@
 #define W 96
 #define H 72
 
-FIXTURE_GL_GROUP(W, H)
+/* the GL context, the fixture's database and a fibre database
+ * (fixture_fiber_db) */
+typedef struct state {
+  fixture_gl *gl;
+  satf_db *fiber;
+} state;
 
-/* Every texel of every drawn cluster's map textures (RGBA floats, the
+static int setup(void **st) {
+  state *s = calloc(1, sizeof *s);
+  if (!s || !(s->gl = fixture_gl_create(W, H))) {
+    free(s);
+    return -1;
+  }
+  *st = s;
+  return (s->fiber = fixture_fiber_db()) ? 0 : -1;
+}
+
+static int teardown(void **st) {
+  state *s = *st;
+  satf_db_destroy(s->fiber);
+  fixture_gl_free(s->gl);
+  free(s);
+  return 0;
+}
+
+/* Every texel of every drawn cluster's map textures (4 floats a quad,
+ * r->quads quads a texel: the physical mode's 8 halfs unpacked, the
  * prototypes' texture arrays in order); *n values. */
 static float *read_maps(const satf_renderer *r, size_t *n) {
   size_t total = 0;
   for (int m = 0; m < r->nprotos; m++) {
     const proto *p = &r->protos[m];
     if (p->ready && !p->sparse)
-      total += satf_maps_layer_texels(&p->geom, r->w) * 4 * (size_t)p->layers *
-               (size_t)p->ninsts;
+      total += satf_maps_layer_texels(&p->geom, r->w) * 4 * (size_t)r->quads *
+               (size_t)p->layers * (size_t)p->ninsts;
   }
   float *out = malloc((total > 0 ? total : 1) * sizeof *out);
   assert_non_null(out);
@@ -47,13 +74,23 @@ static float *read_maps(const satf_renderer *r, size_t *n) {
     const proto *p = &r->protos[m];
     if (!p->ready || p->sparse)
       continue;
-    size_t layer = satf_maps_layer_texels(&p->geom, r->w) * 4;
+    size_t layer = satf_maps_layer_texels(&p->geom, r->w) * 4 * r->quads;
     for (int c = 0; c < p->nchunks; c++) {
       int insts = p->ninsts - c * p->chunk_insts;
       insts = insts < p->chunk_insts ? insts : p->chunk_insts;
+      size_t values = layer * (size_t)p->layers * (size_t)insts;
       glBindTexture(GL_TEXTURE_2D_ARRAY, p->map_tex[c]);
-      glGetTexImage(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA, GL_FLOAT, at);
-      at += layer * (size_t)p->layers * (size_t)insts;
+      if (r->quads == 2) { /* 4 words of two halfs, low half first */
+        uint16_t *h = malloc(values * sizeof *h);
+        assert_non_null(h);
+        glGetTexImage(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                      h);
+        half_unpack(h, at, values);
+        free(h);
+      } else {
+        glGetTexImage(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA, GL_FLOAT, at);
+      }
+      at += values;
     }
   }
   glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
@@ -82,15 +119,21 @@ static double half_step(double v) {
  * is the threshold (the imported curtain: 0.049998, one HSV uniform on
  * the GPU and not on the CPU, alpha 0.78 against 0.60 in a texel). A
  * map without the level's scaling or without eq. 6's uniform HSVs
- * differs in far more. Prints the largest difference per channel. */
+ * differs in far more. A physical texel (quads 2) holds the key light's
+ * RGB and alpha, then the fill lights' RGB and the s-map sum, its RGBs
+ * divided by that alpha (maps_fiber.h). Prints the largest difference per
+ * channel. */
 #define FLIPS 2e-4
 static void assert_maps_equal(const char *what, const float *cpu,
-                              const float *gpu, size_t n) {
-  double worst[4] = {0, 0, 0, 0};
+                              const float *gpu, size_t n, int quads) {
+  int per = 4 * quads, alpha = quads == 2 ? 3 : 1;
+  double worst[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   size_t bad = 0, first_bad = 0;
   for (size_t x = 0; x < n; x++) {
-    int c = (int)(x % 4);
-    if (c == 0 && cpu[x + 1] < 1e-3f && gpu[x + 1] < 1e-3f)
+    int c = (int)(x % (size_t)per);
+    size_t a = x - (size_t)c + (size_t)alpha;
+    int quotient = quads == 2 ? c % 4 != 3 : c == 0;
+    if (quotient && cpu[a] < 1e-3f && gpu[a] < 1e-3f)
       continue;
     double d = fabs((double)gpu[x] - (double)cpu[x]);
     if (!(d <= 2.0 * half_step(cpu[x]) + 1e-4 * fabs((double)cpu[x])) && !bad++)
@@ -99,13 +142,16 @@ static void assert_maps_equal(const char *what, const float *cpu,
       worst[c] = d;
   }
   printf("%s: %zu values, %zu beyond half rounding; largest |GPU - CPU| "
-         "per channel %.3g %.3g %.3g %.3g\n",
-         what, n, bad, worst[0], worst[1], worst[2], worst[3]);
+         "per channel",
+         what, n, bad);
+  for (int c = 0; c < per; c++)
+    printf(" %.3g", worst[c]);
+  printf("\n");
   if ((double)bad > FLIPS * (double)n)
     fail_msg("%s: %zu values differ beyond half rounding; first texel %zu "
              "channel %zu: GPU %.8g, CPU %.8g",
-             what, bad, first_bad / 4, first_bad % 4, (double)gpu[first_bad],
-             (double)cpu[first_bad]);
+             what, bad, first_bad / (size_t)per, first_bad % (size_t)per,
+             (double)gpu[first_bad], (double)cpu[first_bad]);
 }
 
 /* A frame in `mode` and its maps. */
@@ -133,7 +179,8 @@ static void assert_modes_agree(satf_renderer *r, const char *what,
   satf_maps_mode other = first == SATF_MAPS_CPU ? SATF_MAPS_GPU : SATF_MAPS_CPU;
   img[other] = frame(r, other, &maps[other], &n[other]);
   assert_true(n[0] == n[1] && n[0] > 0);
-  assert_maps_equal(what, maps[SATF_MAPS_CPU], maps[SATF_MAPS_GPU], n[0]);
+  assert_maps_equal(what, maps[SATF_MAPS_CPU], maps[SATF_MAPS_GPU], n[0],
+                    r->quads);
   compare_image a = fixture_compare_image(img[SATF_MAPS_CPU], "cpu");
   compare_image b = fixture_compare_image(img[SATF_MAPS_GPU], "gpu");
   compare_result res;
@@ -149,10 +196,10 @@ static void assert_modes_agree(satf_renderer *r, const char *what,
   }
 }
 
-/* Both modes on `scene`; then the eye and the key light move while in the
- * GPU mode (which must build its instances again), compared with the
- * CPU's maps for them. Returns whether any prototype takes the
- * orientation-free level. */
+/* Both modes on `scene` (the physical mode's on a fibre database db);
+ * then the eye and the key light move while in the GPU mode (which must
+ * build its instances again), compared with the CPU's maps for them.
+ * Returns whether any prototype takes the orientation-free level. */
 static int check_scene(const satf_db *db, satf_scene *scene, const char *what) {
   assert_non_null(scene);
   satf_renderer *r = fixture_renderer(scene, db, W, H, 2);
@@ -186,21 +233,21 @@ static int check_scene(const satf_db *db, satf_scene *scene, const char *what) {
   return free_level;
 }
 
-static void test_procedural(void **state) {
-  fixture_gl *f = *state;
-  assert_false(check_scene(f->db, fixture_scene(FIXTURE_TWO_PROTOTYPES),
+static void test_procedural(void **st) {
+  state *f = *st;
+  assert_false(check_scene(f->gl->db, fixture_scene(FIXTURE_TWO_PROTOTYPES),
                            "two prototypes"));
 }
 
 /* An animation step in the GPU mode: an instance moves and a prototype
  * bends (its frames rebuilt: the GPU's copy of them must follow). */
-static void test_scene_change(void **state) {
-  fixture_gl *f = *state;
+static void test_scene_change(void **st) {
+  state *f = *st;
   satf_scene *scene = fixture_scene(FIXTURE_TWO_PROTOTYPES);
   satf_scene *next = fixture_scene(FIXTURE_TWO_PROTOTYPES);
   assert_non_null(scene);
   assert_non_null(next);
-  satf_renderer *r = fixture_renderer(scene, f->db, W, H, 2);
+  satf_renderer *r = fixture_renderer(scene, f->gl->db, W, H, 2);
   assert_non_null(r);
   satf_error err;
   assert_int_equal(satf_renderer_set_maps(r, SATF_MAPS_GPU, &err), SATF_OK);
@@ -218,8 +265,8 @@ static void test_scene_change(void **state) {
   satf_scene_destroy(scene);
 }
 
-static void test_samples(void **state) {
-  fixture_gl *f = *state;
+static void test_samples(void **st) {
+  state *f = *st;
   const char *names[] = {"cluster_6a.json", "hair_7a.json"};
   for (int i = 0; i < 2; i++) {
     char path[1024];
@@ -228,7 +275,7 @@ static void test_samples(void **state) {
     satf_error err;
     if (satf_scene_load(path, &scene, &err) != SATF_OK)
       fail_msg("%s", err.message);
-    check_scene(f->db, scene, names[i]);
+    check_scene(f->gl->db, scene, names[i]);
   }
 }
 
@@ -256,8 +303,9 @@ static void write_curtain(const char *path, int strands, int points) {
   assert_int_equal(fclose(fp), 0);
 }
 
-static void test_imported(void **state) {
-  fixture_gl *f = *state;
+/* The scene of an imported curtain (satf-import of write_curtain's hair),
+ * its records orientation-free. */
+static satf_scene *curtain_scene(void) {
   char hair[1024], json[1024];
   snprintf(hair, sizeof hair, "%s/maps_gpu_curtain.hair", SATF_TEST_OUT_DIR);
   snprintf(json, sizeof json, "%s/maps_gpu_curtain.json", SATF_TEST_OUT_DIR);
@@ -276,15 +324,57 @@ static void test_imported(void **state) {
   satf_scene *scene = NULL;
   if (satf_scene_load(json, &scene, &err) != SATF_OK)
     fail_msg("%s", err.message);
-  assert_true(check_scene(f->db, scene, "imported curtain"));
+  return scene;
+}
+
+static void test_imported(void **st) {
+  state *f = *st;
+  assert_true(check_scene(f->gl->db, curtain_scene(), "imported curtain"));
+}
+
+/* `scene` in the physical mode, its key light joined by a reddish point
+ * light (a fill light, with its falloff: maps_fiber.h). */
+static satf_scene *physical(satf_scene *scene) {
+  assert_non_null(scene);
+  scene->material.model = SATF_MATERIAL_PHYSICAL;
+  satf_scene_light *l =
+      realloc(scene->lights, (size_t)(scene->n_lights + 1) * sizeof *l);
+  assert_non_null(l);
+  scene->lights = l;
+  l += scene->n_lights++;
+  memset(l, 0, sizeof *l);
+  l->type = SATF_SCENE_LIGHT_POINT;
+  const float at[3] = {3.0f, 2.0f, 6.0f}, col[3] = {1.0f, 0.6f, 0.4f};
+  memcpy(l->position, at, sizeof at);
+  memcpy(l->color, col, sizeof col);
+  l->intensity = 20.0f;
+  return scene;
+}
+
+/* The physical mode's maps (maps_fiber_cs.glsl against maps_fiber.c): the
+ * procedural prototypes, Fig. 6a's cluster and the imported curtain
+ * (orientation-free), each with a fill light. */
+static void test_physical(void **st) {
+  state *f = *st;
+  assert_false(check_scene(f->fiber,
+                           physical(fixture_scene(FIXTURE_TWO_PROTOTYPES)),
+                           "physical, two prototypes"));
+  char path[1024];
+  snprintf(path, sizeof path, "%s/cluster_6a.json", SATF_SAMPLES_DIR);
+  satf_scene *scene = NULL;
+  satf_error err;
+  if (satf_scene_load(path, &scene, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  check_scene(f->fiber, physical(scene), "physical, cluster_6a.json");
+  assert_true(
+      check_scene(f->fiber, physical(curtain_scene()), "physical, curtain"));
 }
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_procedural),
-      cmocka_unit_test(test_scene_change),
-      cmocka_unit_test(test_samples),
-      cmocka_unit_test(test_imported),
+      cmocka_unit_test(test_procedural), cmocka_unit_test(test_scene_change),
+      cmocka_unit_test(test_samples),    cmocka_unit_test(test_imported),
+      cmocka_unit_test(test_physical),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

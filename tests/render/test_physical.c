@@ -29,24 +29,11 @@
 static fixture_gl *gl;
 static satf_db *fiber_db;
 
-/* A fibre database small enough for a test (seconds): 24 sectors, 12 x 12
- * azimuths, records of 16 samples. */
 static int setup(void **state) {
   (void)state;
   if (!(gl = fixture_gl_create(W, H)))
     return -1;
-  satf_build_params p = satf_build_params_default_fiber();
-  p.samples = 24;
-  p.n_view = p.n_light = 12;
-  p.grid = 12;
-  p.trace.width = 16;
-  p.fiber.sub_rays = 4;
-  satf_error err;
-  if (satf_build(&p, 0, NULL, NULL, &fiber_db, &err) != SATF_OK) {
-    fprintf(stderr, "fibre database: %s\n", err.message);
-    return -1;
-  }
-  return 0;
+  return (fiber_db = fixture_fiber_db()) ? 0 : -1;
 }
 
 static int teardown(void **state) {

@@ -18,43 +18,14 @@ layout(rgba16f, binding = 0) uniform writeonly image2DArray u_maps;
  * halfs, two to a word: record (sample, view iv, light il) starts at half
  * ((sample * n_light + il) * n_view + iv) * 2 MAPS_W */
 layout(std430, binding = 0) readonly buffer maps_records { uint g_rec[]; };
-/* maps.c's resampling table: (record sample left of the column, weight of
- * the next) for MAPS_BINS view azimuths x MAPS_W columns */
-layout(std430, binding = 1) readonly buffer maps_columns { vec2 g_col[]; };
 /* per database sample: its level (maps.c: sample_re) */
 layout(std430, binding = 2) readonly buffer maps_levels { float g_level[]; };
-/* per sector: frame (centre P, outward N, phase direction T) and its 3
- * density features, 12 floats */
-layout(std430, binding = 3) readonly buffer maps_sectors { float g_sector[]; };
-/* MAPS_K neighbours per entry (sector or HSV): (sample, weight bits),
- * weight 0 past the ones found */
-layout(std430, binding = 4) readonly buffer maps_neighbors { uvec2 g_nb[]; };
-/* per instance built: eye (xyz), light (xyzw: w 0 direction, 1 position)
- * in its frame; first sector, first sector neighbours, first HSV
- * neighbours, first texture layer; su, st, layers, orientation_free */
-struct MapsInst {
-  vec4 eye, light;
-  ivec4 base, shell;
-};
-layout(std430, binding = 5) readonly buffer maps_insts { MapsInst g_inst[]; };
+#include "maps_inst.glsl"
+#include "maps_lookup.glsl"
 
-uniform int u_first;        /* this dispatch's first entry of g_inst */
-uniform int u_n_view, u_n_light;
 uniform float u_re_scale;   /* maps.c: reflectance_scale */
 uniform vec3 u_fscale;      /* 1 / each feature's range over the database */
 uniform float u_threshold;  /* eq. 6 */
-
-const float TWO_PI = 6.28318530717958647692;
-const float PI = 3.14159265358979323846;
-
-/* maps.c: maps_azimuth */
-float azimuth(int q, vec3 d) {
-  int o = 12 * q;
-  vec3 n = vec3(g_sector[o + 3], g_sector[o + 4], g_sector[o + 5]);
-  vec3 t = vec3(g_sector[o + 6], g_sector[o + 7], g_sector[o + 8]);
-  float a = atan(dot(d, t), dot(d, n));
-  return a < 0.0 ? a + TWO_PI : a;
-}
 
 struct Params {
   vec3 f;
@@ -84,20 +55,6 @@ float angle_diff(float a, float b) {
   return d;
 }
 
-/* hrir_db.c: angle_cell (in double, as there) */
-void angle_cell(float theta, int n, out int i0, out int i1, out float f) {
-  double x = double(theta) / 6.283185307179586LF * double(n);
-  if (!(x >= 0.0LF && x < double(n)))
-    x -= floor(x / double(n)) * double(n);
-  double r = floor(x + 0.5LF);
-  if (abs(x - r) < 1e-4LF)
-    x = r;
-  int i = int(floor(x));
-  f = float(x - double(i));
-  i0 = i >= n ? i - n : i;
-  i1 = i0 + 1 == n ? 0 : i0 + 1;
-}
-
 float rec_half(int h) {
   uint w = g_rec[h >> 1];
   return unpackHalf2x16((h & 1) == 0 ? w : w >> 16).x;
@@ -116,20 +73,10 @@ struct Look {
 };
 
 Look look_at(int nb, float view, float light, int free_level) {
-  int v0, v1, l0, l1;
-  float fv, fl;
-  angle_cell(view, u_n_view, v0, v1, fv);
-  angle_cell(light, u_n_light, l0, l1, fl);
   Look k;
-  k.bw = vec4((1.0 - fv) * (1.0 - fl), fv * (1.0 - fl), (1.0 - fv) * fl,
-              fv * fl);
-  k.corner = ivec4(l0 * u_n_view + v0, l0 * u_n_view + v1,
-                   l1 * u_n_view + v0, l1 * u_n_view + v1) *
-             (2 * MAPS_W);
+  cell(view, light, 2 * MAPS_W, k.corner, k.bw);
   k.nb = nb * MAPS_K;
-  float turns = view / TWO_PI;
-  turns -= floor(turns);
-  k.bin = (int(turns * float(MAPS_BINS) + 0.5) % MAPS_BINS) * MAPS_W;
+  k.bin = column_bin(view);
   float l = 0.0, wsum = 0.0;
   for (int n = 0; n < MAPS_K; n++) {
     uvec2 e = g_nb[k.nb + n];
@@ -228,8 +175,7 @@ void main() {
   MapsInst in_ = g_inst[u_first + int(gl_WorkGroupID.z)];
   int su = in_.shell.x, st = in_.shell.y, layers = in_.shell.z;
   /* HSV (i, k, j) in maps.c's order (maps_gpu.c: groups) */
-  int q0 = int((gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) *
-                   gl_WorkGroupSize.x + gl_LocalInvocationID.x);
+  int q0 = maps_invocation();
   if (q0 >= st * layers * su)
     return;
   int j = q0 % su, k = q0 / su % layers, i = q0 / (su * layers);
