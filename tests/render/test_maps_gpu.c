@@ -275,6 +275,14 @@ static void test_samples(void **st) {
     satf_error err;
     if (satf_scene_load(path, &scene, &err) != SATF_OK)
       fail_msg("%s", err.message);
+    /* the maps do not depend on the meshes, and the samples' head
+     * (out/head.obj) is made by scripts/main.sh, which a fresh build and
+     * its tests have not run */
+    for (int m = 0; m < scene->n_meshes; m++)
+      free(scene->meshes[m].file);
+    free(scene->meshes);
+    scene->meshes = NULL;
+    scene->n_meshes = 0;
     check_scene(f->gl->db, scene, names[i]);
   }
 }
