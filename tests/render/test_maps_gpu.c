@@ -287,28 +287,36 @@ static void test_samples(void **st) {
   }
 }
 
-/* A little-endian cyHair file of a curtain: `strands` straight strands of
- * `points` points hanging from a band, a little wavy. */
+/* A cyHair file of a curtain (satf_hair_write): `strands` straight
+ * strands of `points` points, 0.1 thick, hanging from a band, a little
+ * wavy. */
 static void write_curtain(const char *path, int strands, int points) {
-  FILE *fp = fopen(path, "wb");
-  assert_non_null(fp);
-  unsigned char head[128] = {'H', 'A', 'I', 'R'};
-  uint32_t u[4] = {(uint32_t)strands, (uint32_t)(strands * points), 2u,
-                   (uint32_t)(points - 1)};
-  float thickness = 0.1f;
-  memcpy(head + 4, u, sizeof u);
-  memcpy(head + 20, &thickness, sizeof thickness);
-  assert_int_equal(fwrite(head, 1, sizeof head, fp), sizeof head);
-  for (int s = 0; s < strands; s++)
+  size_t n = (size_t)strands * (size_t)points;
+  int *counts = malloc((size_t)strands * sizeof *counts);
+  float *xyz = malloc(3 * n * sizeof *xyz), *thick = malloc(n * sizeof *thick);
+  assert_true(counts && xyz && thick);
+  for (int s = 0; s < strands; s++) {
+    counts[s] = points;
     for (int i = 0; i < points; i++) {
       float t = (float)i / (float)(points - 1);
       float x = -6.0f + 12.0f * (float)s / (float)(strands - 1);
-      float p[3] = {x + 0.3f * sinf(3.0f * t + 0.37f * (float)s),
-                    20.0f - 30.0f * t,
-                    0.5f * sinf(0.71f * (float)s) + 1.5f * t * t};
-      assert_int_equal(fwrite(p, sizeof(float), 3, fp), 3);
+      float *p = xyz + 3 * ((size_t)s * (size_t)points + (size_t)i);
+      p[0] = x + 0.3f * sinf(3.0f * t + 0.37f * (float)s);
+      p[1] = 20.0f - 30.0f * t;
+      p[2] = 0.5f * sinf(0.71f * (float)s) + 1.5f * t * t;
+      thick[(size_t)s * (size_t)points + (size_t)i] = 0.1f;
     }
-  assert_int_equal(fclose(fp), 0);
+  }
+  satf_strand_set *set = NULL;
+  satf_error err;
+  if (satf_strand_set_create(strands, counts, xyz, thick, &set, &err) !=
+          SATF_OK ||
+      satf_hair_write(path, set, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  satf_strand_set_destroy(set);
+  free(counts);
+  free(xyz);
+  free(thick);
 }
 
 /* The scene of an imported curtain (satf-import of write_curtain's hair),
