@@ -384,7 +384,7 @@ static satf_status gpu_update_maps(satf_renderer *r, satf_frame_timing *t,
   free(moved);
   r->maps_changed = n;
   if (n > 0) /* the deep opacity map reads their alpha */
-    r->dom.maps_stale = 1;
+    r->dom.maps_stale = r->fill_dom.maps_stale = 1;
   glFinish();
   double t2 = satf_now_seconds();
   t->index_ms = 1e3 * (t1 - t0);
@@ -423,7 +423,7 @@ satf_status cluster_cpu_update_maps(satf_renderer *r, satf_frame_timing *t,
     r->maps_changed++;
   }
   if (r->maps_changed) /* the deep opacity map reads their alpha */
-    r->dom.maps_stale = 1;
+    r->dom.maps_stale = r->fill_dom.maps_stale = 1;
   glFinish();
   double t3 = satf_now_seconds();
   t->index_ms = 1e3 * (t1 - t0);

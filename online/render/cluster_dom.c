@@ -135,7 +135,7 @@ static int dom_keep(satf_renderer *r) {
                    sizeof r->dom.drawn_viewproj) &&
            r->dom.drawn_slab == r->dom.slab;
   float lv[4];
-  view_light_vector(&r->view.lights[0], lv);
+  view_light_vector(&r->view.lights[r->dom.light_index], lv);
   if (memcmp(lv, r->dom.light, sizeof lv) ||
       !(cluster_dom_hair_move(r) <= r->dom.move_tol))
     return 0;
@@ -144,10 +144,8 @@ static int dom_keep(satf_renderer *r) {
   return 1;
 }
 
-/* Deep opacity map (Yuksel & Keyser 2008) from the key light (dom.c
- * places it): the first hair's depth, then optical depth summed into four
- * slabs behind it. */
-void cluster_dom_update(satf_renderer *r) {
+/* r->dom, drawn again or kept (cluster_dom_update) */
+static void update_map(satf_renderer *r) {
   /* the map reads the light's view, the hair's transforms and shells and
    * the maps' alpha (and the meshes): while none has changed since it was
    * drawn it is what drawing it again would give. The alpha follows the
@@ -176,7 +174,7 @@ void cluster_dom_update(satf_renderer *r) {
   draw_dom(r, cluster_r, hierarchy_hair_width(r), dom_clusters, NULL);
   memcpy(r->dom.drawn_viewproj, r->dom.viewproj, sizeof r->dom.drawn_viewproj);
   memcpy(r->dom.eye, r->view.camera.position, sizeof r->dom.eye);
-  view_light_vector(&r->view.lights[0], r->dom.light);
+  view_light_vector(&r->view.lights[r->dom.light_index], r->dom.light);
   r->dom.drawn_slab = r->dom.slab;
   r->dom.maps_stale = 0;
   int n = dom_hair_points(r, NULL);
@@ -189,4 +187,17 @@ void cluster_dom_update(satf_renderer *r) {
     r->dom.npoints = -1; /* not measured: drawn again next frame */
   }
   r->dom.valid = 1;
+}
+
+/* Deep opacity map (Yuksel & Keyser 2008) from the key light (dom.c
+ * places it): the first hair's depth, then optical depth summed into four
+ * slabs behind it; the same from the fill light where draw_fill_shadows,
+ * by the same rule. */
+void cluster_dom_update(satf_renderer *r) {
+  update_map(r);
+  if (!draw_fill_shadows(r))
+    return;
+  dom_swap(&r->dom, &r->fill_dom);
+  update_map(r);
+  dom_swap(&r->dom, &r->fill_dom);
 }

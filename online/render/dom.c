@@ -52,9 +52,17 @@ float dom_cluster_radius(const satf_scene *scene, int nprotos) {
 
 void dom_place(dom_map *d, const view *v, float cluster_r, float hair_width) {
   float rad = 0.0f;
-  view_key_light(v, d->viewproj, &rad);
+  view_light_map(v, d->light_index, d->viewproj, &rad);
   float slab = 0.66f * cluster_r * 0.5f;
   d->slab = (slab > hair_width ? slab : hair_width) / (2.0f * rad);
+}
+
+void dom_swap(dom_map *a, dom_map *b) {
+  b->eye_tol = a->eye_tol;
+  b->move_tol = a->move_tol;
+  dom_map t = *a;
+  *a = *b;
+  *b = t;
 }
 
 void dom_uniforms(const dom_map *d, GLuint prog) {

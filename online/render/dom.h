@@ -1,5 +1,6 @@
-/* dom.h - the deep opacity map (Yuksel & Keyser 2008) from the key light
- * (private to online/render): its targets, the light's view and slabs, and
+/* dom.h - the deep opacity map (Yuksel & Keyser 2008) from a light, the
+ * key light's and in the physical mode the fill light's (private to
+ * online/render): its targets, the light's view and slabs, and
  * what it was drawn with, so a drawing path can keep it while nothing it
  * reads has changed. dom.c owns it and the drawing sequence every path
  * shares (draw.h: the hair's first depth with the meshes as occluders,
@@ -44,14 +45,19 @@ typedef struct dom_map {
   float move_tol;
   float *points;
   int npoints;
-  float light[4]; /* the key light's vector when the map was drawn */
+  float light[4];  /* its light's vector when the map was drawn */
+  int light_index; /* the scene light it is drawn along (0: the key) */
 } dom_map;
 
 /* Its targets, filtered: the map is coarse, and its texels must not show. */
 satf_status dom_create(dom_map *d, satf_error *err);
 void dom_release(dom_map *d);
-/* d->viewproj along v's key light over the scene bounds, and d->slab a
- * third of the mean macro-cluster radius `cluster_r` deep
+/* The fill light's map takes the key's place while it is drawn (the
+ * drawing paths draw r->dom): swaps the two, the first's tolerances
+ * (eye_tol, move_tol) copied into the second first. */
+void dom_swap(dom_map *a, dom_map *b);
+/* d->viewproj along v's light d->light_index over the scene bounds, and d->slab
+ * a third of the mean macro-cluster radius `cluster_r` deep
  * (dom_cluster_radius), never thinner than hair_width (a hair's diameter;
  * 0: no floor). */
 void dom_place(dom_map *d, const view *v, float cluster_r, float hair_width);

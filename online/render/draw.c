@@ -18,7 +18,25 @@ static void set_light_uniforms(const satf_renderer *r, GLuint p) {
   glUniform3fv(glGetUniformLocation(p, "u_light_color"), r->view.nlights, col);
 }
 
-/* The AOV and the deep opacity map on texture units 2 and 3. */
+/* The fill light's deep opacity map on texture units 4 and 5 for the
+ * programs that read it (u_fill_shadow 0: it is not drawn, and the key's
+ * textures stand on those units so that every sampler has one). */
+static void set_fill_uniforms(const satf_renderer *r, GLuint p) {
+  int on = draw_fill_shadows(r);
+  const dom_map *d = on ? &r->fill_dom : &r->dom;
+  glUniform1i(glGetUniformLocation(p, "u_fill_shadow"), on);
+  glUniform1f(glGetUniformLocation(p, "u_fill_slab"), d->slab);
+  draw_set_mat4(p, "u_fill_viewproj", d->viewproj);
+  glActiveTexture(GL_TEXTURE4);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(d->depth));
+  glUniform1i(glGetUniformLocation(p, "u_fill_depth"), 4);
+  glActiveTexture(GL_TEXTURE5);
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_color_texture(d->opacity, 0));
+  glUniform1i(glGetUniformLocation(p, "u_fill_opacity"), 5);
+}
+
+/* The AOV and the deep opacity maps: the key light's on texture units 2
+ * and 3, the fill light's on 4 and 5. */
 static void set_dom_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
   glUniform1i(glGetUniformLocation(p, "u_cluster_shadow"),
               r->effects.cluster_shadows);
@@ -32,6 +50,7 @@ static void set_dom_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
   glActiveTexture(GL_TEXTURE3);
   glBindTexture(GL_TEXTURE_2D, satf_gl_target_color_texture(r->dom.opacity, 0));
   glUniform1i(glGetUniformLocation(p, "u_dom_opacity"), 3);
+  set_fill_uniforms(r, p);
 }
 
 void draw_meshes(const satf_renderer *r, GLuint prog,
@@ -126,6 +145,21 @@ void draw_hair_depth_test(int on) {
     glDisable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
   }
+}
+
+int draw_fill_shadows(const satf_renderer *r) {
+  return r->scene->material.model == SATF_MATERIAL_PHYSICAL &&
+         r->fill_dom.depth && r->view.nlights > 1 && r->effects.cluster_shadows;
+}
+
+void draw_dom_lights(satf_renderer *r, float cluster_r, float hair_width,
+                     dom_hair_fn hair, void *ctx) {
+  draw_dom(r, cluster_r, hair_width, hair, ctx);
+  if (!draw_fill_shadows(r))
+    return;
+  dom_swap(&r->dom, &r->fill_dom);
+  draw_dom(r, cluster_r, hair_width, hair, ctx);
+  dom_swap(&r->dom, &r->fill_dom);
 }
 
 void draw_dom(satf_renderer *r, float cluster_r, float hair_width,

@@ -114,6 +114,7 @@ void satf_renderer_destroy(satf_renderer *r) {
   resources_release(r);
   samples_release(&r->accum);
   dom_release(&r->dom);
+  dom_release(&r->fill_dom);
   maps_gpu_destroy(r->mgpu);
   satf_maps_destroy(r->maps);
   satf_maps_fiber_destroy(r->fiber);
@@ -272,8 +273,8 @@ satf_status satf_renderer_set_sparse_strands(satf_renderer *r, int max_strands,
   if (max_strands == r->sparse_max)
     return SATF_OK;
   r->sparse_max = max_strands;
-  r->dom.valid = 0;                   /* other hair casts the shadows now */
-  for (int i = 0; i < r->ninsts; i++) /* a cluster again needs its maps */
+  r->dom.valid = r->fill_dom.valid = 0; /* other hair casts the shadows */
+  for (int i = 0; i < r->ninsts; i++)   /* a cluster again needs its maps */
     cluster_cpu_forget_lookups(&r->insts[i]);
   satf_status st = sparse_build(r, err);
   /* clusters drawn as strands until now get their features and maps */
@@ -457,7 +458,7 @@ satf_status satf_renderer_set_scene(satf_renderer *r, const satf_scene *scene,
   int moved = 0;
   /* the hair may have moved (else cluster_dom_update measures how far) */
   if (r->dom.move_tol < 0.0f)
-    r->dom.valid = 0;
+    r->dom.valid = r->fill_dom.valid = 0;
   st = hierarchy_update(r, scene, &moved, err);
   if (st == SATF_OK) /* the sparse clusters' strands move with them */
     st = sparse_build(r, err);

@@ -172,7 +172,10 @@ struct satf_renderer {
   int nmeshes;
   mesh_gpu *meshes;
   GLuint prog_mesh, prog_mesh_depth, prog_mesh_dom, prog_display, empty_vao;
-  dom_map dom;      /* the deep opacity map (dom.c) */
+  dom_map dom; /* the key light's deep opacity map (dom.c) */
+  /* the fill light's, drawn and read in the physical mode where the scene
+   * has two lights or more (draw_fill_shadows): its targets exist there */
+  dom_map fill_dom;
   frag_lists lists; /* the per-pixel fragment arrays (lists.c) */
   /* anti-aliasing: samples per pixel and their accumulator (samples.c) */
   int samples;

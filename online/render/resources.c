@@ -172,6 +172,10 @@ satf_status resources_build(satf_renderer *r, satf_error *err) {
   }
   if (st == SATF_OK)
     st = dom_create(&r->dom, err);
+  /* the fill light's, for the physical mode (draw_fill_shadows) */
+  r->fill_dom.light_index = 1;
+  if (st == SATF_OK && r->scene->material.model == SATF_MATERIAL_PHYSICAL)
+    st = dom_create(&r->fill_dom, err);
   if (st == SATF_OK)
     st = alloc_instance_data(r, err);
   return st;

@@ -48,7 +48,8 @@ struct strands_gpu {
   GLuint prog_list[3]; /* into the per-pixel arrays (sparse.c), or 0 */
   GLuint prog_bound;   /* the shading program of strands_gpu_begin */
   /* the physical material's light per point (strand_light_cs.glsl), into
-   * light_buf (6 vec4 a point), which the PHYSICAL programs read */
+   * light_buf (STRAND_LIGHT_VEC4 vec4 a point), which the PHYSICAL
+   * programs read */
   GLuint prog_light, light_buf;
   GLuint prog_depth;  /* their whole fragments' depth (sparse.c), or 0 */
   float lo[3], hi[3]; /* bounds of the ribbons */
@@ -191,8 +192,8 @@ static satf_status upload(strands_gpu *s, const int *counts, satf_error *err) {
   glGenBuffers(1, &s->light_buf); /* filled by strands_gpu_begin */
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, s->light_buf);
   glBufferData(GL_SHADER_STORAGE_BUFFER,
-               (GLsizeiptr)(s->npoints * 24 * sizeof(float)), NULL,
-               GL_DYNAMIC_COPY);
+               (GLsizeiptr)(s->npoints * 4 * STRAND_LIGHT_VEC4 * sizeof(float)),
+               NULL, GL_DYNAMIC_COPY);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
   return satf_gl_check("strand buffers", err);
 }

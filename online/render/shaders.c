@@ -65,8 +65,9 @@ static char *with_defines(const char *src, const char *lines) {
 /* The limits the shaders' arrays are sized by, then `extra`. */
 static void limits(char *out, size_t size, const char *extra) {
   snprintf(out, size,
-           "#define SATF_MAX_LIGHTS %d\n#define SATF_MAX_FRAGMENTS %d\n%s",
-           SATF_SCENE_MAX_LIGHTS, SATF_MAX_FRAGMENTS, extra);
+           "#define SATF_MAX_LIGHTS %d\n#define SATF_MAX_FRAGMENTS %d\n"
+           "#define STRAND_LIGHT_VEC4 %d\n%s",
+           SATF_SCENE_MAX_LIGHTS, SATF_MAX_FRAGMENTS, STRAND_LIGHT_VEC4, extra);
 }
 
 /* Compiles one program. Its shaders' arrays are sized by the C limits,

@@ -81,8 +81,8 @@ static satf_status strands_frame(satf_renderer *r, satf_aov aov, int refresh,
   strands_gpu_sort(s, r->view.camera.position);
   double t1 = satf_now_seconds();
   if (refresh && r->effects.cluster_shadows)
-    draw_dom(r, dom_cluster_radius(r->scene, r->nprotos), hair_width(r),
-             dom_strands, s);
+    draw_dom_lights(r, dom_cluster_radius(r->scene, r->nprotos), hair_width(r),
+                    dom_strands, s);
   glFinish();
   double t2 = satf_now_seconds();
   float viewproj[16];

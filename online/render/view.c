@@ -72,9 +72,10 @@ static float distance2(const float a[3], const float b[3]) {
 
 /* A point light is treated as directional from its position towards the
  * scene centre. */
-void view_key_light(const view *v, float viewproj[16], float *radius) {
+void view_light_map(const view *v, int light, float viewproj[16],
+                    float *radius) {
   float c[3], rad = view_radius(v, c), lv[4], dir[3];
-  view_light_vector(&v->lights[0], lv);
+  view_light_vector(&v->lights[light], lv);
   for (int a = 0; a < 3; a++)
     dir[a] = lv[3] != 0.0f ? lv[a] - c[a] : lv[a];
   if (!(satf_normalize3f(dir) > 0)) {

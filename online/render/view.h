@@ -37,9 +37,10 @@ void view_matrices(const view *v, float look[16], float proj[16]);
 /* The camera's view-projection with the sample's jitter; without explicit
  * clip planes they hug the scene bounds. */
 void view_camera(const view *v, float viewproj[16]);
-/* An orthographic view along the key light's direction covering the scene
+/* An orthographic view along light `light`'s direction covering the scene
  * bounds; *radius: the bounds' radius (its depth range is 2 radius). */
-void view_key_light(const view *v, float viewproj[16], float *radius);
+void view_light_map(const view *v, int light, float viewproj[16],
+                    float *radius);
 /* Pixel rectangle (x, y, w, h) the scene bounds can cover; the whole frame
  * when a corner of the bounds is behind the eye. */
 void view_screen_box(const view *v, const float viewproj[16], int box[4]);

@@ -39,6 +39,9 @@ layout(std430, binding = 4) readonly buffer satf_views { satf_view g_view[]; };
 uniform int u_cluster_shadow;
 out vec3 v_global; /* the key light's global scattering BCSDF */
 out vec3 v_back;   /* its local back-scattering */
+/* the same of the fill light where its deep opacity map shadows it */
+uniform int u_fill_shadow;
+out vec3 v_fill_global, v_fill_back;
 #endif
 void main() {
   v_instance = u_first + gl_InstanceID;
@@ -61,6 +64,15 @@ void main() {
                           normalize(g_view[v_instance].eye.xyz - a_pos),
                           normalize(l.xyz - l.w * a_pos), v_back);
   }
+  v_fill_global = v_fill_back = vec3(0.0);
+#if NLIGHTS > 1
+  if (u_fill_shadow != 0) {
+    vec4 l = g_view[v_instance].light[1];
+    v_fill_global = key_global(normalize(a_tangent),
+                               normalize(g_view[v_instance].eye.xyz - a_pos),
+                               normalize(l.xyz - l.w * a_pos), v_fill_back);
+  }
+#endif
 #endif
   gl_Position = u_viewproj * w;
 }

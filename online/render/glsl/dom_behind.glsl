@@ -1,33 +1,50 @@
-/* dom_behind.glsl - the hairs behind a point along the key light, within
- * the deep opacity map's four slabs (dom_lookup.glsl's map): the map's
- * whole optical depth at the point's texels minus the depth up to one
- * slab past the point, bilinear over 2 x 2 texels. No derivatives, so a compute shader
- * may include it. The including shader declares u_light_viewproj,
- * u_dom_depth, u_dom_opacity, u_dom_slab and u_kcluster. */
-float dom_texel_behind(ivec2 c, float z) {
-  c = clamp(c, ivec2(0), textureSize(u_dom_depth, 0) - 1);
-  float d0 = texelFetch(u_dom_depth, c, 0).r;
-  vec4 o = texelFetch(u_dom_opacity, c, 0);
-  float s = max(z - d0, 0.0) / u_dom_slab;
+/* dom_behind.glsl - the hairs behind a point along a light, within the
+ * deep opacity map's four slabs (dom_lookup.glsl's map): the map's whole
+ * optical depth at the point's texels minus the depth up to one slab past
+ * the point, bilinear over 2 x 2 texels. No derivatives, so a compute
+ * shader may include it. The including shader declares u_light_viewproj,
+ * u_dom_depth, u_dom_opacity, u_dom_slab and u_kcluster (the key light's
+ * map: cluster_hairs_behind), and where it defines DOM_FILL u_fill_depth,
+ * u_fill_opacity, u_fill_viewproj and u_fill_slab (the fill light's:
+ * fill_hairs_behind). */
+float dom_texel_behind(sampler2D dd, sampler2D od, float slab, ivec2 c,
+                       float z) {
+  c = clamp(c, ivec2(0), textureSize(dd, 0) - 1);
+  float d0 = texelFetch(dd, c, 0).r;
+  vec4 o = texelFetch(od, c, 0);
+  float s = max(z - d0, 0.0) / slab;
   float at = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) +
              o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, 0.0, 1.0);
   return max(o.x + o.y + o.z + o.w - at, 0.0);
 }
-float cluster_hairs_behind(vec3 world) {
-  vec4 p = u_light_viewproj * vec4(world, 1.0);
+float dom_hairs_behind(sampler2D dd, sampler2D od, mat4 vp, float slab,
+                       vec3 world) {
+  vec4 p = vp * vec4(world, 1.0);
   vec3 q = p.xyz / p.w * 0.5 + 0.5;
   /* from one slab further from the light: the point's own strand lies in
    * the slab it falls in and is not behind it (a lone strand has none) */
-  q.z += u_dom_slab;
+  q.z += slab;
   if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, vec2(1.0))))
     return 0.0;
-  vec2 x = q.xy * vec2(textureSize(u_dom_depth, 0)) - 0.5;
+  vec2 x = q.xy * vec2(textureSize(dd, 0)) - 0.5;
   ivec2 c = ivec2(floor(x));
   vec2 f = x - vec2(c);
-  float sum = mix(mix(dom_texel_behind(c, q.z),
-                      dom_texel_behind(c + ivec2(1, 0), q.z), f.x),
-                  mix(dom_texel_behind(c + ivec2(0, 1), q.z),
-                      dom_texel_behind(c + ivec2(1, 1), q.z), f.x),
+  float sum = mix(mix(dom_texel_behind(dd, od, slab, c, q.z),
+                      dom_texel_behind(dd, od, slab, c + ivec2(1, 0), q.z),
+                      f.x),
+                  mix(dom_texel_behind(dd, od, slab, c + ivec2(0, 1), q.z),
+                      dom_texel_behind(dd, od, slab, c + ivec2(1, 1), q.z),
+                      f.x),
                   f.y);
   return u_kcluster * sum;
 }
+float cluster_hairs_behind(vec3 world) {
+  return dom_hairs_behind(u_dom_depth, u_dom_opacity, u_light_viewproj,
+                          u_dom_slab, world);
+}
+#ifdef DOM_FILL
+float fill_hairs_behind(vec3 world) {
+  return dom_hairs_behind(u_fill_depth, u_fill_opacity, u_fill_viewproj,
+                          u_fill_slab, world);
+}
+#endif

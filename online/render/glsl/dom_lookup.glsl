@@ -1,7 +1,10 @@
 /* dom_lookup.glsl - deep opacity map (Yuksel & Keyser 2008): optical
- * depth of hair between the key light and a point, from four slabs behind
- * the first hair. The including shader declares u_light_viewproj,
- * u_dom_depth, u_dom_opacity, u_dom_slab and u_kcluster.
+ * depth of hair between a light and a point, from four slabs behind the
+ * first hair. The including shader declares u_light_viewproj,
+ * u_dom_depth, u_dom_opacity, u_dom_slab and u_kcluster (the key light's
+ * map: cluster_transmittance), and where it defines DOM_FILL u_fill_depth,
+ * u_fill_opacity, u_fill_viewproj and u_fill_slab (the fill light's:
+ * fill_transmittance).
  *
  * Filtered by percentage-closer filtering (Reeves et al. 1987): the
  * transmittance is computed per texel, each with its own first-hair depth,
@@ -9,23 +12,27 @@
  * Filtering the depth itself (bilinear) would blend a near cluster's depth
  * with the cleared far depth at every cluster edge and draw the map's
  * texels as steps; filtering the result gives soft penumbrae instead. */
-float dom_texel_transmittance(ivec2 c, float z) {
-  ivec2 size = textureSize(u_dom_depth, 0);
+float dom_texel_transmittance(sampler2D dd, sampler2D od, float slab,
+                              ivec2 c, float z) {
+  ivec2 size = textureSize(dd, 0);
   c = clamp(c, ivec2(0), size - 1);
-  float d0 = texelFetch(u_dom_depth, c, 0).r;
-  vec4 o = texelFetch(u_dom_opacity, c, 0);
-  float s = max(z - d0, 0.0) / u_dom_slab;
+  float d0 = texelFetch(dd, c, 0).r;
+  vec4 o = texelFetch(od, c, 0);
+  float s = max(z - d0, 0.0) / slab;
   float depth = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) +
                 o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, 0.0, 1.0);
   return exp(-u_kcluster * depth);
 }
-/* bias: depth units subtracted from the point's depth (towards the light) */
-float cluster_transmittance(vec3 world, float bias) {
-  vec4 p = u_light_viewproj * vec4(world, 1.0);
+/* The map of depths dd and slabs od (view vp, slabs `slab` deep) at a
+ * point; bias: depth units subtracted from the point's depth (towards the
+ * light) */
+float dom_transmittance(sampler2D dd, sampler2D od, mat4 vp, float slab,
+                       vec3 world, float bias) {
+  vec4 p = vp * vec4(world, 1.0);
   vec3 q = p.xyz / p.w * 0.5 + 0.5;
   if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, vec2(1.0))))
     return 1.0;
-  vec2 size = vec2(textureSize(u_dom_depth, 0));
+  vec2 size = vec2(textureSize(dd, 0));
   vec2 x = q.xy * size - 0.5;
   ivec2 c = ivec2(floor(x)); /* the texel centre below and left */
   vec2 f = x - vec2(c);
@@ -40,7 +47,7 @@ float cluster_transmittance(vec3 world, float bias) {
                    ? vec2(qy.y * qx.z - qx.y * qy.z, qx.x * qy.z - qy.x * qx.z) /
                          det
                    : vec2(0.0);
-  slope = clamp(slope, -u_dom_slab, u_dom_slab);
+  slope = clamp(slope, -slab, slab);
   float sum = 0.0, wsum = 0.0;
   /* bilinear weights over the 2 x 2 texels around the point: continuous
    * as the point moves, and four look-ups (a 3 x 3 tent cost twice as
@@ -50,11 +57,21 @@ float cluster_transmittance(vec3 world, float bias) {
       vec2 o = vec2(i, j) - f;
       float w = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
       float z = q.z - bias + dot(slope, o);
-      sum += w * dom_texel_transmittance(c + ivec2(i, j), z);
+      sum += w * dom_texel_transmittance(dd, od, slab, c + ivec2(i, j), z);
       wsum += w;
     }
   return sum / wsum;
 }
+float cluster_transmittance(vec3 world, float bias) {
+  return dom_transmittance(u_dom_depth, u_dom_opacity, u_light_viewproj,
+                           u_dom_slab, world, bias);
+}
 float cluster_transmittance(vec3 world) {
   return cluster_transmittance(world, 0.0);
 }
+#ifdef DOM_FILL
+float fill_transmittance(vec3 world, float bias) {
+  return dom_transmittance(u_fill_depth, u_fill_opacity, u_fill_viewproj,
+                           u_fill_slab, world, bias);
+}
+#endif

@@ -37,6 +37,7 @@
 #include "fiber_cluster.glsl"
 in vec3 v_global; /* the key light's global scattering (cluster_vs.glsl) */
 in vec3 v_back;
+in vec3 v_fill_global, v_fill_back; /* the fill light's */
 #endif
 in vec3 v_local;
 in vec3 v_world;
@@ -72,7 +73,11 @@ uniform float u_core;
 uniform float u_kdif, u_kspe1, u_kspe2, u_exp1, u_exp2, u_shift1, u_shift2;
 uniform vec3 u_fdif, u_fspe1, u_fspe2;
 uniform float u_kshadow, u_noise;
-uniform int u_secondary, u_self_shadow, u_cluster_shadow;
+uniform int u_secondary, u_self_shadow, u_cluster_shadow, u_fill_shadow;
+uniform sampler2D u_fill_depth, u_fill_opacity;
+uniform mat4 u_fill_viewproj;
+uniform float u_fill_slab;
+#define DOM_FILL 1
 uniform sampler2D u_dom_depth;
 uniform sampler2D u_dom_opacity;
 uniform mat4 u_light_viewproj;
@@ -129,13 +134,21 @@ float atan2_turns(float y, float x) {
  * counted a second (or third) time. A lone cluster is the first hair
  * there, so the map leaves it unlit by nothing (tests/render/
  * test_correctness.c). */
-float key_light_dom(vec2 P, vec3 n1, vec3 n2, float A, float B) {
-  vec3 l = normalize(u_light_local[0].xyz - u_light_local[0].w * v_local);
+vec3 light_entry(int k, vec2 P, vec3 n1, vec3 n2, float A, float B) {
+  vec3 l = normalize(u_light_local[k].xyz - u_light_local[k].w * v_local);
   vec2 L = vec2(dot(l, n1) / A, dot(l, n2) / B);
   float a = max(dot(L, L), 1e-12), b = dot(P, L), c = dot(P, P);
   float s = max((-b + sqrt(max(b * b - a * (c - 1.0), 0.0))) / a, 0.0);
   vec3 entry = v_local + (s + 0.1 * max(A, B)) * l;
-  return cluster_transmittance((u_model * vec4(entry, 1.0)).xyz);
+  return (u_model * vec4(entry, 1.0)).xyz;
+}
+float key_light_dom(vec2 P, vec3 n1, vec3 n2, float A, float B) {
+  return cluster_transmittance(light_entry(0, P, n1, n2, A, B));
+}
+/* the fill light's map, read the same way (draw_fill_shadows) */
+float fill_light_dom(vec2 P, vec3 n1, vec3 n2, float A, float B) {
+  return fill_transmittance(light_entry(NLIGHTS > 1 ? 1 : 0, P, n1, n2, A, B),
+                            0.0);
 }
 /* SATF eq. 8-11 at a layer point: diffuse, primary and secondary
  * highlight (the latter without its noise factor), n the normal the
@@ -245,6 +258,22 @@ void main() {
    * layer point only takes its depth's transmittance (Zinke's eq. 5) */
   vec3 af0 = fiber_dual_field(u_fiber_tables, 0,
                               fiber_asin(clamp(dot(l0, hair), -1.0, 1.0)));
+  /* the fill light (and those after it, whose light the maps sum with
+   * the fill's) the same way through its own map, where it is drawn */
+  bool fill_shadow = u_fill_shadow != 0 && NLIGHTS > 1 && !KEYS_ONLY;
+  float n_fill = 0.0;
+  vec3 e1 = vec3(0.0), back1 = vec3(0.0), af1 = vec3(0.0);
+  if (fill_shadow) {
+    int k1 = NLIGHTS > 1 ? 1 : 0;
+    vec3 dl1 = u_light_local[k1].xyz - u_light_local[k1].w * v_local;
+    e1 = u_light_color[k1] *
+         (u_light_local[k1].w > 0.0 ? 1.0 / max(dot(dl1, dl1), 1e-6) : 1.0);
+    n_fill = -log(max(fill_light_dom(P, n1, n2, A, B), 1e-6));
+    back1 = FIBER_DUAL_DENSITY * e1 * v_fill_back;
+    af1 = fiber_dual_field(
+        u_fiber_tables, 0,
+        fiber_asin(clamp(dot(normalize(dl1), hair), -1.0, 1.0)));
+  }
 #endif
   vec3 col = vec3(0.0);
   float transmit = 1.0;
@@ -305,10 +334,18 @@ void main() {
         /* the key light shadowed by this cluster's outer layers (eq. 12)
          * and the other clusters (deep opacity map), as in the paper's
          * mode; the records hold the shadowing inside an HSV */
-        y = (mk.rgb + back) * (tau * dom) + mf.rgb;
+        y = (mk.rgb + back) * (tau * dom);
         if (u_cluster_shadow != 0) /* forward-scattered: Zinke 2008 */
           y += e0 * global * max(exp(-(n_dom + mf.a) * (1.0 - af0)) -
                                  exp(-(n_dom + mf.a)), vec3(0.0));
+        if (fill_shadow)
+          y += (mf.rgb + back1) * (tau * exp(-n_fill)) +
+               e1 * v_fill_global *
+                   max(exp(-(n_fill + mf.a) * (1.0 - af1)) -
+                           exp(-(n_fill + mf.a)),
+                       vec3(0.0));
+        else
+          y += mf.rgb;
       }
       col += transmit * ra.y * y;
 #else

@@ -6,8 +6,8 @@
  * strand_fs.glsl multiplies in only its per-fragment shadow
  * (strand_fiber_radiance). No
  * #version line: included after fiber_cluster.glsl and dom_behind.glsl
- * by a shader that declares u_eye, u_nlights, u_light_vec, u_light_color,
- * u_cluster_shadow and u_aov.
+ * (with DOM_FILL) by a shader that declares u_eye, u_nlights, u_light_vec,
+ * u_light_color, u_cluster_shadow, u_fill_shadow and u_aov.
  *
  * Per light: d'Eon 2011 eq. 7's M_p depends on the two inclinations only,
  * not on h, so it is evaluated once per lobe (not once per lobe and offset),
@@ -24,9 +24,12 @@
  * (eq. 5 over a Poisson count). key: the key light's direct BCSDF
  * f_s + d_b f_back (eq. 20) times its irradiance; global: its
  * forward-scattered BCSDF (eq. 23-25) times the irradiance; af: a_f at its
- * inclination; rest: the other lights, unshadowed (n = 0: direct only). */
+ * inclination; fill, fill_global, fill_af: the same of the lights after
+ * the key where the fill light's map shadows them (u_fill_shadow; af at the
+ * fill's inclination); rest: the other lights, unshadowed (n = 0: direct
+ * only). */
 struct StrandLight {
-  vec3 key, global, af, rest;
+  vec3 key, global, af, rest, fill, fill_global, fill_af;
 };
 
 /* The direct BCSDF f_s + d_b f_back of the lobes' sum (R, TT, TRT, the
@@ -76,12 +79,18 @@ void strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi, int ns,
    * 640x480, 64 spp; 1.0x and 2.5 degrees on generated sparse strands with
    * it), while in dense hair most points keep most of it. Without the map
    * the constant. */
-  float d_b = FIBER_DUAL_DENSITY;
+  float d_b = FIBER_DUAL_DENSITY, d_b_fill = FIBER_DUAL_DENSITY;
   if (u_cluster_shadow != 0)
     d_b *= 1.0 - exp(-cluster_hairs_behind(world));
+  /* the lights after the key: the hairs behind along the fill light */
+  if (u_fill_shadow != 0)
+    d_b_fill *= 1.0 - exp(-fill_hairs_behind(world));
+  else
+    d_b_fill = d_b;
   int na = ns / 2;
   float inv_a = 1.0 / float(max(na, 1)), inv_b = 1.0 / float(ns - na);
-  a = StrandLight(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+  a = StrandLight(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0),
+                  vec3(0.0), vec3(0.0));
   b = a;
   for (int k = 0; k < u_nlights; k++) {
     vec3 dl = u_light_vec[k].xyz - u_light_vec[k].w * world;
@@ -112,13 +121,22 @@ void strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi, int ns,
     vec3 back;
     vec3 global = aov == 2 || aov == 3 ? vec3(0.0) : key_global(t, v, l, back);
     if (aov == 2 || aov == 3) back = vec3(0.0);
-    vec3 da = strand_fiber_direct(na > 0 ? la : lb, back, d_b, aov);
-    vec3 db = strand_fiber_direct(lb, back, d_b, aov);
+    float dbk = k == 0 ? d_b : d_b_fill;
+    vec3 da = strand_fiber_direct(na > 0 ? la : lb, back, dbk, aov);
+    vec3 db = strand_fiber_direct(lb, back, dbk, aov);
     if (k == 0 && u_cluster_shadow != 0) {
       a.key = e * da;
       b.key = e * db;
       a.global = b.global = e * global;
       a.af = b.af = fiber_dual_field(u_fiber_tables, 0, fiber_asin(sin_i));
+    } else if (k > 0 && u_fill_shadow != 0) {
+      a.fill += e * da;
+      b.fill += e * db;
+      a.fill_global += e * global;
+      b.fill_global = a.fill_global;
+      if (k == 1)
+        a.fill_af = b.fill_af =
+            fiber_dual_field(u_fiber_tables, 0, fiber_asin(sin_i));
     } else {
       a.rest += e * da;
       b.rest += e * db;
@@ -126,10 +144,17 @@ void strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi, int ns,
   }
 }
 
-/* L of StrandLight for the key light's transmittance dom = e^-n from the
- * deep opacity map (u_kcluster is 1: n counts hairs) */
-vec3 strand_fiber_radiance(StrandLight s, float dom) {
+/* Zinke's direct and forward-scattered light of one shadowed light for
+ * its transmittance dom = e^-n from its deep opacity map (u_kcluster is 1:
+ * n counts hairs) */
+vec3 strand_fiber_dual(vec3 direct, vec3 global, vec3 af, float dom) {
   float n = max(-log(max(dom, 1e-30)), 0.0);
-  return exp(-n) * s.key +
-         max(exp(-n * (1.0 - s.af)) - exp(-n), vec3(0.0)) * s.global + s.rest;
+  return exp(-n) * direct +
+         max(exp(-n * (1.0 - af)) - exp(-n), vec3(0.0)) * global;
+}
+/* L of StrandLight for the key and fill lights' transmittances */
+vec3 strand_fiber_radiance(StrandLight s, float dom, float fill_dom) {
+  return strand_fiber_dual(s.key, s.global, s.af, dom) +
+         strand_fiber_dual(s.fill, s.fill_global, s.fill_af, fill_dom) +
+         s.rest;
 }

@@ -56,7 +56,11 @@ uniform vec3 u_light_color[SATF_MAX_LIGHTS];
 uniform float u_kdif, u_kspe1, u_kspe2, u_exp1, u_exp2, u_shift1, u_shift2;
 uniform vec3 u_fdif, u_fspe1, u_fspe2;
 uniform float u_noise;
-uniform int u_secondary, u_cluster_shadow;
+uniform int u_secondary, u_cluster_shadow, u_fill_shadow;
+uniform sampler2D u_fill_depth, u_fill_opacity;
+uniform mat4 u_fill_viewproj;
+uniform float u_fill_slab;
+#define DOM_FILL 1
 uniform sampler2D u_dom_depth;
 uniform sampler2D u_dom_opacity;
 uniform mat4 u_light_viewproj;
@@ -101,6 +105,7 @@ float strand_noise(uint strand, float t) {
  * branch's code even where no fragment takes it, and this one's presence
  * alone made the pass twice as slow. */
 in vec3 v_key_lo, v_key_hi, v_rest_lo, v_rest_hi, v_global, v_af;
+in vec3 v_fill, v_fill_global, v_fill_af;
 const int STRAND_FIBER_MAX_H = 3;
 #include "strand_fiber.glsl"
 StrandLight strand_light(vec3 t, vec3 v) {
@@ -114,14 +119,16 @@ StrandLight strand_light(vec3 t, vec3 v) {
     strand_fiber(t, v, v_world, lo, hi, ns, u_aov, a, b);
     float wb = float(ns - ns / 2) / float(ns); /* b's share of the samples */
     return StrandLight(mix(a.key, b.key, wb), b.global, b.af,
-                       mix(a.rest, b.rest, wb));
+                       mix(a.rest, b.rest, wb), mix(a.fill, b.fill, wb),
+                       b.fill_global, b.fill_af);
   }
 #endif
   /* the share of the covered offsets [lo, hi] on the fibre's h > 0 half */
   float neg = max(min(hi, 0.0) - lo, 0.0), pos = max(hi - max(lo, 0.0), 0.0);
   float w = neg + pos > 0.0 ? pos / (neg + pos) : 0.5;
   return StrandLight(mix(v_key_lo, v_key_hi, w), v_global, v_af,
-                     mix(v_rest_lo, v_rest_hi, w));
+                     mix(v_rest_lo, v_rest_hi, w), v_fill, v_fill_global,
+                     v_fill_af);
 }
 #endif
 
@@ -158,7 +165,11 @@ void main() {
                                           PHYSICAL != 0 ? u_dom_slab : 0.0)
                   : 1.0;
 #if PHYSICAL
-  vec3 y = strand_fiber_radiance(strand_light(t, v), dom);
+  /* the fill light's map, looked up as the key's */
+  float fill_dom = u_fill_shadow != 0
+                       ? fill_transmittance(v_world, u_fill_slab)
+                       : 1.0;
+  vec3 y = strand_fiber_radiance(strand_light(t, v), dom, fill_dom);
   if (u_aov == 1) y = max(y, vec3(0.0)); /* all but R and TRT */
   else if (u_aov == 4) y = vec3(dom);
   else if (u_aov == 5) y = vec3(1.0);

@@ -11,8 +11,12 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 5) readonly buffer satf_strand_vertices {
   float g_vertex[];
 };
-/* per point: StrandLight's key and rest over the fibre's two halves,
- * h in [-1, 0] and [0, 1], then its global and af */
+/* per point (STRAND_LIGHT_VEC4 of them): StrandLight's key and rest over
+ * the fibre's two halves, h in [-1, 0] and [0, 1], then its global and af,
+ * then fill over the whole fibre, fill_global and fill_af (one value
+ * across the fibre: the fill is the weaker light, and the halves differ
+ * only on strands a pixel wide or more, which strand_fs.glsl samples per
+ * fragment) */
 layout(std430, binding = 6) writeonly buffer satf_strand_light {
   vec4 g_light[];
 };
@@ -21,7 +25,11 @@ uniform vec3 u_eye;
 uniform int u_nlights;
 uniform vec4 u_light_vec[SATF_MAX_LIGHTS]; /* world; w: 0 direction, 1 position */
 uniform vec3 u_light_color[SATF_MAX_LIGHTS];
-uniform int u_cluster_shadow, u_aov;
+uniform int u_cluster_shadow, u_fill_shadow, u_aov;
+uniform sampler2D u_fill_depth, u_fill_opacity;
+uniform mat4 u_fill_viewproj;
+uniform float u_fill_slab;
+#define DOM_FILL 1
 uniform sampler2D u_dom_depth;
 uniform sampler2D u_dom_opacity;
 uniform mat4 u_light_viewproj;
@@ -46,10 +54,14 @@ void main() {
   vec3 t = tan / max(length(tan), 1e-30), v = normalize(u_eye - p);
   StrandLight lo, hi;
   strand_fiber(t, v, p, -1.0, 1.0, STRAND_FIBER_MAX_H, u_aov, lo, hi);
-  g_light[6 * k] = vec4(lo.key, 0.0);
-  g_light[6 * k + 1] = vec4(hi.key, 0.0);
-  g_light[6 * k + 2] = vec4(lo.rest, 0.0);
-  g_light[6 * k + 3] = vec4(hi.rest, 0.0);
-  g_light[6 * k + 4] = vec4(lo.global, 0.0);
-  g_light[6 * k + 5] = vec4(lo.af, 0.0);
+  int o = STRAND_LIGHT_VEC4 * k;
+  g_light[o] = vec4(lo.key, 0.0);
+  g_light[o + 1] = vec4(hi.key, 0.0);
+  g_light[o + 2] = vec4(lo.rest, 0.0);
+  g_light[o + 3] = vec4(hi.rest, 0.0);
+  g_light[o + 4] = vec4(lo.global, 0.0);
+  g_light[o + 5] = vec4(lo.af, 0.0);
+  g_light[o + 6] = vec4(0.5 * (lo.fill + hi.fill), 0.0);
+  g_light[o + 7] = vec4(lo.fill_global, 0.0);
+  g_light[o + 8] = vec4(lo.fill_af, 0.0);
 }
