@@ -70,6 +70,36 @@ static double default_budget(void) {
   return pages > 0 && size > 0 ? 0.5 * (double)pages * (double)size : 2e9;
 }
 
+/* SATF_ERR_ARGUMENT and a message naming the largest part where the
+ * estimate of scene_path's render (*need) is over budget. */
+static satf_status over_budget(const satf_scene *scene, const char *scene_path,
+                               const satf_render_memory_options *opt,
+                               double budget, satf_render_memory *need,
+                               satf_error *err) {
+  satf_render_memory_estimate(scene, opt, need);
+  if (!(need->total > budget))
+    return SATF_OK;
+  /* the database's parts once it is known (satf_frontend_check_memory) */
+  char known[128] = "";
+  if (opt->db)
+    snprintf(known, sizeof known,
+             ", %.2f GB for the database, %.2f GB for the GPU's maps",
+             need->database / 1e9, need->gpu_maps / 1e9);
+  return satf_error_set(
+      err, SATF_ERR_ARGUMENT,
+      "%s: rendering it would take about %.2f GB, over the memory budget "
+      "of %.2f GB; the most is %s (%.2f GB for %llu HSVs, %.2f GB for %llu "
+      "strands, %.2f GB for %ldx%ld pixels, %.2f GB of VDB density%s): use "
+      "fewer clusters, layers, st or su, fewer strands, a smaller --size, a "
+      "coarser VDB%s, or raise the budget with --memory-budget GB",
+      scene_path, need->total / 1e9, budget / 1e9,
+      satf_render_memory_largest(need), need->hsvs / 1e9,
+      (unsigned long long)satf_scene_hsv_count(scene), need->strands / 1e9,
+      (unsigned long long)satf_scene_strand_count(scene), need->pixels / 1e9,
+      opt->width, opt->height, need->vdb / 1e9, known,
+      need->gpu_maps > 0.0 ? " or the CPU's maps (--maps cpu)" : "");
+}
+
 satf_status satf_frontend_load(const char *prog, const char *scene_path,
                                const char *db_path, double budget, long *width,
                                long *height, satf_frontend *fe) {
@@ -77,26 +107,16 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
   satf_error err;
   satf_error_clear(&err);
   satf_status st = satf_scene_load(scene_path, &fe->scene, &err);
-  if (!(budget > 0.0))
-    budget = default_budget();
+  fe->scene_path = scene_path;
+  fe->budget = budget > 0.0 ? budget : default_budget();
   long w = *width ? *width : st == SATF_OK ? fe->scene->image.width : 0;
   long h = *width ? *height : st == SATF_OK ? fe->scene->image.height : 0;
-  satf_render_memory need = {0};
+  /* before the database is read: a lower bound (the database not counted),
+   * which satf_frontend_check_memory completes */
+  satf_render_memory_options opt = {w, h, NULL, SATF_MAPS_CPU};
+  satf_render_memory need;
   if (st == SATF_OK)
-    satf_render_memory_estimate(fe->scene, w, h, &need);
-  if (st == SATF_OK && need.total > budget)
-    st = satf_error_set(
-        &err, SATF_ERR_ARGUMENT,
-        "%s: rendering it would take about %.2f GB, over the memory budget "
-        "of %.2f GB; the most is %s (%.2f GB for %llu HSVs, %.2f GB for %llu "
-        "strands, %.2f GB for %ldx%ld pixels, %.2f GB of VDB density): use "
-        "fewer clusters, layers, st or su, fewer strands, a smaller --size or "
-        "a coarser VDB, or raise the budget with --memory-budget GB",
-        scene_path, need.total / 1e9, budget / 1e9,
-        satf_render_memory_largest(&need), need.hsvs / 1e9,
-        (unsigned long long)satf_scene_hsv_count(fe->scene), need.strands / 1e9,
-        (unsigned long long)satf_scene_strand_count(fe->scene),
-        need.pixels / 1e9, w, h, need.vdb / 1e9);
+    st = over_budget(fe->scene, scene_path, &opt, fe->budget, &need, &err);
   if (st == SATF_OK) {
     for (int i = 0; i < satf_scene_warning_count(fe->scene); i++)
       fprintf(stderr, "%s: warning: %s\n", prog,
@@ -129,6 +149,21 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
   return SATF_OK;
 }
 
+satf_status satf_frontend_check_memory(const char *prog, satf_frontend *fe,
+                                       long width, long height,
+                                       satf_maps_mode maps) {
+  satf_error err;
+  satf_error_clear(&err);
+  satf_render_memory_options opt = {width, height, fe->db, maps};
+  satf_render_memory need;
+  satf_status st =
+      over_budget(fe->scene, fe->scene_path, &opt, fe->budget, &need, &err);
+  fe->memory_estimate = need.total;
+  if (st != SATF_OK)
+    fprintf(stderr, "%s: %s\n", prog, err.message);
+  return st;
+}
+
 void satf_frontend_apply(satf_renderer *r, const satf_scene_effects *off,
                          int composite) {
   satf_scene_effects *e = satf_renderer_effects(r);
@@ -159,7 +194,8 @@ int satf_frontend_budget_flag(satf_cli_args *it, double *bytes) {
 
 const char *const satf_frontend_budget_help =
     "  --memory-budget GB   memory the renderer may take, estimated from the\n"
-    "                       scene's HSVs, strands and image size before\n"
+    "                       scene's HSVs, strands and image size, the\n"
+    "                       database and where the maps are built, before\n"
     "                       anything is built (default: half the\n"
     "                       machine's memory)\n";
 

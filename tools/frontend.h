@@ -22,20 +22,31 @@ typedef struct satf_frontend {
   /* --sparse-strands N: clusters of at most N strands drawn as strands
    * (satf_renderer_set_sparse_strands); -1: the renderer's default */
   int sparse_strands;
-  const char *db_path; /* where the database came from, for messages */
-  int db_from_scene;   /* db_path is the scene's "database", not --db */
-  char *db_path_owned; /* db_path when the frontend chose it (freed) */
+  const char *db_path;    /* where the database came from, for messages */
+  int db_from_scene;      /* db_path is the scene's "database", not --db */
+  char *db_path_owned;    /* db_path when the frontend chose it (freed) */
+  const char *scene_path; /* as given, for messages */
+  double budget;          /* --memory-budget in bytes, the default applied */
+  /* satf_render_memory_estimate's total at satf_frontend_check_memory */
+  double memory_estimate;
 } satf_frontend;
 
 /* Loads SCENE (printing its warnings to stderr) and the database (db_path,
  * or the scene's "database"); a zero *width takes the scene's image size.
- * Refuses, before anything is built, a scene whose
- * satf_render_memory_estimate is over `budget` bytes (0: half the machine's
- * memory), naming the largest part. On failure prints "PROG: reason" and
- * returns non-OK. */
+ * Refuses, before the database is read, a scene whose
+ * satf_render_memory_estimate without it is over `budget` bytes (0: half
+ * the machine's memory), naming the largest part. On failure prints
+ * "PROG: reason" and returns non-OK. */
 satf_status satf_frontend_load(const char *prog, const char *scene_path,
                                const char *db_path, double budget, long *width,
                                long *height, satf_frontend *fe);
+/* The same refusal once the database is known (after
+ * satf_frontend_set_shading, which may take the fibre one), counting it
+ * and, for maps SATF_MAPS_GPU, the GPU's maps; sets fe->memory_estimate.
+ * On failure prints "PROG: reason" and returns non-OK. */
+satf_status satf_frontend_check_memory(const char *prog, satf_frontend *fe,
+                                       long width, long height,
+                                       satf_maps_mode maps);
 /* satf_renderer_create with a progress bar on stderr for the set-up
  * (clusters built), unless quiet. */
 satf_status satf_frontend_create_renderer(const satf_frontend *fe, int width,

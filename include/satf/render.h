@@ -189,22 +189,56 @@ typedef struct satf_render_stats {
   long lod_single, lod_coarse;
 } satf_render_stats;
 
-/* The renderer's memory for a scene at width x height, in bytes, by what
- * grows with it; estimated from the scene alone, before anything is built,
- * so that a render over a budget can be refused before it starts. */
+/* Where the maps (SATF sec. 6.2; the physical mode's, maps of every
+ * light's fibre lobes) are built when the eye or a light moves: CPU, the
+ * database looked up on the CPU and the maps uploaded (the reference);
+ * GPU, a compute pass writing them into their textures from the
+ * database's records kept on the GPU (no look-up on the CPU and no
+ * upload). The same maps up to half-float rounding. The default is the
+ * CPU's: on llvmpipe (2 threads) the compute pass takes 3-10 times the
+ * CPU's look-ups and upload (640x480, an orbit: cluster_6a 57 against 6
+ * ms, hair_7c 239 against 86, the imported ponytail 642 against 84), and
+ * 4-9 times in the physical mode (cluster_6a 170 against 18 ms, hair_7a
+ * 281 against 42, the ponytail 1132 against 314; a loaded machine). */
+typedef enum satf_maps_mode { SATF_MAPS_CPU = 0, SATF_MAPS_GPU } satf_maps_mode;
+#define SATF_MAPS_DEFAULT SATF_MAPS_CPU
+
+/* The renderer's memory for a scene, in bytes, by what grows with it;
+ * estimated from the scene and its database alone, before anything is
+ * built, so that a render over a budget can be refused before it starts.
+ * On llvmpipe what the GPU keeps is the process's memory too. */
 typedef struct satf_render_memory {
   double hsvs;    /* features, neighbours, maps and textures of every HSV */
   double strands; /* procedural and track strands */
   double pixels;  /* exact compositing's fragment arrays, frame targets */
   double vdb;     /* VDB density grids, each file once */
-  double fixed;   /* GL driver, shaders, database textures, the program */
+  /* the database's records; the physical shading's copy of them
+   * re-levelled at the hair's absorption, and its M_p table */
+  double database;
+  /* SATF_MAPS_GPU: the records, tables and every geometry's sectors and
+   * neighbours the GPU's maps keep and their compute programs, less the
+   * CPU's copy of the maps that they never fill; 0 with the CPU's maps */
+  double gpu_maps;
+  double fixed; /* GL driver, shaders, the program */
   double total;
 } satf_render_memory;
 
+/* What the estimate takes beyond the scene. */
+typedef struct satf_render_memory_options {
+  long width, height; /* the image */
+  /* the database the renderer is made with (for the physical shading the
+   * fibre one); NULL: neither it nor the GPU's maps are counted (a lower
+   * bound, for a refusal before the database is read) */
+  const satf_db *db;
+  satf_maps_mode maps; /* satf_renderer_set_maps */
+} satf_render_memory_options;
+
 /* Fills *parts (when not NULL) and returns parts->total. */
-double satf_render_memory_estimate(const satf_scene *scene, long width,
-                                   long height, satf_render_memory *parts);
-/* "HSVs", "strands", "pixels" or "VDB density": the largest growing part. */
+double satf_render_memory_estimate(const satf_scene *scene,
+                                   const satf_render_memory_options *opt,
+                                   satf_render_memory *parts);
+/* "HSVs", "strands", "pixels", "VDB density", "the database" or "the GPU's
+ * maps": the largest part that the scene or the options change. */
 const char *satf_render_memory_largest(const satf_render_memory *m);
 
 /* Builds clusters, shells, meshes, density features and GL resources.
@@ -278,19 +312,7 @@ int satf_renderer_lod(const satf_renderer *r);
 void satf_renderer_set_shadow_move(satf_renderer *r, float texels);
 float satf_renderer_shadow_move(const satf_renderer *r);
 
-/* Where the maps (SATF sec. 6.2; the physical mode's, maps of every
- * light's fibre lobes) are built when the eye or a light moves: CPU, the
- * database looked up on the CPU and the maps uploaded (the reference);
- * GPU, a compute pass writing them into their textures from the
- * database's records kept on the GPU (no look-up on the CPU and no
- * upload). The same maps up to half-float rounding. The default is the
- * CPU's: on llvmpipe (2 threads) the compute pass takes 3-10 times the
- * CPU's look-ups and upload (640x480, an orbit: cluster_6a 57 against 6
- * ms, hair_7c 239 against 86, the imported ponytail 642 against 84), and
- * 4-9 times in the physical mode (cluster_6a 170 against 18 ms, hair_7a
- * 281 against 42, the ponytail 1132 against 314; a loaded machine). */
-typedef enum satf_maps_mode { SATF_MAPS_CPU = 0, SATF_MAPS_GPU } satf_maps_mode;
-#define SATF_MAPS_DEFAULT SATF_MAPS_CPU
+/* Where the maps are built: satf_maps_mode (above). */
 /* Switches (every instance's maps are built again at the next frame);
  * fails, keeping the mode, where the GPU's program or tables cannot be
  * made. */

@@ -1,5 +1,7 @@
 /* budget.c - what the renderer will take for a scene, before anything is
  * built (satf_render_memory_estimate, satf/render.h). */
+#include "maps_fiber.h"
+#include "maps_gpu_bytes.h"
 #include "renderer_internal.h"
 #include "satf/render.h"
 
@@ -29,9 +31,17 @@
  * space density gives every instance its own features and neighbour
  * cache (hierarchy.c). */
 #define BYTES_PER_VDB_HSV 1000.0
-/* What any renderer takes whatever the scene: the GL driver, shaders,
- * the database's textures and the program itself. */
-#define BYTES_FIXED 270e6
+/* What any renderer takes whatever the scene and database: the GL
+ * driver, shaders and the program itself (the 270 MB measured with the
+ * default database, less its 67 MB of records, now counted apart). */
+#define BYTES_FIXED 203e6
+/* What compiling the GPU's maps' two compute programs adds to the peak
+ * (llvmpipe's LLVM, without Mesa's shader cache: a new database width or
+ * hair colour changes their defines, so a scene's first run compiles):
+ * hair_7a's peak with MESA_SHADER_CACHE_DISABLE=true over its peak with
+ * the programs cached, 89 MB, less the 15 MB the CPU's maps' run adds
+ * the same way (its draw programs, in every mode). */
+#define BYTES_GPU_PROGRAMS 75e6
 
 /* What VDB density adds: the grids of the distinct files the clusters name
  * (the renderer reads each once however many clusters name it) and the
@@ -74,17 +84,87 @@ static double hsv_bytes(const satf_scene *scene) {
   return sum;
 }
 
-double satf_render_memory_estimate(const satf_scene *scene, long width,
-                                   long height, satf_render_memory *parts) {
+/* Whether the renderer made of scene and db shades with the fibre model
+ * (renderer.c: satf_maps_fiber_create); *shape then says what it makes. */
+static int physical(const satf_scene *scene, const satf_db *db,
+                    maps_fiber_shape *shape) {
+  if (scene->material.model != SATF_MATERIAL_PHYSICAL || !scene->effects.satf ||
+      satf_db_kind(db) != SATF_RECORD_FIBER)
+    return 0;
+  maps_fiber_shape_of(db, &scene->material, shape);
+  return 1;
+}
+
+/* Records of `channels` floats of the database's width. */
+static double record_bytes(const satf_build_params *p, int channels) {
+  return (double)p->samples * p->n_view * p->n_light * channels *
+         p->trace.width * (double)sizeof(float);
+}
+
+/* The database as read, and the physical mode's re-levelled copy with
+ * M_p's table and the orientation-free levels (maps_fiber.c). */
+static double database_bytes(const satf_scene *scene, const satf_db *db) {
+  const satf_build_params *p = satf_db_params(db);
+  double sum = record_bytes(p, satf_db_channels(db));
+  maps_fiber_shape f;
+  if (physical(scene, db, &f))
+    sum += record_bytes(p, f.channels) +
+           (double)(maps_gpu_mp_floats(&f) + maps_gpu_rel_floats(p, &f)) *
+               sizeof(float);
+  return sum;
+}
+
+/* What the GPU's maps add (maps_gpu.c): the records and tables uploaded
+ * once, every geometry's sectors and neighbours (once per prototype; per
+ * instance with VDB density, which gives each its own), the compute
+ * programs; less the CPU's copy of every instance's maps (hierarchy.c:
+ * inst.texels, 4 halfs a texel and quad), calloc'ed but never written. */
+static double gpu_maps_bytes(const satf_scene *scene, const satf_db *db) {
+  maps_fiber_shape f;
+  int fiber = physical(scene, db, &f);
+  maps_gpu_table_bytes t;
+  maps_gpu_tables_bytes(db, fiber ? &f : NULL, &t);
+  satf_map_options opt = satf_map_options_default();
+  int k = maps_gpu_k(&opt);
+  double per_hsv_copy = (double)maps_hsv_texels(satf_db_width(db)) * 4.0 *
+                        (fiber ? 2.0 : 1.0) * 2.0;
+  double sum = (double)(t.records + t.tables) + BYTES_GPU_PROGRAMS;
+  for (int m = 0; m < scene->n_macro_clusters; m++) {
+    const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
+    if (hierarchy_sparse(&mc->prototype, SATF_SPARSE_STRANDS_DEFAULT))
+      continue; /* drawn as strands: no maps */
+    const satf_scene_shell *sh = &mc->prototype.shell;
+    satf_shell_params shell = {sh->layers, sh->st, sh->su, sh->core};
+    size_t hsvs = (size_t)satf_scene_cluster_hsv_count(&mc->prototype);
+    size_t sectors = satf_shell_sector_count(&shell);
+    double geoms = mc->prototype.density.type == SATF_SCENE_DENSITY_VDB
+                       ? (double)mc->n_instances
+                       : 1.0;
+    sum += geoms * (double)(maps_gpu_sector_bytes(sectors) +
+                            maps_gpu_neighbor_bytes(sectors, hsvs, k));
+    sum -= per_hsv_copy * (double)mc->n_instances * (double)hsvs;
+  }
+  return sum;
+}
+
+double satf_render_memory_estimate(const satf_scene *scene,
+                                   const satf_render_memory_options *opt,
+                                   satf_render_memory *parts) {
   satf_render_memory m;
   memset(&m, 0, sizeof m);
-  if (scene) {
+  if (scene && opt) {
     m.hsvs = hsv_bytes(scene);
     m.strands = BYTES_PER_STRAND * (double)satf_scene_strand_count(scene);
-    m.pixels = BYTES_PER_PIXEL * (double)width * (double)height;
+    m.pixels = BYTES_PER_PIXEL * (double)opt->width * (double)opt->height;
     m.vdb = vdb_bytes(scene);
+    if (opt->db) {
+      m.database = database_bytes(scene, opt->db);
+      if (opt->maps == SATF_MAPS_GPU)
+        m.gpu_maps = gpu_maps_bytes(scene, opt->db);
+    }
     m.fixed = BYTES_FIXED;
-    m.total = m.hsvs + m.strands + m.pixels + m.vdb + m.fixed;
+    m.total = m.hsvs + m.strands + m.pixels + m.vdb + m.database + m.gpu_maps +
+              m.fixed;
   }
   if (parts)
     *parts = m;
@@ -100,6 +180,10 @@ const char *satf_render_memory_largest(const satf_render_memory *m) {
   if (m->pixels > most)
     most = m->pixels, name = "pixels";
   if (m->vdb > most)
-    name = "VDB density";
+    most = m->vdb, name = "VDB density";
+  if (m->database > most)
+    most = m->database, name = "the database";
+  if (m->gpu_maps > most)
+    name = "the GPU's maps";
   return name;
 }

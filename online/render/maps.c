@@ -320,8 +320,10 @@ void satf_maps_destroy(satf_maps *m) {
 
 int satf_maps_width(const satf_maps *maps) { return maps->width; }
 
+size_t maps_hsv_texels(int width) { return (size_t)width * 2; }
+
 size_t satf_maps_layer_texels(const satf_shell_geom *g, int width) {
-  return (size_t)g->shell.su * (size_t)width * 2 * (size_t)g->shell.st;
+  return (size_t)g->shell.su * (size_t)g->shell.st * maps_hsv_texels(width);
 }
 
 float maps_azimuth(const float *frame, const float d[3]) {

@@ -166,7 +166,9 @@ static inline float maps_sample(const float *v, int i, float f) {
   return v[i] + f * (v[i + 1] - v[i]);
 }
 
-/* Texels in one layer: su * width * 2 * st. */
+/* Texels in one layer: su * width * 2 * st, maps_hsv_texels(width) an
+ * HSV (its columns, in the rows of its two boundary sectors). */
 size_t satf_maps_layer_texels(const satf_shell_geom *g, int width);
+size_t maps_hsv_texels(int width);
 
 #endif

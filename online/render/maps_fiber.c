@@ -44,9 +44,11 @@ struct satf_maps_fiber {
   int rel_bins;
 };
 
-/* Floats per (sample, bin) of satf_maps_fiber.rel: alpha and the lobes. */
+/* Floats per (sample, bin) of satf_maps_fiber.rel: alpha and the lobes of
+ * a database of `channels` channels. */
+static int rel_stride_of(int channels) { return 1 + channels - SATF_DB_CH_R; }
 static int rel_stride(const satf_maps_fiber *f) {
-  return 1 + f->channels - SATF_DB_CH_R;
+  return rel_stride_of(f->channels);
 }
 
 /* Whether azimuth i of n (2 pi i / n from the sector's outward normal,
@@ -228,6 +230,20 @@ void maps_fiber_tables_get(const satf_maps_fiber *f, maps_fiber_tables *t) {
   t->rel_stride = rel_stride(f);
   t->levels = f->levels;
   memcpy(t->level_of, f->level_of, sizeof t->level_of);
+}
+
+void maps_fiber_shape_of(const satf_db *db, const satf_scene_material *mat,
+                         maps_fiber_shape *out) {
+  satf_fiber fiber;
+  fiber_from_material(mat, &fiber);
+  float levels[3];
+  int level_of[3];
+  out->levels = rgb_levels(fiber.sigma_a, levels, level_of);
+  /* satf_db_relevel's copy, as satf_maps_fiber_create asks for it */
+  out->channels = SATF_DB_FIBER_CHANNELS(out->levels);
+  out->mp_size = MP_TABLE;
+  out->rel_bins = satf_db_params(db)->n_view; /* as rel_levels */
+  out->rel_stride = rel_stride_of(out->channels);
 }
 
 void satf_maps_fiber_destroy(satf_maps_fiber *f) {

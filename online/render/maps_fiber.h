@@ -80,4 +80,14 @@ typedef struct maps_fiber_tables {
 } maps_fiber_tables;
 void maps_fiber_tables_get(const satf_maps_fiber *fiber, maps_fiber_tables *t);
 
+/* The sizes of what satf_maps_fiber_create makes of database db for
+ * material mat, known before it is made (the memory estimate, budget.c):
+ * the hair's absorption levels, the re-levelled database's channels,
+ * M_p's table side, the orientation-free levels' bins and floats a bin. */
+typedef struct maps_fiber_shape {
+  int levels, channels, mp_size, rel_bins, rel_stride;
+} maps_fiber_shape;
+void maps_fiber_shape_of(const satf_db *db, const satf_scene_material *mat,
+                         maps_fiber_shape *out);
+
 #endif

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "half.h"
+#include "maps_gpu_bytes.h"
 #include "maps_gpu_fiber.h"
 #include "renderer_internal.h"
 #include "satf/common.h"
@@ -27,9 +28,6 @@ enum {
   BUF_REL,
   BUF_COUNT
 };
-
-/* floats of a sector in BUF_SECTORS: frame (9), features (3) */
-#define SECTOR_FLOATS 12
 
 /* an instance's entry of BUF_INSTS (std430 MapsInst) */
 typedef struct gpu_inst {
@@ -73,8 +71,7 @@ static satf_status upload_records(const satf_db *db, GLuint buf,
                                   satf_error *err) {
   const satf_build_params *p = satf_db_params(db);
   int w = p->trace.width;
-  size_t recs = (size_t)p->samples * (size_t)p->n_light * (size_t)p->n_view;
-  size_t halfs = recs * 2 * (size_t)w;
+  size_t halfs = maps_gpu_kk_halfs(p);
   satf_status st =
       storage_fits(halfs, 2, "reflectance and alpha values", "halfs", err);
   if (st != SATF_OK)
@@ -92,7 +89,7 @@ static satf_status upload_records(const satf_db *db, GLuint buf,
         half_pack(re, o, (size_t)w);
         half_pack(al, o + w, (size_t)w);
       }
-  storage_upload(buf, (halfs + 1) / 2 * 4, h);
+  storage_upload(buf, maps_gpu_half_bytes(halfs), h);
   free(h);
   return SATF_OK;
 }
@@ -103,9 +100,7 @@ satf_status maps_gpu_create(const satf_renderer *r, maps_gpu **out,
   maps_gpu *g = calloc(1, sizeof *g);
   if (!g)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  g->k = r->map_opt.k_nearest < 1              ? 1
-         : r->map_opt.k_nearest > SATF_DB_KMAX ? SATF_DB_KMAX
-                                               : r->map_opt.k_nearest;
+  g->k = maps_gpu_k(&r->map_opt);
   g->fiber = r->fiber != NULL;
   char defines[400];
   snprintf(defines, sizeof defines,
@@ -129,7 +124,7 @@ satf_status maps_gpu_create(const satf_renderer *r, maps_gpu **out,
   st = g->fiber ? maps_gpu_fiber_tables(r, g->prog, g->buf[BUF_RECORDS],
                                         g->buf[BUF_MP], g->buf[BUF_REL], err)
                 : upload_records(r->db, g->buf[BUF_RECORDS], err);
-  size_t cols = (size_t)MAPS_AZIMUTH_BINS * (size_t)r->w;
+  size_t cols = maps_gpu_column_floats(r->w) / 2;
   int samples = satf_db_samples(r->db);
   float *col = st == SATF_OK ? malloc(cols * 2 * sizeof *col) : NULL;
   if (st == SATF_OK && !col)
@@ -215,7 +210,7 @@ static satf_status upload_geometry(const satf_renderer *r, maps_gpu *g,
       return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
     g->ninsts = r->ninsts;
   }
-  size_t sectors = 0, entries = 0;
+  size_t sectors = 0, hsvs = 0;
   for (int i = 0; i < r->ninsts; i++) {
     const satf_shell_geom *geom = &r->insts[i].geom;
     if (!has_maps(r, i) ||
@@ -224,17 +219,17 @@ static satf_status upload_geometry(const satf_renderer *r, maps_gpu *g,
       continue;
     size_t ns = satf_shell_sector_count(&geom->shell);
     sectors += ns;
-    entries += ns + satf_shell_hsv_count(&geom->shell);
+    hsvs += satf_shell_hsv_count(&geom->shell);
   }
-  if (sectors > (size_t)INT32_MAX / SECTOR_FLOATS ||
-      entries > (size_t)INT32_MAX / (size_t)g->k)
+  if (sectors > (size_t)INT32_MAX / MAPS_GPU_SECTOR_FLOATS ||
+      sectors + hsvs > (size_t)INT32_MAX / (size_t)g->k)
     return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
                           "%zu sectors: more than the GPU's maps index",
                           sectors);
-  float *sec =
-      malloc((sectors > 0 ? sectors : 1) * SECTOR_FLOATS * sizeof *sec);
-  uint32_t *nb =
-      malloc((entries > 0 ? entries : 1) * 2 * (size_t)g->k * sizeof *nb);
+  size_t sec_bytes = maps_gpu_sector_bytes(sectors);
+  size_t nb_bytes = maps_gpu_neighbor_bytes(sectors, hsvs, g->k);
+  float *sec = malloc(sec_bytes > 0 ? sec_bytes : 1);
+  uint32_t *nb = malloc(nb_bytes > 0 ? nb_bytes : 1);
   if (!sec || !nb) {
     free(sec);
     free(nb);
@@ -266,10 +261,10 @@ static satf_status upload_geometry(const satf_renderer *r, maps_gpu *g,
                             scene_name(r->scene), i, g->k);
     }
     for (size_t q = 0; q < ns; q++) {
-      memcpy(sec + (s0 + q) * SECTOR_FLOATS, geom->frames + 9 * q,
+      memcpy(sec + (s0 + q) * MAPS_GPU_SECTOR_FLOATS, geom->frames + 9 * q,
              9 * sizeof(float));
-      memcpy(sec + (s0 + q) * SECTOR_FLOATS + 9, geom->features + 3 * q,
-             3 * sizeof(float));
+      memcpy(sec + (s0 + q) * MAPS_GPU_SECTOR_FLOATS + 9,
+             geom->features + 3 * q, 3 * sizeof(float));
       put_neighbors(maps_sector_neighbors(geom, q, g->k), g->k,
                     nb + (e0 + q) * 2 * (size_t)g->k);
     }
@@ -283,10 +278,8 @@ static satf_status upload_geometry(const satf_renderer *r, maps_gpu *g,
     s0 += ns;
     e0 += ns + nh;
   }
-  storage_upload(g->buf[BUF_SECTORS], sectors * SECTOR_FLOATS * sizeof *sec,
-                 sec);
-  storage_upload(g->buf[BUF_NEIGHBORS], entries * 2 * (size_t)g->k * sizeof *nb,
-                 nb);
+  storage_upload(g->buf[BUF_SECTORS], sec_bytes, sec);
+  storage_upload(g->buf[BUF_NEIGHBORS], nb_bytes, nb);
   free(sec);
   free(nb);
   return SATF_OK;

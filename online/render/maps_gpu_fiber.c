@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "half.h"
+#include "maps_gpu_bytes.h"
 
 #include "renderer_internal.h"
 #include "storage.h"
@@ -31,8 +32,7 @@ satf_status maps_gpu_fiber_tables(const satf_renderer *r, GLuint prog,
   /* the records as halfs, two samples a word: exactly the values the CPU
    * reads (satf_db_relevel finalises its database, rounding them to
    * halfs), in half the loads and bytes of floats */
-  size_t values = (size_t)p->samples * (size_t)p->n_view * (size_t)p->n_light *
-                  (size_t)satf_db_channels(t.db) * (size_t)p->trace.width;
+  size_t values = maps_gpu_fiber_halfs(p, satf_db_channels(t.db));
   if (p->trace.width % 2)
     return satf_error_set(err, SATF_ERR_INCOMPATIBLE,
                           "fibre records of %d samples: the GPU's physical "
@@ -47,14 +47,12 @@ satf_status maps_gpu_fiber_tables(const satf_renderer *r, GLuint prog,
     return satf_error_set(err, SATF_ERR_NOMEM,
                           "cannot allocate %zu fibre record halfs", values);
   half_pack(satf_db_record_channels(t.db, 0, 0, 0), h, values);
-  storage_upload(records, values * sizeof *h, h);
+  storage_upload(records, maps_gpu_half_bytes(values), h);
   free(h);
-  storage_upload(mp, (size_t)t.mp_size * (size_t)t.mp_size * 4 * sizeof(float),
-                 t.mp);
-  storage_upload(rel,
-                 (size_t)p->samples * (size_t)t.rel_bins *
-                     (size_t)t.rel_stride * sizeof(float),
-                 t.rel);
+  maps_fiber_shape shape = {t.levels, satf_db_channels(t.db), t.mp_size,
+                            t.rel_bins, t.rel_stride};
+  storage_upload(mp, maps_gpu_mp_floats(&shape) * sizeof(float), t.mp);
+  storage_upload(rel, maps_gpu_rel_floats(p, &shape) * sizeof(float), t.rel);
   glUseProgram(prog);
   glUniform1i(glGetUniformLocation(prog, "u_n_view"), p->n_view);
   glUniform1i(glGetUniformLocation(prog, "u_n_light"), p->n_light);

@@ -97,6 +97,7 @@ typedef struct options {
   float shadow_move;   /* --shadow-move, -1: off, NAN: not given */
   float strand_width;
   double budget;      /* --memory-budget, bytes (0: the default) */
+  double estimate;    /* the memory estimate, bytes (printed beside the peak) */
   int shading;        /* --shading: SATF_MATERIAL_*, -1: the scene's */
   int sparse_strands; /* --sparse-strands N, -1: the default */
   satf_scene_effects off;
@@ -384,14 +385,15 @@ static satf_status render_still(const options *o, satf_renderer *r,
     st = satf_image_write_png_rgb(img, o->png, err);
   satf_image_destroy(img);
   if (st == SATF_OK && !o->quiet)
-    printf(
-        "%s: %s%s%s: %ldx%ld, %ld clusters, %ld layers, %.1fK HSVs, "
-        "%ld look-ups, %.1fM fragments, %ld pixels over 64 fragments "
-        "(nearest kept), frame %.1f ms (set-up %.2f s, peak memory %.0f MB)\n",
-        PROG, o->exr ? o->exr : "", o->exr && o->png ? " + " : "",
-        o->png ? o->png : "", o->w, o->h, stats->clusters, stats->layers,
-        stats->hsvs / 1000.0, t.lookups, t.fragments / 1e6,
-        frame.overflow_pixels, t.total_ms, t_setup, satf_peak_memory_mb());
+    printf("%s: %s%s%s: %ldx%ld, %ld clusters, %ld layers, %.1fK HSVs, "
+           "%ld look-ups, %.1fM fragments, %ld pixels over 64 fragments "
+           "(nearest kept), frame %.1f ms (set-up %.2f s, peak memory %.0f MB, "
+           "estimated %.0f MB)\n",
+           PROG, o->exr ? o->exr : "", o->exr && o->png ? " + " : "",
+           o->png ? o->png : "", o->w, o->h, stats->clusters, stats->layers,
+           stats->hsvs / 1000.0, t.lookups, t.fragments / 1e6,
+           frame.overflow_pixels, t.total_ms, t_setup, satf_peak_memory_mb(),
+           o->estimate / 1e6);
   if (st == SATF_OK && !o->quiet && satf_renderer_strand_count(r) > 0)
     printf("%s: drawn: the scene's %d source strands, not its clusters "
            "(--strands)\n",
@@ -448,8 +450,9 @@ static satf_status bench(const options *o, const satf_gl_context *ctx,
   printf("GL %d.%d on %s; %d CPU threads for the maps\n", major, minor,
          satf_gl_context_renderer(ctx),
          o->threads > 0 ? (int)o->threads : satf_cpu_count());
-  printf("set-up %.2f s (the renderer's creation), peak memory %.0f MB\n",
-         t_setup, satf_peak_memory_mb());
+  printf("set-up %.2f s (the renderer's creation), peak memory %.0f MB "
+         "(estimated %.0f MB)\n",
+         t_setup, satf_peak_memory_mb(), o->estimate / 1e6);
   return SATF_OK;
 }
 
@@ -497,10 +500,12 @@ static int render_job(options *o) {
     return 1;
   fe.strand_width = o->strand_width;
   fe.sparse_strands = o->sparse_strands;
-  if (satf_frontend_set_shading(PROG, &fe, o->shading) != SATF_OK) {
+  if (satf_frontend_set_shading(PROG, &fe, o->shading) != SATF_OK ||
+      satf_frontend_check_memory(PROG, &fe, o->w, o->h, o->maps) != SATF_OK) {
     satf_frontend_free(&fe);
     return 1;
   }
+  o->estimate = fe.memory_estimate;
   if (o->samples > 0)
     fe.scene->image.samples = (int)o->samples;
   if (o->strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) {

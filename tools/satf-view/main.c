@@ -141,7 +141,10 @@ int main(int argc, char **argv) {
     return 1;
   fe.strand_width = o.strand_width;
   fe.sparse_strands = o.sparse_strands;
-  if (satf_frontend_set_shading(PROG, &fe, o.shading) != SATF_OK) {
+  /* the viewer's maps are the CPU's (satf_renderer_set_maps not called) */
+  if (satf_frontend_set_shading(PROG, &fe, o.shading) != SATF_OK ||
+      satf_frontend_check_memory(PROG, &fe, o.w, o.h, SATF_MAPS_CPU) !=
+          SATF_OK) {
     satf_frontend_free(&fe);
     return 1;
   }

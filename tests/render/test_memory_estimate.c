@@ -1,0 +1,157 @@
+/* test_memory_estimate.c - satf_render_memory_estimate counts what the
+ * GPU's maps keep (--maps gpu) and the database, from the database's
+ * dimensions as the public satf_db API gives them: the GPU's estimate
+ * exceeds the CPU's by at least the records as halfs, and by exactly their
+ * growth when the database grows; the physical shading counts the
+ * re-levelled copy at the hair's absorption levels. No GL. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+/* cmocka needs the headers above first */
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_fixture.h"
+
+/* Two procedural prototypes (drawn as clusters, with maps), one of them
+ * instanced twice; `material` is the scene's "material" object. */
+static satf_scene *scene_with(const char *material) {
+  char json[2048];
+  snprintf(
+      json, sizeof json,
+      "{\"macro_clusters\": ["
+      " {\"prototype\": {\"trajectory\": [[0, -2, 0], [0, 2, 0]], \"a\": 0.5,"
+      "   \"shell\": {\"layers\": 3, \"st\": 6, \"su\": 6},"
+      "   \"density\": {\"strands\": 80, \"seed\": 3}},"
+      "  \"instances\": [{\"translate\": [-1, 0, 0]},"
+      "                  {\"translate\": [1, 0, 0]}]},"
+      " {\"prototype\": {\"trajectory\": [[0, -1, 0], [0, 1, 0]], \"a\": 0.4,"
+      "   \"shell\": {\"layers\": 2, \"st\": 4, \"su\": 8},"
+      "   \"density\": {\"strands\": 60, \"seed\": 5}}}],"
+      " \"material\": %s}",
+      material);
+  satf_scene *s = fixture_scene(json);
+  assert_non_null(s);
+  return s;
+}
+
+/* An empty database of these dimensions (fibre records when fiber): the
+ * estimate reads its dimensions only, so nothing is traced. */
+static satf_db *empty_db(int fiber, int samples, int n_view, int width) {
+  satf_build_params p =
+      fiber ? satf_build_params_default_fiber() : satf_build_params_default();
+  p.samples = samples;
+  p.n_view = p.n_light = n_view;
+  p.trace.width = width;
+  satf_db *db = NULL;
+  satf_error err;
+  if (satf_db_create(&p, &db, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  return db;
+}
+
+/* Records of db times the values each: samples x view x light azimuths. */
+static double records(const satf_db *db) {
+  const satf_build_params *p = satf_db_params(db);
+  return (double)p->samples * p->n_view * p->n_light;
+}
+
+static void estimate(const satf_scene *scene, const satf_db *db,
+                     satf_maps_mode maps, satf_render_memory *m) {
+  satf_render_memory_options opt = {320, 240, db, maps};
+  double total = satf_render_memory_estimate(scene, &opt, m);
+  assert_true(total == m->total);
+  assert_true(m->total > 0.0);
+}
+
+/* What the GPU's maps add: GPU's estimate less the CPU's, every other
+ * part the same. */
+static double gpu_extra(const satf_scene *scene, const satf_db *db) {
+  satf_render_memory cpu, gpu;
+  estimate(scene, db, SATF_MAPS_CPU, &cpu);
+  estimate(scene, db, SATF_MAPS_GPU, &gpu);
+  assert_true(cpu.gpu_maps == 0.0);
+  assert_true(gpu.hsvs == cpu.hsvs && gpu.strands == cpu.strands &&
+              gpu.pixels == cpu.pixels && gpu.database == cpu.database &&
+              gpu.fixed == cpu.fixed);
+  assert_true(fabs(gpu.total - cpu.total - gpu.gpu_maps) < 1.0);
+  return gpu.total - cpu.total;
+}
+
+static void test_kk(void **st) {
+  (void)st;
+  satf_scene *scene = scene_with("{\"model\": \"kk\"}");
+  satf_db *small = empty_db(0, 64, 16, 32), *big = empty_db(0, 128, 16, 32);
+  /* the database as read: reflectance and alpha, floats */
+  satf_render_memory m;
+  estimate(scene, small, SATF_MAPS_CPU, &m);
+  assert_true(m.database == records(small) * 2 * 32 * sizeof(float));
+  /* the GPU keeps every record's reflectance and alpha as halfs */
+  double halfs_small = records(small) * 2 * 32 * 2;
+  double extra_small = gpu_extra(scene, small);
+  assert_true(extra_small >= halfs_small);
+  /* 64 more samples: their records' halfs, and a level (one float) each
+   * in the table the records' look-up scales by (maps_sample_levels) */
+  double halfs_big = records(big) * 2 * 32 * 2;
+  double grown = gpu_extra(scene, big) - extra_small;
+  assert_true(fabs(grown - (halfs_big - halfs_small + 64 * sizeof(float))) <
+              1.0);
+  /* without the database neither it nor the GPU's maps are counted */
+  satf_render_memory_options none = {320, 240, NULL, SATF_MAPS_GPU};
+  satf_render_memory without;
+  satf_render_memory_estimate(scene, &none, &without);
+  assert_true(without.database == 0.0 && without.gpu_maps == 0.0);
+  assert_true(fabs(m.total - m.database - without.total) < 1.0);
+  satf_db_destroy(small);
+  satf_db_destroy(big);
+  satf_scene_destroy(scene);
+}
+
+/* The physical shading: the fibre database as read plus its copy
+ * re-levelled at the hair's absorption (one level for a grey absorption,
+ * three for three distinct values: 3 + 3 levels channels,
+ * SATF_DB_FIBER_CHANNELS), which the GPU keeps as halfs. */
+static void test_physical(void **st) {
+  (void)st;
+  satf_scene *grey =
+      scene_with("{\"model\": \"physical\", \"absorption\": [0.5, 0.5, 0.5]}");
+  satf_scene *brown =
+      scene_with("{\"model\": \"physical\", \"absorption\": [0.2, 1.0, 4.0]}");
+  satf_db *db = empty_db(1, 32, 12, 16);
+  int channels = satf_db_channels(db);
+  assert_int_equal(channels, SATF_DB_FIBER_CHANNELS(5)); /* default levels */
+  satf_render_memory g, b;
+  estimate(grey, db, SATF_MAPS_CPU, &g);
+  estimate(brown, db, SATF_MAPS_CPU, &b);
+  double floats = records(db) * 16 * sizeof(float); /* a channel's */
+  /* the copy's 6 more channels, and 6 more floats per sample and view
+   * azimuth in its orientation-free levels (maps_fiber.c: rel_levels) */
+  assert_true(g.database >= floats * (channels + 6));
+  assert_true(fabs(b.database - g.database -
+                   (floats * 6 + 32.0 * 12 * 6 * sizeof(float))) < 1.0);
+  double halfs = records(db) * 16 * 2; /* a channel's */
+  double grey_extra = gpu_extra(grey, db);
+  assert_true(grey_extra >= halfs * 6);
+  assert_true(fabs(gpu_extra(brown, db) - grey_extra -
+                   (halfs * 6 + 32.0 * 12 * 6 * sizeof(float))) < 1.0);
+  /* a Phong database cannot be shaded physically: only its records */
+  satf_db *phong = empty_db(0, 32, 12, 16);
+  estimate(grey, phong, SATF_MAPS_CPU, &g);
+  assert_true(g.database == records(phong) * 2 * 16 * sizeof(float));
+  satf_db_destroy(phong);
+  satf_db_destroy(db);
+  satf_scene_destroy(grey);
+  satf_scene_destroy(brown);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_kk),
+      cmocka_unit_test(test_physical),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
