@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "measure_samples.h"
 #include "renderer_internal.h"
 #include "satf/db.h"
 #include "satf/density.h"
@@ -33,26 +34,10 @@
  * edge, 0 or 1, and a record next to empty) */
 #define SEEN_RHO 0.01
 
-typedef struct {
-  float *v;
-  size_t n, cap;
-} samples;
-
-static void push(samples *s, float v, int times) {
-  for (int i = 0; i < times; i++) {
-    if (s->n == s->cap) {
-      s->cap = s->cap ? 2 * s->cap : 1024;
-      s->v = realloc(s->v, s->cap * sizeof(float));
-      if (!s->v)
-        exit(2);
-    }
-    s->v[s->n++] = v;
-  }
-}
-
-static int cmp(const void *a, const void *b) {
-  float x = *(const float *)a, y = *(const float *)b;
-  return (x > y) - (x < y);
+/* v, `times` times (once per instance) */
+static void push_n(samples *s, float v, int times) {
+  for (int i = 0; i < times; i++)
+    push(s, v);
 }
 
 static void report(const char *name, samples *s, double lo, double hi) {
@@ -60,7 +45,7 @@ static void report(const char *name, samples *s, double lo, double hi) {
     printf("  %-14s (no shells)\n", name);
     return;
   }
-  qsort(s->v, s->n, sizeof(float), cmp);
+  samples_sort(s);
   size_t out = 0;
   for (size_t i = 0; i < s->n; i++)
     out += s->v[i] < lo || s->v[i] > hi;
@@ -107,7 +92,7 @@ static int measure(const char *path, const satf_db *db, const float lo[3],
     for (size_t q = 0; q < ns; q++) {
       int any = 0;
       for (int a = 0; a < 3; a++) {
-        push(&f[a], feat[3 * q + a], times);
+        push_n(&f[a], feat[3 * q + a], times);
         any |= feat[3 * q + a] < lo[a] || feat[3 * q + a] > hi[a];
       }
       lookups += times;
@@ -117,8 +102,8 @@ static int measure(const char *path, const satf_db *db, const float lo[3],
       int idx;
       float d2;
       if (satf_db_nearest(db, feat + 3 * q, 1, &idx, &d2) == 1) {
-        push(&near, sqrtf(d2), times);
-        push(&drho, satf_db_features(db, idx)[0] - feat[3 * q], times);
+        push_n(&near, sqrtf(d2), times);
+        push_n(&drho, satf_db_features(db, idx)[0] - feat[3 * q], times);
       }
       if (feat[3 * q] >= SEEN_RHO) {
         seen += times;
@@ -132,8 +117,8 @@ static int measure(const char *path, const satf_db *db, const float lo[3],
     for (int k = 0; k < sh.layers; k++) {
       float vm = sh.core + d * ((float)k + 0.5f);
       int n = times * (sh.st + 1) * sh.su;
-      push(&depth, sigma / d, n);
-      push(&arc, sigma / (vm * 6.2831853f / (float)sh.su), n);
+      push_n(&depth, sigma / d, n);
+      push_n(&arc, sigma / (vm * 6.2831853f / (float)sh.su), n);
     }
     free(feat);
     satf_strands_destroy(st);
