@@ -10,7 +10,8 @@ satf_status satf_build_sector(const satf_build_params *p, uint64_t seed,
                               uint64_t index, satf_sector **out,
                               satf_error *err) {
   satf_sector_recipe recipe;
-  satf_sector_recipe_random(seed, index, &recipe);
+  satf_sector_ranges ranges = satf_sector_ranges_default(p->kind);
+  satf_sector_recipe_draw(seed, index, &ranges, &recipe);
   satf_status st = satf_sector_create(&p->shape, p->grid, p->grid,
                                       recipe.strand_sigma, out, err);
   if (st == SATF_OK)

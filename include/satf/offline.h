@@ -71,10 +71,32 @@ typedef struct satf_sector_recipe {
   int strands;
   float strand_sigma;
   float param[4]; /* layout-specific: clump count/spread, slope, holes */
+  /* The layout spans the sector grown by margin x strand_sigma on every
+   * side; a strand whose centre falls outside the sector adds its density
+   * tail but no fibre (its fibre belongs to the neighbouring sector, as
+   * in a cluster's shells). 0: every strand inside. */
+  float margin;
 } satf_sector_recipe;
 
-/* Draws a recipe for sample `index` of database seed `seed`. Covers empty to
- * dense, even to very uneven sectors. Depends only on (seed, index). */
+/* What random recipes are drawn from. */
+typedef struct satf_sector_ranges {
+  double sigma_lo, sigma_hi; /* strand_sigma, uniform, sector units */
+  float margin;              /* the recipes' margin */
+} satf_sector_ranges;
+
+/* The ranges of a build of records of `kind`: sigma 0.008..0.02 for both;
+ * no margin for Phong (the paper's sectors), 3 for fibre records, measured
+ * to cover the density features of imported hair's shells
+ * (tests/render/measure_db_range). */
+satf_sector_ranges satf_sector_ranges_default(satf_record_kind kind);
+
+/* Draws a recipe for sample `index` of database seed `seed` from `ranges`.
+ * Covers empty to dense, even to very uneven sectors. Depends only on
+ * (seed, index, ranges). */
+void satf_sector_recipe_draw(uint64_t seed, uint64_t index,
+                             const satf_sector_ranges *ranges,
+                             satf_sector_recipe *recipe);
+/* satf_sector_recipe_draw from the Phong ranges. */
 void satf_sector_recipe_random(uint64_t seed, uint64_t index,
                                satf_sector_recipe *recipe);
 /* Places the recipe's strands (seeded by (seed, index)) into sector, which

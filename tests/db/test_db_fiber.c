@@ -357,16 +357,16 @@ static void golden_values(void **state) {
     int sample, iv, il, ch, j;
     float value;
   } gold[] = {
-      {1, 0, 0, SATF_DB_CH_ALPHA, 2, 0.25f},
-      {1, 0, 0, SATF_DB_CH_R, 4, 0.0182342529f},
-      {1, 0, 0, SATF_DB_CH_TRT(0, 3), 2, 0.0390319824f},
-      {2, 1, 3, SATF_DB_CH_ALPHA, 2, 0.75f},
-      {2, 1, 3, SATF_DB_CH_R, 6, 0.00364875793f},
-      {2, 1, 3, SATF_DB_CH_TT(1), 6, 5.36441803e-07f},
-      {2, 1, 3, SATF_DB_CH_TRT(0, 3), 6, 0.000174403191f},
-      {2, 1, 3, SATF_DB_CH_MS(2, 3), 4, 2.98023224e-07f},
-      {4, 3, 5, SATF_DB_CH_R, 6, 0.0575866699f},
-      {4, 3, 5, SATF_DB_CH_TRT(0, 3), 2, 0.0192718506f},
+      {1, 0, 0, SATF_DB_CH_ALPHA, 1, 0.5f},
+      {1, 0, 0, SATF_DB_CH_R, 5, 0.00161170959f},
+      {1, 0, 0, SATF_DB_CH_TRT(0, 3), 1, 0.0346374512f},
+      {2, 1, 3, SATF_DB_CH_ALPHA, 2, 1.0f},
+      {2, 1, 3, SATF_DB_CH_R, 6, 0.0284118652f},
+      {2, 1, 3, SATF_DB_CH_TT(1), 6, 2.98023224e-07f},
+      {2, 1, 3, SATF_DB_CH_TRT(0, 3), 6, 0.000281095505f},
+      {2, 1, 3, SATF_DB_CH_MS(0, 3), 4, 0.0604553223f},
+      {4, 3, 5, SATF_DB_CH_R, 6, 0.000590801239f},
+      {4, 3, 5, SATF_DB_CH_TRT(0, 3), 2, 0.0113449097f},
   };
   for (size_t g = 0; g < sizeof gold / sizeof gold[0]; g++) {
     const float *c =

@@ -122,9 +122,71 @@ static void same_seed_same_sector(void **state) {
   satf_sector_destroy(c);
 }
 
+/* Fibre sectors (satf_sector_ranges_default): strands centred beyond the
+ * sector add their tails to its density but no fibre; every fibre lies
+ * inside. Phong sectors keep every strand as a fibre. */
+static void fibre_sectors_hold_only_their_own_fibres(void **state) {
+  (void)state;
+  satf_build_params p = satf_build_params_default_fiber();
+  satf_sector_ranges r = satf_sector_ranges_default(p.kind);
+  assert_true(r.margin > 0.0f);
+  int strands = 0, fibres = 0;
+  for (uint64_t i = 0; i < 24; i++) {
+    satf_sector_recipe rec;
+    satf_sector_recipe_draw(p.seed, i, &r, &rec);
+    satf_sector *s = NULL;
+    assert_int_equal(satf_build_sector(&p, p.seed, i, &s, NULL), SATF_OK);
+    assert_true(s->fiber_count <= rec.strands);
+    for (int k = 0; k < s->fiber_count; k++) {
+      float st[2];
+      assert_true(satf_sector_param(&p.shape, s->fibers + 3 * k, st));
+    }
+    strands += rec.strands;
+    fibres += s->fiber_count;
+    satf_sector_destroy(s);
+  }
+  /* the grown sector is (1 + 2 m_s)(1 + 2 m_t) = 1.6-2.2 times the
+   * sector: about half the strands fall outside */
+  assert_true(fibres < strands * 3 / 4);
+  assert_true(fibres > strands / 4);
+  satf_build_params ph = satf_build_params_default();
+  satf_sector_recipe rec;
+  satf_sector_recipe_random(ph.seed, 3, &rec);
+  satf_sector *s = NULL;
+  assert_int_equal(satf_build_sector(&ph, ph.seed, 3, &s, NULL), SATF_OK);
+  assert_int_equal(s->fiber_count, rec.strands);
+  satf_sector_destroy(s);
+}
+
+/* A lone strand just beyond the sector's inner edge: density only along
+ * that edge (centroid s near 0), no fibre. */
+static void a_tail_pulls_the_centroid_to_the_edge(void **state) {
+  (void)state;
+  satf_sector *s = make(32, 0.02f);
+  satf_sector_recipe r = {
+      SATF_LAYOUT_GRADIENT_S, 1, 0.02f, {-1.0f, 0, 0, 0}, 3.0f};
+  /* gradient -1 puts the strand near s = 0 most often: look for a seed
+   * that places it outside */
+  int found = 0;
+  for (uint64_t i = 0; i < 64 && !found; i++) {
+    memset(s->density, 0, 32 * 32 * sizeof(float));
+    s->fiber_count = 0;
+    satf_sector_fill(s, &r, 1, i);
+    float f[3];
+    satf_density_features(s->density, 32, 32, f);
+    if (s->fiber_count == 0 && f[0] > 0.0f && f[1] < 0.05f) {
+      found = 1;
+      assert_true(f[0] < 0.01f); /* a tail, not a strand */
+    }
+  }
+  assert_true(found);
+  satf_sector_destroy(s);
+}
+
 static void gradient_layout_moves_the_centroid(void **state) {
   (void)state;
-  satf_sector_recipe r = {SATF_LAYOUT_GRADIENT_S, 400, 0.01f, {1.0f, 0, 0, 0}};
+  satf_sector_recipe r = {
+      SATF_LAYOUT_GRADIENT_S, 400, 0.01f, {1.0f, 0, 0, 0}, 0.0f};
   satf_sector *up = make(32, 0.01f), *down = make(32, 0.01f);
   satf_sector_fill(up, &r, 1, 1);
   r.param[0] = -1.0f;
@@ -148,6 +210,8 @@ int main(void) {
       cmocka_unit_test(random_recipes_cover_sparse_to_dense),
       cmocka_unit_test(same_seed_same_sector),
       cmocka_unit_test(gradient_layout_moves_the_centroid),
+      cmocka_unit_test(fibre_sectors_hold_only_their_own_fibres),
+      cmocka_unit_test(a_tail_pulls_the_centroid_to_the_edge),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

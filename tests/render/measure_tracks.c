@@ -25,37 +25,18 @@
 
 #include "import_internal.h"
 #include "mat4.h"
+#include "measure_samples.h"
 #include "renderer_internal.h"
 #include "satf/geometry.h"
 #include "satf/math.h"
 #include "satf/scene.h"
-
-typedef struct {
-  float *v;
-  size_t n, cap;
-} samples;
-
-static void push(samples *s, float v) {
-  if (s->n == s->cap) {
-    s->cap = s->cap ? 2 * s->cap : 1024;
-    s->v = realloc(s->v, s->cap * sizeof(float));
-    if (!s->v)
-      exit(2);
-  }
-  s->v[s->n++] = v;
-}
-
-static int cmp(const void *a, const void *b) {
-  float x = *(const float *)a, y = *(const float *)b;
-  return (x > y) - (x < y);
-}
 
 static void report(const char *name, samples *s) {
   if (s->n == 0) {
     printf("  %-34s (none)\n", name);
     return;
   }
-  qsort(s->v, s->n, sizeof(float), cmp);
+  samples_sort(s);
   double sum = 0.0;
   for (size_t i = 0; i < s->n; i++)
     sum += s->v[i];
