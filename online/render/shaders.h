@@ -54,7 +54,7 @@ extern const char *const satf_glsl_fiber_cluster;
 /* Fragments (one per cluster a pixel's ray meets) kept by the resolve. */
 #define SATF_MAX_FRAGMENTS 64
 /* vec4s of the physical strands' light per point (strand_light_cs.glsl) */
-#define STRAND_LIGHT_VEC4 9
+#define STRAND_LIGHT_VEC4 6
 
 #include "satf/gl.h"
 

@@ -7,15 +7,21 @@
  * map: cluster_hairs_behind), and where it defines DOM_FILL u_fill_depth,
  * u_fill_opacity, u_fill_viewproj and u_fill_slab (the fill light's:
  * fill_hairs_behind). */
-float dom_texel_behind(sampler2D dd, sampler2D od, float slab, ivec2 c,
-                       float z) {
+/* a texel's optical depth in front of depth z (x) and in all (y) */
+vec2 dom_texel_depths(sampler2D dd, sampler2D od, float slab, ivec2 c,
+                      float z) {
   c = clamp(c, ivec2(0), textureSize(dd, 0) - 1);
   float d0 = texelFetch(dd, c, 0).r;
   vec4 o = texelFetch(od, c, 0);
   float s = max(z - d0, 0.0) / slab;
   float at = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) +
              o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, 0.0, 1.0);
-  return max(o.x + o.y + o.z + o.w - at, 0.0);
+  return vec2(at, o.x + o.y + o.z + o.w);
+}
+float dom_texel_behind(sampler2D dd, sampler2D od, float slab, ivec2 c,
+                       float z) {
+  vec2 d = dom_texel_depths(dd, od, slab, c, z);
+  return max(d.y - d.x, 0.0);
 }
 float dom_hairs_behind(sampler2D dd, sampler2D od, mat4 vp, float slab,
                        vec3 world) {
@@ -42,7 +48,34 @@ float cluster_hairs_behind(vec3 world) {
   return dom_hairs_behind(u_dom_depth, u_dom_opacity, u_light_viewproj,
                           u_dom_slab, world);
 }
+/* The transmittance e^-n at a point without screen derivatives (a
+ * compute shader's, dom_lookup.glsl's without its receiver-plane bias):
+ * per texel, bilinear over 2 x 2 texels; bias: depth units towards the
+ * light */
+float dom_point_transmittance(sampler2D dd, sampler2D od, mat4 vp,
+                              float slab, vec3 world, float bias) {
+  vec4 p = vp * vec4(world, 1.0);
+  vec3 q = p.xyz / p.w * 0.5 + 0.5;
+  q.z -= bias;
+  if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, vec2(1.0))))
+    return 1.0;
+  vec2 x = q.xy * vec2(textureSize(dd, 0)) - 0.5;
+  ivec2 c = ivec2(floor(x));
+  vec2 f = x - vec2(c);
+  float t00 = exp(-u_kcluster * dom_texel_depths(dd, od, slab, c, q.z).x);
+  float t10 =
+      exp(-u_kcluster * dom_texel_depths(dd, od, slab, c + ivec2(1, 0), q.z).x);
+  float t01 =
+      exp(-u_kcluster * dom_texel_depths(dd, od, slab, c + ivec2(0, 1), q.z).x);
+  float t11 =
+      exp(-u_kcluster * dom_texel_depths(dd, od, slab, c + ivec2(1, 1), q.z).x);
+  return mix(mix(t00, t10, f.x), mix(t01, t11, f.x), f.y);
+}
 #ifdef DOM_FILL
+float fill_point_transmittance(vec3 world, float bias) {
+  return dom_point_transmittance(u_fill_depth, u_fill_opacity,
+                                 u_fill_viewproj, u_fill_slab, world, bias);
+}
 float fill_hairs_behind(vec3 world) {
   return dom_hairs_behind(u_fill_depth, u_fill_opacity, u_fill_viewproj,
                           u_fill_slab, world);

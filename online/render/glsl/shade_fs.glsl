@@ -37,7 +37,10 @@
 #include "fiber_cluster.glsl"
 in vec3 v_global; /* the key light's global scattering (cluster_vs.glsl) */
 in vec3 v_back;
-in vec3 v_fill_global, v_fill_back; /* the fill light's */
+/* the fill light's, and its map's transmittance where its light enters
+ * the cluster, per vertex (cluster_vs.glsl) */
+in vec3 v_fill_global, v_fill_back;
+in float v_fill_dom;
 #endif
 in vec3 v_local;
 in vec3 v_world;
@@ -74,10 +77,6 @@ uniform float u_kdif, u_kspe1, u_kspe2, u_exp1, u_exp2, u_shift1, u_shift2;
 uniform vec3 u_fdif, u_fspe1, u_fspe2;
 uniform float u_kshadow, u_noise;
 uniform int u_secondary, u_self_shadow, u_cluster_shadow, u_fill_shadow;
-uniform sampler2D u_fill_depth, u_fill_opacity;
-uniform mat4 u_fill_viewproj;
-uniform float u_fill_slab;
-#define DOM_FILL 1
 uniform sampler2D u_dom_depth;
 uniform sampler2D u_dom_opacity;
 uniform mat4 u_light_viewproj;
@@ -134,21 +133,13 @@ float atan2_turns(float y, float x) {
  * counted a second (or third) time. A lone cluster is the first hair
  * there, so the map leaves it unlit by nothing (tests/render/
  * test_correctness.c). */
-vec3 light_entry(int k, vec2 P, vec3 n1, vec3 n2, float A, float B) {
-  vec3 l = normalize(u_light_local[k].xyz - u_light_local[k].w * v_local);
+float key_light_dom(vec2 P, vec3 n1, vec3 n2, float A, float B) {
+  vec3 l = normalize(u_light_local[0].xyz - u_light_local[0].w * v_local);
   vec2 L = vec2(dot(l, n1) / A, dot(l, n2) / B);
   float a = max(dot(L, L), 1e-12), b = dot(P, L), c = dot(P, P);
   float s = max((-b + sqrt(max(b * b - a * (c - 1.0), 0.0))) / a, 0.0);
   vec3 entry = v_local + (s + 0.1 * max(A, B)) * l;
-  return (u_model * vec4(entry, 1.0)).xyz;
-}
-float key_light_dom(vec2 P, vec3 n1, vec3 n2, float A, float B) {
-  return cluster_transmittance(light_entry(0, P, n1, n2, A, B));
-}
-/* the fill light's map, read the same way (draw_fill_shadows) */
-float fill_light_dom(vec2 P, vec3 n1, vec3 n2, float A, float B) {
-  return fill_transmittance(light_entry(NLIGHTS > 1 ? 1 : 0, P, n1, n2, A, B),
-                            0.0);
+  return cluster_transmittance((u_model * vec4(entry, 1.0)).xyz);
 }
 /* SATF eq. 8-11 at a layer point: diffuse, primary and secondary
  * highlight (the latter without its noise factor), n the normal the
@@ -268,7 +259,7 @@ void main() {
     vec3 dl1 = u_light_local[k1].xyz - u_light_local[k1].w * v_local;
     e1 = u_light_color[k1] *
          (u_light_local[k1].w > 0.0 ? 1.0 / max(dot(dl1, dl1), 1e-6) : 1.0);
-    n_fill = -log(max(fill_light_dom(P, n1, n2, A, B), 1e-6));
+    n_fill = -log(max(v_fill_dom, 1e-6));
     back1 = FIBER_DUAL_DENSITY * e1 * v_fill_back;
     af1 = fiber_dual_field(
         u_fiber_tables, 0,

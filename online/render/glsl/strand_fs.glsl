@@ -105,7 +105,6 @@ float strand_noise(uint strand, float t) {
  * branch's code even where no fragment takes it, and this one's presence
  * alone made the pass twice as slow. */
 in vec3 v_key_lo, v_key_hi, v_rest_lo, v_rest_hi, v_global, v_af;
-in vec3 v_fill, v_fill_global, v_fill_af;
 const int STRAND_FIBER_MAX_H = 3;
 #include "strand_fiber.glsl"
 StrandLight strand_light(vec3 t, vec3 v) {
@@ -126,9 +125,10 @@ StrandLight strand_light(vec3 t, vec3 v) {
   /* the share of the covered offsets [lo, hi] on the fibre's h > 0 half */
   float neg = max(min(hi, 0.0) - lo, 0.0), pos = max(hi - max(lo, 0.0), 0.0);
   float w = neg + pos > 0.0 ? pos / (neg + pos) : 0.5;
+  /* the fill's light is in the rest, already shadowed */
   return StrandLight(mix(v_key_lo, v_key_hi, w), v_global, v_af,
-                     mix(v_rest_lo, v_rest_hi, w), v_fill, v_fill_global,
-                     v_fill_af);
+                     mix(v_rest_lo, v_rest_hi, w), vec3(0.0), vec3(0.0),
+                     vec3(0.0));
 }
 #endif
 
@@ -165,10 +165,13 @@ void main() {
                                           PHYSICAL != 0 ? u_dom_slab : 0.0)
                   : 1.0;
 #if PHYSICAL
-  /* the fill light's map, looked up as the key's */
-  float fill_dom = u_fill_shadow != 0
-                       ? fill_transmittance(v_world, u_fill_slab)
-                       : 1.0;
+  /* the fill light's map: at the fragment where strand_light samples the
+   * fibre here (wide strands), else in the rest already (per point) */
+  float fill_dom = 1.0;
+#ifdef STRAND_EXACT_WIDTH
+  if (u_fill_shadow != 0 && v_width > STRAND_EXACT_WIDTH)
+    fill_dom = fill_point_transmittance(v_world, u_fill_slab);
+#endif
   vec3 y = strand_fiber_radiance(strand_light(t, v), dom, fill_dom);
   if (u_aov == 1) y = max(y, vec3(0.0)); /* all but R and TRT */
   else if (u_aov == 4) y = vec3(dom);

@@ -12,11 +12,11 @@ layout(std430, binding = 5) readonly buffer satf_strand_vertices {
   float g_vertex[];
 };
 /* per point (STRAND_LIGHT_VEC4 of them): StrandLight's key and rest over
- * the fibre's two halves, h in [-1, 0] and [0, 1], then its global and af,
- * then fill over the whole fibre, fill_global and fill_af (one value
- * across the fibre: the fill is the weaker light, and the halves differ
- * only on strands a pixel wide or more, which strand_fs.glsl samples per
- * fragment) */
+ * the fibre's two halves, h in [-1, 0] and [0, 1], then its global and
+ * af; the rest holds the fill light's radiance too, shadowed here, at the
+ * point, through the fill's map (strand_fiber_dual): the fill is the
+ * softer, weaker light, and looked up per fragment as the key is it cost
+ * a quarter of the physical strands' frame on llvmpipe */
 layout(std430, binding = 6) writeonly buffer satf_strand_light {
   vec4 g_light[];
 };
@@ -54,14 +54,18 @@ void main() {
   vec3 t = tan / max(length(tan), 1e-30), v = normalize(u_eye - p);
   StrandLight lo, hi;
   strand_fiber(t, v, p, -1.0, 1.0, STRAND_FIBER_MAX_H, u_aov, lo, hi);
+  vec3 fill_lo = vec3(0.0), fill_hi = vec3(0.0);
+  if (u_fill_shadow != 0) {
+    /* one slab nearer the light, as strand_fs.glsl looks the key up */
+    float dom = fill_point_transmittance(p, u_fill_slab);
+    fill_lo = strand_fiber_dual(lo.fill, lo.fill_global, lo.fill_af, dom);
+    fill_hi = strand_fiber_dual(hi.fill, hi.fill_global, hi.fill_af, dom);
+  }
   int o = STRAND_LIGHT_VEC4 * k;
   g_light[o] = vec4(lo.key, 0.0);
   g_light[o + 1] = vec4(hi.key, 0.0);
-  g_light[o + 2] = vec4(lo.rest, 0.0);
-  g_light[o + 3] = vec4(hi.rest, 0.0);
+  g_light[o + 2] = vec4(lo.rest + fill_lo, 0.0);
+  g_light[o + 3] = vec4(hi.rest + fill_hi, 0.0);
   g_light[o + 4] = vec4(lo.global, 0.0);
   g_light[o + 5] = vec4(lo.af, 0.0);
-  g_light[o + 6] = vec4(0.5 * (lo.fill + hi.fill), 0.0);
-  g_light[o + 7] = vec4(lo.fill_global, 0.0);
-  g_light[o + 8] = vec4(lo.fill_af, 0.0);
 }

@@ -44,10 +44,9 @@ noperspective out float v_width;  /* the strand's true width, pixels */
 layout(std430, binding = 6) readonly buffer satf_strand_light {
   vec4 g_light[];
 };
-/* StrandLight's key and rest over the fibre's halves h < 0 and h > 0;
- * the rest over the whole fibre */
+/* StrandLight's key and rest over the fibre's halves h < 0 and h > 0 (the
+ * rest with the fill's shadowed light, strand_light_cs.glsl) */
 out vec3 v_key_lo, v_key_hi, v_rest_lo, v_rest_hi, v_global, v_af;
-out vec3 v_fill, v_fill_global, v_fill_af;
 #endif
 
 vec2 to_pixels(vec4 c) { return c.xy / c.w * 0.5 * u_viewport; }
@@ -67,7 +66,6 @@ void main() {
     v_across = v_width = 0.0;
 #if PHYSICAL
     v_key_lo = v_key_hi = v_rest_lo = v_rest_hi = v_global = v_af = vec3(0.0);
-    v_fill = v_fill_global = v_fill_af = vec3(0.0);
 #endif
     return;
   }
@@ -94,8 +92,5 @@ void main() {
   v_rest_hi = g_light[k + 3].rgb;
   v_global = g_light[k + 4].rgb;
   v_af = g_light[k + 5].rgb;
-  v_fill = g_light[k + 6].rgb;
-  v_fill_global = g_light[k + 7].rgb;
-  v_fill_af = g_light[k + 8].rgb;
 #endif
 }
