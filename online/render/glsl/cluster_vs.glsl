@@ -51,6 +51,7 @@ uniform mat4 u_light_viewproj, u_fill_viewproj;
 uniform float u_dom_slab, u_fill_slab, u_kcluster;
 #define DOM_FILL 1
 #include "dom_behind.glsl"
+#include "shell_entry.glsl"
 #endif
 void main() {
   v_instance = u_first + gl_InstanceID;
@@ -82,15 +83,12 @@ void main() {
     v_fill_global = key_global(normalize(a_tangent),
                                normalize(g_view[v_instance].eye.xyz - a_pos),
                                lp, v_fill_back);
-    /* where the light's ray through the vertex enters the outer ellipse,
-     * a tenth of the radius out (shade_fs.glsl's key_light_dom) */
+    /* where the light's ray towards the vertex enters the cluster, as
+     * shade_fs.glsl's key_light_dom reads the key's map */
     float A = a_shape.x, B = a_shape.y;
     vec3 n1 = normalize(a_n1), n2 = normalize(a_n2), q = a_pos - a_centre;
     vec2 P = vec2(dot(q, n1) / A, dot(q, n2) / B);
-    vec2 L = vec2(dot(lp, n1) / A, dot(lp, n2) / B);
-    float qa = max(dot(L, L), 1e-12), qb = dot(P, L), qc = dot(P, P);
-    float s = max((-qb + sqrt(max(qb * qb - qa * (qc - 1.0), 0.0))) / qa, 0.0);
-    vec3 entry = a_pos + (s + 0.1 * max(A, B)) * lp;
+    vec3 entry = shell_entry(a_pos, P, lp, n1, n2, A, B);
     v_fill_dom = fill_point_transmittance(
         (g_model[v_instance] * vec4(entry, 1.0)).xyz, 0.0);
   }

@@ -62,14 +62,11 @@ float dom_point_transmittance(sampler2D dd, sampler2D od, mat4 vp,
   vec2 x = q.xy * vec2(textureSize(dd, 0)) - 0.5;
   ivec2 c = ivec2(floor(x));
   vec2 f = x - vec2(c);
-  float t00 = exp(-u_kcluster * dom_texel_depths(dd, od, slab, c, q.z).x);
-  float t10 =
-      exp(-u_kcluster * dom_texel_depths(dd, od, slab, c + ivec2(1, 0), q.z).x);
-  float t01 =
-      exp(-u_kcluster * dom_texel_depths(dd, od, slab, c + ivec2(0, 1), q.z).x);
-  float t11 =
-      exp(-u_kcluster * dom_texel_depths(dd, od, slab, c + ivec2(1, 1), q.z).x);
-  return mix(mix(t00, t10, f.x), mix(t01, t11, f.x), f.y);
+  float t[4];
+  for (int i = 0; i < 4; i++)
+    t[i] = exp(-u_kcluster *
+               dom_texel_depths(dd, od, slab, c + ivec2(i & 1, i >> 1), q.z).x);
+  return mix(mix(t[0], t[1], f.x), mix(t[2], t[3], f.x), f.y);
 }
 #ifdef DOM_FILL
 float fill_point_transmittance(vec3 world, float bias) {

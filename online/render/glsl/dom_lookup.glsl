@@ -1,10 +1,8 @@
 /* dom_lookup.glsl - deep opacity map (Yuksel & Keyser 2008): optical
  * depth of hair between a light and a point, from four slabs behind the
- * first hair. The including shader declares u_light_viewproj,
- * u_dom_depth, u_dom_opacity, u_dom_slab and u_kcluster (the key light's
- * map: cluster_transmittance), and where it defines DOM_FILL u_fill_depth,
- * u_fill_opacity, u_fill_viewproj and u_fill_slab (the fill light's:
- * fill_transmittance).
+ * first hair. The including shader declares what dom_behind.glsl (included
+ * here, with its texels' optical depths) needs; cluster_transmittance reads
+ * the key light's map.
  *
  * Filtered by percentage-closer filtering (Reeves et al. 1987): the
  * transmittance is computed per texel, each with its own first-hair depth,
@@ -12,16 +10,10 @@
  * Filtering the depth itself (bilinear) would blend a near cluster's depth
  * with the cleared far depth at every cluster edge and draw the map's
  * texels as steps; filtering the result gives soft penumbrae instead. */
+#include "dom_behind.glsl"
 float dom_texel_transmittance(sampler2D dd, sampler2D od, float slab,
                               ivec2 c, float z) {
-  ivec2 size = textureSize(dd, 0);
-  c = clamp(c, ivec2(0), size - 1);
-  float d0 = texelFetch(dd, c, 0).r;
-  vec4 o = texelFetch(od, c, 0);
-  float s = max(z - d0, 0.0) / slab;
-  float depth = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) +
-                o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, 0.0, 1.0);
-  return exp(-u_kcluster * depth);
+  return exp(-u_kcluster * dom_texel_depths(dd, od, slab, c, z).x);
 }
 /* The map of depths dd and slabs od (view vp, slabs `slab` deep) at a
  * point; bias: depth units subtracted from the point's depth (towards the
@@ -69,9 +61,3 @@ float cluster_transmittance(vec3 world, float bias) {
 float cluster_transmittance(vec3 world) {
   return cluster_transmittance(world, 0.0);
 }
-#ifdef DOM_FILL
-float fill_transmittance(vec3 world, float bias) {
-  return dom_transmittance(u_fill_depth, u_fill_opacity, u_fill_viewproj,
-                           u_fill_slab, world, bias);
-}
-#endif

@@ -122,6 +122,7 @@ float atan2_turns(float y, float x) {
 /* Deep opacity map (Yuksel & Keyser 2008): optical depth of hair between
  * the key light and this point, from four slabs behind the first hair. */
 #include "dom_lookup.glsl"
+#include "shell_entry.glsl"
 /* Who owns self-shadowing: the records own the attenuation among the
  * strands of one HSV (traced in the sector, paper 001 sec. 4), eq. 12's
  * s-map owns the attenuation by this cluster's outer layers, and the deep
@@ -135,10 +136,7 @@ float atan2_turns(float y, float x) {
  * test_correctness.c). */
 float key_light_dom(vec2 P, vec3 n1, vec3 n2, float A, float B) {
   vec3 l = normalize(u_light_local[0].xyz - u_light_local[0].w * v_local);
-  vec2 L = vec2(dot(l, n1) / A, dot(l, n2) / B);
-  float a = max(dot(L, L), 1e-12), b = dot(P, L), c = dot(P, P);
-  float s = max((-b + sqrt(max(b * b - a * (c - 1.0), 0.0))) / a, 0.0);
-  vec3 entry = v_local + (s + 0.1 * max(A, B)) * l;
+  vec3 entry = shell_entry(v_local, P, l, n1, n2, A, B);
   return cluster_transmittance((u_model * vec4(entry, 1.0)).xyz);
 }
 /* SATF eq. 8-11 at a layer point: diffuse, primary and secondary

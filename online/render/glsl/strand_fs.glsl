@@ -82,7 +82,6 @@ void emit(vec3 col, float alpha) {
 #endif
 }
 #include "dom_lookup.glsl"
-#include "dom_behind.glsl"
 /* shade_fs.glsl's noise hash; here one column per strand, varying slowly
  * along the strand's t as there along the cluster's */
 float hash(uint x) {

@@ -1,0 +1,14 @@
+/* shell_entry.glsl - where a light's ray towards a point of a cluster
+ * enters it: its exit from the outermost ellipse towards the light, in the
+ * scaled normal-plane coordinates (P: the point, n1, n2: the ellipse's
+ * axes, A, B: its radii), moved out by a tenth of the cluster's radius
+ * (the deep opacity map's proxies circumscribe the shell coarsely, and the
+ * cluster's own slab must not be counted again). p: the point, l: the
+ * unit direction to the light, both in the prototype's frame. No #version
+ * line: included (shade_fs.glsl per fragment, cluster_vs.glsl per vertex). */
+vec3 shell_entry(vec3 p, vec2 P, vec3 l, vec3 n1, vec3 n2, float A, float B) {
+  vec2 L = vec2(dot(l, n1) / A, dot(l, n2) / B);
+  float a = max(dot(L, L), 1e-12), b = dot(P, L), c = dot(P, P);
+  float s = max((-b + sqrt(max(b * b - a * (c - 1.0), 0.0))) / a, 0.0);
+  return p + (s + 0.1 * max(A, B)) * l;
+}
