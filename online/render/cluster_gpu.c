@@ -104,7 +104,8 @@ void cluster_gpu_draw(const satf_renderer *r, GLuint prog,
 static void fill_lists(const satf_renderer *r, satf_aov aov,
                        const float viewproj[16], int mode, int opaque) {
   lists_bind(&r->lists, mode);
-  draw_hair_depth_test(r->nmeshes > 0 || opaque);
+  /* the nearest passes test against the overflow mask */
+  draw_hair_depth_test(r->nmeshes > 0 || opaque || mode > 0);
   glDisable(GL_CULL_FACE);
   GLuint prog = r->lod ? r->prog_shade_lod : r->prog_shade;
   draw_shading_uniforms(r, prog, aov);
@@ -159,6 +160,7 @@ GLuint cluster_gpu_lists(satf_renderer *r, satf_aov aov,
    * rasterising there, not their shading) */
   if (nearest) {
     const int *b = r->lists.overflow_box;
+    lists_mask_overflow(&r->lists);
     glEnable(GL_SCISSOR_TEST);
     glScissor(b[0], b[1], b[2], b[3]);
     fill_lists(r, aov, viewproj, 1, opaque);

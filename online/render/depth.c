@@ -12,7 +12,8 @@
 static void fill_pass(satf_renderer *r, const float viewproj[16],
                       depth_fill_fn fill, void *ctx, int mode) {
   lists_bind(&r->lists, mode);
-  draw_hair_depth_test(r->nmeshes > 0);
+  /* the nearest passes test against the overflow mask */
+  draw_hair_depth_test(r->nmeshes > 0 || mode > 0);
   glDisable(GL_CULL_FACE);
   fill(r, ctx, viewproj, mode);
   draw_hair_depth_test(0);
@@ -38,6 +39,7 @@ satf_status depth_lists(satf_renderer *r, const float viewproj[16],
     if ((st = lists_alloc_keys(&r->lists, err)) != SATF_OK)
       return st;
     const int *b = r->lists.overflow_box;
+    lists_mask_overflow(&r->lists);
     glEnable(GL_SCISSOR_TEST);
     glScissor(b[0], b[1], b[2], b[3]);
     fill_pass(r, viewproj, fill, ctx, 1);

@@ -36,10 +36,37 @@ satf_status lists_alloc_keys(frag_lists *l, satf_error *err) {
   return satf_gl_check("fragment depth keys", err);
 }
 
+/* The nearest passes' depth mask, its framebuffer and its program. */
+static satf_status mask_attach(frag_lists *l, satf_error *err) {
+  if (l->mask)
+    glDeleteTextures(1, &l->mask);
+  glGenTextures(1, &l->mask);
+  glBindTexture(GL_TEXTURE_2D, l->mask);
+  glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, l->width, l->height);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  if (!l->mask_fbo)
+    glGenFramebuffers(1, &l->mask_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, l->mask_fbo);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D,
+                         l->mask, 0);
+  glDrawBuffer(GL_NONE);
+  glReadBuffer(GL_NONE);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (!l->mask_vao)
+    glGenVertexArrays(1, &l->mask_vao);
+  if (l->mask_prog)
+    return satf_gl_check("overflow mask", err);
+  return shaders_program("overflow mask", satf_glsl_fullscreen_vs,
+                         satf_glsl_overflow_mask_fs, "", &l->mask_prog, err);
+}
+
 satf_status lists_attach(frag_lists *l, int width, int height, GLuint depth,
                          satf_error *err) {
   l->width = width;
   l->height = height;
+  l->depth = depth;
   if (!l->fbo)
     glGenFramebuffers(1, &l->fbo);
   glBindFramebuffer(GL_FRAMEBUFFER, l->fbo);
@@ -52,15 +79,23 @@ satf_status lists_attach(frag_lists *l, int width, int height, GLuint depth,
   glDrawBuffer(GL_NONE);
   glReadBuffer(GL_NONE);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  satf_status st = mask_attach(l, err);
+  if (st != SATF_OK)
+    return st;
   return lists_alloc(l, l->slots > 0 ? l->slots : START_SLOTS, err);
 }
 
 void lists_release(frag_lists *l) {
-  GLuint texs[3] = {l->counts, l->frags, l->keys};
-  glDeleteTextures(3, texs);
-  if (l->fbo)
-    glDeleteFramebuffers(1, &l->fbo);
+  GLuint texs[4] = {l->counts, l->frags, l->keys, l->mask};
+  glDeleteTextures(4, texs);
+  GLuint fbos[2] = {l->fbo, l->mask_fbo};
+  glDeleteFramebuffers(2, fbos);
+  if (l->mask_vao)
+    glDeleteVertexArrays(1, &l->mask_vao);
+  if (l->mask_prog)
+    glDeleteProgram(l->mask_prog);
   l->counts = l->frags = l->keys = l->fbo = 0;
+  l->mask = l->mask_fbo = l->mask_vao = l->mask_prog = 0;
 }
 
 satf_status lists_grow(frag_lists *l, GLuint most, int *grown,
@@ -85,8 +120,26 @@ void lists_bind(const frag_lists *l, int mode) {
     glClearTexImage(l->keys, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &empty);
   if (mode > 0)
     glBindImageTexture(2, l->keys, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
-  glBindFramebuffer(GL_FRAMEBUFFER, l->fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, mode > 0 ? l->mask_fbo : l->fbo);
   glViewport(0, 0, l->width, l->height);
+}
+
+void lists_mask_overflow(const frag_lists *l) {
+  glBindFramebuffer(GL_FRAMEBUFFER, l->mask_fbo);
+  glViewport(0, 0, l->width, l->height);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_ALWAYS);
+  glDepthMask(GL_TRUE);
+  glUseProgram(l->mask_prog);
+  glBindImageTexture(0, l->counts, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, l->depth);
+  glUniform1i(glGetUniformLocation(l->mask_prog, "u_depth"), 0);
+  glUniform1i(glGetUniformLocation(l->mask_prog, "u_slots"), l->slots);
+  shaders_fullscreen(l->mask_vao);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_DEPTH_TEST);
 }
 
 GLuint lists_count(frag_lists *l, int nearest, long *fragments,

@@ -22,6 +22,11 @@ typedef struct frag_lists {
   GLuint keys; /* per-pixel depth keys of the nearest `slots` fragments,
                   made when a pixel first overflows (0: none yet) */
   GLuint fbo;
+  GLuint depth; /* the frame's depth texture, which fbo tests against */
+  /* the nearest passes' framebuffer and its depth, a mask of the pixels
+   * the plain pass overflowed (lists_mask_overflow), and the program and
+   * empty vertex array that draw it */
+  GLuint mask_fbo, mask, mask_prog, mask_vao;
   int slots; /* fragments kept per pixel */
   int width, height;
   /* x, y, width, height of the pixels the last plain pass overflowed (the
@@ -47,8 +52,17 @@ satf_status lists_alloc_keys(frag_lists *l, satf_error *err);
 void lists_release(frag_lists *l);
 /* Binds the arrays as images for a fill pass of `mode` (u_list_mode:
  * 0 plain, which clears the counts; 1 and 2 the nearest passes, 1 clearing
- * the keys) and their framebuffer. */
+ * the keys) and their framebuffer: the frame's depth for a plain pass,
+ * the overflow mask for the nearest passes, which must draw with the
+ * depth test on (LEQUAL, no writes) after lists_mask_overflow. */
 void lists_bind(const frag_lists *l, int mode);
+/* After a plain pass that overflowed: the nearest passes' depth, the
+ * frame's where a pixel received more fragments than its slots and 0
+ * elsewhere, so that their early depth test spares the shading of every
+ * pixel the plain pass kept whole (the ponytail: its ~100 overflowing
+ * pixels lie in a box of 150 x 170 at the tie). Leaves the depth test
+ * off and depth writes on. */
+void lists_mask_overflow(const frag_lists *l);
 /* After a fill: the largest number of fragments a pixel received, the
  * fragments kept (*fragments) and the pixels that received more than
  * `slots` (*overflow); a plain pass (nearest 0) also records their box. */

@@ -20,7 +20,8 @@ extern const char glsl_text_lighting[], glsl_text_layer_vs[],
     glsl_text_baseline_fs[], glsl_text_baseline_lighting[],
     glsl_text_accum_fs[], glsl_text_fiber[], glsl_text_fiber_cluster[],
     glsl_text_strand_light_cs[], glsl_text_maps_kk_cs[],
-    glsl_text_maps_sums_cs[], glsl_text_maps_fiber_cs[];
+    glsl_text_maps_sums_cs[], glsl_text_maps_fiber_cs[],
+    glsl_text_overflow_mask_fs[];
 
 const char *const satf_glsl_lighting = glsl_text_lighting;
 const char *const satf_glsl_layer_vs = glsl_text_layer_vs;
@@ -30,6 +31,7 @@ const char *const satf_glsl_dom_fs = glsl_text_dom_fs;
 const char *const satf_glsl_depth_fs = glsl_text_depth_fs;
 const char *const satf_glsl_fullscreen_vs = glsl_text_fullscreen_vs;
 const char *const satf_glsl_resolve_fs = glsl_text_resolve_fs;
+const char *const satf_glsl_overflow_mask_fs = glsl_text_overflow_mask_fs;
 const char *const satf_glsl_display_fs = glsl_text_display_fs;
 const char *const satf_glsl_accum_fs = glsl_text_accum_fs;
 const char *const satf_glsl_mesh_vs = glsl_text_mesh_vs;

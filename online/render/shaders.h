@@ -17,6 +17,8 @@ extern const char *const satf_glsl_dom_fs;     /* deep opacity map slabs */
 extern const char *const satf_glsl_depth_fs;   /* light-space depth only */
 extern const char *const satf_glsl_fullscreen_vs;
 extern const char *const satf_glsl_resolve_fs; /* eq. 14, sorted */
+/* the nearest passes' depth mask (lists.c) */
+extern const char *const satf_glsl_overflow_mask_fs;
 extern const char *const satf_glsl_display_fs; /* linear -> sRGB blit */
 extern const char *const satf_glsl_accum_fs;   /* anti-aliasing samples */
 extern const char *const satf_glsl_mesh_vs;    /* opaque meshes */

@@ -22,8 +22,10 @@ layout(binding = 1, rgba32ui) uniform writeonly uimage2DArray u_frags;
 layout(binding = 2, r32ui) uniform coherent uimage2DArray u_keys;
 /* whether the nearest passes need nothing of this fragment: mode 0 did not
  * overflow its pixel (they draw only inside the box of those that
- * overflowed, cluster_gpu_lists; asked in those modes only, so that mode 0 pays
- * nothing for it) */
+ * overflowed, cluster_gpu_lists, and their early depth test against the
+ * overflow mask, lists_mask_overflow, turns the others away before the
+ * shading but at the near plane; asked in those modes only, so that mode
+ * 0 pays nothing for it) */
 bool list_skip() {
   return imageLoad(u_counts, ivec2(gl_FragCoord.xy)).r <= uint(u_slots);
 }
