@@ -334,7 +334,10 @@ size_t strands_gpu_segments(const strands_gpu *s);
 float strands_gpu_width(const strands_gpu *s);
 /* The shading program, every fragment (whole or partly covered) blended
  * "over" (list_mode -1) or into the per-pixel arrays in that mode of
- * cluster_gpu_lists, bound with the frame's material, lights and view. */
+ * cluster_gpu_lists, bound with the frame's material, lights and view;
+ * in the physical shading list modes -1 and 0 light the strand points
+ * (strand_light_cs.glsl), which the nearest modes 1 and 2 read after
+ * them. */
 void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
                        const float viewproj[16], int list_mode);
 void strands_gpu_draw(const strands_gpu *s, size_t first, size_t count);

@@ -520,7 +520,9 @@ static void light_points(const satf_renderer *r, strands_gpu *s, satf_aov aov) {
 void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
                        const float viewproj[16], int list_mode) {
   int physical = r->scene->material.model == SATF_MATERIAL_PHYSICAL;
-  if (physical)
+  /* the nearest passes (list modes 1 and 2) follow a plain pass of the
+   * same frame, whose light per point they read as it left it */
+  if (physical && list_mode <= 0)
     light_points(r, s, aov);
   /* the program with the per-pixel offsets only where a strand needs it
    * (the margin: the shader's width is interpolated, the test is per
