@@ -136,6 +136,66 @@ static void fit_reaches_last_tip(void **state) {
   free(counts);
 }
 
+/* Straight parallel strands 10 long whose roots lie 0 to 0.3 along the
+ * flow (a curtain's roots, jittered where they leave the scalp): the
+ * cluster begins at the first root, so every root lies at its own t (the
+ * mean strand began at the mean root, cutting the half of the strands
+ * that began before it square at t = 0). */
+static void fit_reaches_first_root(void **state) {
+  (void)state;
+  enum { N = 200, M = 20 };
+  float *pts = malloc(3 * (size_t)N * M * sizeof(float));
+  int *counts = malloc((size_t)N * sizeof(int));
+  assert_non_null(pts);
+  assert_non_null(counts);
+  satf_rng rng;
+  satf_rng_seed(&rng, 7, 0);
+  for (int i = 0; i < N; i++) {
+    float r = (float)sqrt(satf_rng_uniform(&rng));
+    float u = (float)(2.0 * 3.14159265358979323846 * satf_rng_uniform(&rng));
+    float root = -0.3f * (float)i / (float)(N - 1);
+    counts[i] = M;
+    for (int k = 0; k < M; k++) {
+      float *q = pts + 3 * ((size_t)i * M + k);
+      q[0] = r * cosf(u);
+      q[1] = root - 10.0f * (float)k / (float)(M - 1);
+      q[2] = r * sinf(u);
+    }
+  }
+  satf_strand_set *s;
+  satf_error err;
+  assert_int_equal(satf_strand_set_create(N, counts, pts, NULL, &s, &err),
+                   SATF_OK);
+  int *members = all_members(N);
+  satf_import_fit fit;
+  satf_import_fit_params p = satf_import_fit_params_default();
+  assert_int_equal(satf_import_fit_cluster(s, members, N, &p, &fit, &err),
+                   SATF_OK);
+  printf("cluster length %.3f for roots 0 to 0.3 down, tips 10.0 to 10.3\n",
+         (double)fit.length);
+  assert_float_equal(fit.length, 10.3f, 0.05f);
+  satf_cluster *got;
+  assert_int_equal(satf_import_fit_cluster_create(&fit, &got, &err), SATF_OK);
+  int at_start = 0;
+  for (int i = 0; i < N; i++) {
+    float t, d, xy[2];
+    satf_import_project_point(got, pts + 3 * ((size_t)i * M), &t, &d, xy);
+    float want = 0.3f * (float)i / (float)(N - 1) / 10.3f;
+    if (fabsf(t - want) > 0.005f)
+      fail_msg("strand %d: root at t = %g, expected %g", i, (double)t,
+               (double)want);
+    at_start += t <= 0.001f;
+  }
+  printf("%d of %d roots at t <= 0.001\n", at_start, N);
+  assert_true(at_start <= N / 10 + 1);
+  satf_cluster_destroy(got);
+  satf_import_fit_free(&fit);
+  free(members);
+  satf_strand_set_destroy(s);
+  free(pts);
+  free(counts);
+}
+
 static void fit_recovers_known_cylinder(void **state) {
   (void)state;
   enum { N = 400, M = 25 };
@@ -917,6 +977,7 @@ int main(void) {
       cmocka_unit_test(import_within_budget),
       cmocka_unit_test(fit_recovers_known_cylinder),
       cmocka_unit_test(fit_reaches_last_tip),
+      cmocka_unit_test(fit_reaches_first_root),
       cmocka_unit_test(fit_recovers_twisted_ribbon),
       cmocka_unit_test(density_mass),
       cmocka_unit_test(similarity_recovered),
