@@ -77,49 +77,81 @@ static int *all_members(int n) {
   return m;
 }
 
-/* Straight parallel strands of lengths 9 to 10: the cluster runs to the
- * longest tip, so t = 1 is where the last strand ends and every tip lies
- * at its own t (the mean strand, 9.5 long, cut the longer half square at
- * t = 1, where their tips all projected). */
-static void fit_reaches_last_tip(void **state) {
-  (void)state;
-  enum { N = 200, M = 20 };
-  float *pts = malloc(3 * (size_t)N * M * sizeof(float));
+/* Straight parallel strands along -y within the unit disc, N of M points:
+ * strand i begins root_step * i down and is 9 + len_step * i long
+ * (i / (N - 1) of each step); the cluster fitted to them all. */
+enum { PARALLEL_N = 200, PARALLEL_M = 20 };
+typedef struct parallel {
+  float pts[3 * PARALLEL_N * PARALLEL_M];
+  satf_strand_set *set;
+  satf_import_fit fit;
+  satf_cluster *cluster;
+} parallel;
+
+static parallel *parallel_fit(float root_step, float len_base, float len_step) {
+  enum { N = PARALLEL_N, M = PARALLEL_M };
+  parallel *p = calloc(1, sizeof *p);
   int *counts = malloc((size_t)N * sizeof(int));
-  assert_non_null(pts);
+  assert_non_null(p);
   assert_non_null(counts);
   satf_rng rng;
   satf_rng_seed(&rng, 7, 0);
   for (int i = 0; i < N; i++) {
     float r = (float)sqrt(satf_rng_uniform(&rng));
     float u = (float)(2.0 * 3.14159265358979323846 * satf_rng_uniform(&rng));
-    float len = 9.0f + (float)i / (float)(N - 1);
+    float f = (float)i / (float)(N - 1);
+    float root = -root_step * f, len = len_base + len_step * f;
     counts[i] = M;
     for (int k = 0; k < M; k++) {
-      float *q = pts + 3 * ((size_t)i * M + k);
+      float *q = p->pts + 3 * ((size_t)i * M + k);
       q[0] = r * cosf(u);
-      q[1] = -len * (float)k / (float)(M - 1);
+      q[1] = root - len * (float)k / (float)(M - 1);
       q[2] = r * sinf(u);
     }
   }
-  satf_strand_set *s;
   satf_error err;
-  assert_int_equal(satf_strand_set_create(N, counts, pts, NULL, &s, &err),
-                   SATF_OK);
+  assert_int_equal(
+      satf_strand_set_create(N, counts, p->pts, NULL, &p->set, &err), SATF_OK);
+  free(counts);
   int *members = all_members(N);
-  satf_import_fit fit;
-  satf_import_fit_params p = satf_import_fit_params_default();
-  assert_int_equal(satf_import_fit_cluster(s, members, N, &p, &fit, &err),
+  satf_import_fit_params fp = satf_import_fit_params_default();
+  assert_int_equal(
+      satf_import_fit_cluster(p->set, members, N, &fp, &p->fit, &err), SATF_OK);
+  free(members);
+  assert_int_equal(satf_import_fit_cluster_create(&p->fit, &p->cluster, &err),
                    SATF_OK);
-  printf("cluster length %.3f for strands 9 to 10 long\n", (double)fit.length);
-  assert_float_equal(fit.length, 10.0f, 0.05f);
-  satf_cluster *got;
-  assert_int_equal(satf_import_fit_cluster_create(&fit, &got, &err), SATF_OK);
+  return p;
+}
+
+static void parallel_free(parallel *p) {
+  satf_cluster_destroy(p->cluster);
+  satf_import_fit_free(&p->fit);
+  satf_strand_set_destroy(p->set);
+  free(p);
+}
+
+/* Where point k of strand i of p projects onto its cluster (t). */
+static float parallel_t(const parallel *p, int i, int k) {
+  float t, d, xy[2];
+  satf_import_project_point(
+      p->cluster, p->pts + 3 * ((size_t)i * PARALLEL_M + k), &t, &d, xy);
+  return t;
+}
+
+/* Straight parallel strands of lengths 9 to 10: the cluster runs to the
+ * longest tip, so t = 1 is where the last strand ends and every tip lies
+ * at its own t (the mean strand, 9.5 long, cut the longer half square at
+ * t = 1, where their tips all projected). */
+static void fit_reaches_last_tip(void **state) {
+  (void)state;
+  enum { N = PARALLEL_N };
+  parallel *p = parallel_fit(0.0f, 9.0f, 1.0f);
+  printf("cluster length %.3f for strands 9 to 10 long\n",
+         (double)p->fit.length);
+  assert_float_equal(p->fit.length, 10.0f, 0.05f);
   int at_end = 0;
   for (int i = 0; i < N; i++) {
-    float t, d, xy[2];
-    satf_import_project_point(got, pts + 3 * ((size_t)i * M + M - 1), &t, &d,
-                              xy);
+    float t = parallel_t(p, i, PARALLEL_M - 1);
     float want = (9.0f + (float)i / (float)(N - 1)) / 10.0f;
     if (fabsf(t - want) > 0.01f)
       fail_msg("strand %d: tip at t = %g, expected %g", i, (double)t,
@@ -128,12 +160,7 @@ static void fit_reaches_last_tip(void **state) {
   }
   printf("%d of %d tips at t >= 0.995\n", at_end, N);
   assert_true(at_end <= N / 10 + 1);
-  satf_cluster_destroy(got);
-  satf_import_fit_free(&fit);
-  free(members);
-  satf_strand_set_destroy(s);
-  free(pts);
-  free(counts);
+  parallel_free(p);
 }
 
 /* Straight parallel strands 10 long whose roots lie 0 to 0.3 along the
@@ -143,43 +170,14 @@ static void fit_reaches_last_tip(void **state) {
  * that began before it square at t = 0). */
 static void fit_reaches_first_root(void **state) {
   (void)state;
-  enum { N = 200, M = 20 };
-  float *pts = malloc(3 * (size_t)N * M * sizeof(float));
-  int *counts = malloc((size_t)N * sizeof(int));
-  assert_non_null(pts);
-  assert_non_null(counts);
-  satf_rng rng;
-  satf_rng_seed(&rng, 7, 0);
-  for (int i = 0; i < N; i++) {
-    float r = (float)sqrt(satf_rng_uniform(&rng));
-    float u = (float)(2.0 * 3.14159265358979323846 * satf_rng_uniform(&rng));
-    float root = -0.3f * (float)i / (float)(N - 1);
-    counts[i] = M;
-    for (int k = 0; k < M; k++) {
-      float *q = pts + 3 * ((size_t)i * M + k);
-      q[0] = r * cosf(u);
-      q[1] = root - 10.0f * (float)k / (float)(M - 1);
-      q[2] = r * sinf(u);
-    }
-  }
-  satf_strand_set *s;
-  satf_error err;
-  assert_int_equal(satf_strand_set_create(N, counts, pts, NULL, &s, &err),
-                   SATF_OK);
-  int *members = all_members(N);
-  satf_import_fit fit;
-  satf_import_fit_params p = satf_import_fit_params_default();
-  assert_int_equal(satf_import_fit_cluster(s, members, N, &p, &fit, &err),
-                   SATF_OK);
+  enum { N = PARALLEL_N };
+  parallel *p = parallel_fit(0.3f, 10.0f, 0.0f);
   printf("cluster length %.3f for roots 0 to 0.3 down, tips 10.0 to 10.3\n",
-         (double)fit.length);
-  assert_float_equal(fit.length, 10.3f, 0.05f);
-  satf_cluster *got;
-  assert_int_equal(satf_import_fit_cluster_create(&fit, &got, &err), SATF_OK);
+         (double)p->fit.length);
+  assert_float_equal(p->fit.length, 10.3f, 0.05f);
   int at_start = 0;
   for (int i = 0; i < N; i++) {
-    float t, d, xy[2];
-    satf_import_project_point(got, pts + 3 * ((size_t)i * M), &t, &d, xy);
+    float t = parallel_t(p, i, 0);
     float want = 0.3f * (float)i / (float)(N - 1) / 10.3f;
     if (fabsf(t - want) > 0.005f)
       fail_msg("strand %d: root at t = %g, expected %g", i, (double)t,
@@ -188,12 +186,7 @@ static void fit_reaches_first_root(void **state) {
   }
   printf("%d of %d roots at t <= 0.001\n", at_start, N);
   assert_true(at_start <= N / 10 + 1);
-  satf_cluster_destroy(got);
-  satf_import_fit_free(&fit);
-  free(members);
-  satf_strand_set_destroy(s);
-  free(pts);
-  free(counts);
+  parallel_free(p);
 }
 
 static void fit_recovers_known_cylinder(void **state) {
