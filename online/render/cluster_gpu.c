@@ -120,10 +120,8 @@ static void fill_lists(const satf_renderer *r, satf_aov aov,
                   GL_TEXTURE_FETCH_BARRIER_BIT);
 }
 
-/* The arrays sorted and composited (SATF eq. 14) over the frame, or their
- * depth (depth.c). */
-static void resolve_lists(const satf_renderer *r, satf_aov aov,
-                          const float viewproj[16]) {
+void cluster_gpu_resolve(const satf_renderer *r, satf_aov aov,
+                         const float viewproj[16]) {
   if (aov == SATF_AOV_DEPTH) {
     depth_resolve(r, viewproj);
     return;
@@ -169,7 +167,6 @@ GLuint cluster_gpu_lists(satf_renderer *r, satf_aov aov,
   } else {
     fill_lists(r, aov, viewproj, 0, opaque);
   }
-  resolve_lists(r, aov, viewproj);
   return lists_count(&r->lists, nearest, fragments, overflow);
 }
 

@@ -40,6 +40,8 @@ static satf_status composite(satf_renderer *r, satf_aov aov,
     cluster_gpu_lists(r, aov, viewproj, 0, count, &over);
   if (over > 0 && (st = lists_alloc_keys(&r->lists, err)) == SATF_OK)
     cluster_gpu_lists(r, aov, viewproj, 1, count, &ignore);
+  if (st == SATF_OK)
+    cluster_gpu_resolve(r, aov, viewproj);
   r->stats.overflow_pixels = over;
   return st;
 }

@@ -296,9 +296,10 @@ float cluster_dom_hair_move(const satf_renderer *r);
  * (coarse: the light passes' proxy), else their shading. */
 void cluster_gpu_draw(const satf_renderer *r, GLuint prog,
                       const float viewproj[16], int coarse);
-/* Per-pixel fragment arrays, then their sorted composite; returns the
- * largest number of fragments a pixel received and sets *overflow to the
- * pixels that received more than r->lists.slots. Without `nearest` each
+/* The frame begun (meshes) and the per-pixel fragment arrays filled;
+ * returns the largest number of fragments a pixel received and sets
+ * *overflow to the pixels that received more than r->lists.slots. Without
+ * `nearest` each
  * pixel keeps the first slots fragments to arrive. `nearest` (the depth
  * keys allocated) follows a call without it for the same frame: the
  * pixels that received more than slots there are filled again with their
@@ -307,6 +308,12 @@ void cluster_gpu_draw(const satf_renderer *r, GLuint prog,
 GLuint cluster_gpu_lists(satf_renderer *r, satf_aov aov,
                          const float viewproj[16], int nearest, long *fragments,
                          long *overflow);
+/* The arrays of the last cluster_gpu_lists sorted and composited (SATF
+ * eq. 14) over the frame it began, or their depth (depth.c): once a
+ * frame, after the arrays' last fill (a pass drawn again, grown or
+ * nearest, replaces what it would have composited). */
+void cluster_gpu_resolve(const satf_renderer *r, satf_aov aov,
+                         const float viewproj[16]);
 /* Clusters drawn far to near with "over" blending. */
 satf_status cluster_gpu_ordered(satf_renderer *r, satf_aov aov,
                                 const float viewproj[16], satf_error *err);
