@@ -1067,6 +1067,8 @@ static void reach_farthest(const satf_strand_set *s, const int *members,
   free(old);
 }
 
+/* reach_farthest at the tips, or (from_root) at the roots: the mean
+ * strand reversed, reached back, and turned round again. */
 static void reach_end(const satf_strand_set *s, const int *members,
                       int n_members, int m, double *mean, int from_root) {
   if (m < 4)

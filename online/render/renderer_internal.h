@@ -299,9 +299,8 @@ void cluster_gpu_draw(const satf_renderer *r, GLuint prog,
 /* The frame begun (meshes) and the per-pixel fragment arrays filled;
  * returns the largest number of fragments a pixel received and sets
  * *overflow to the pixels that received more than r->lists.slots. Without
- * `nearest` each
- * pixel keeps the first slots fragments to arrive. `nearest` (the depth
- * keys allocated) follows a call without it for the same frame: the
+ * `nearest` each pixel keeps the first slots fragments to arrive. `nearest`
+ * (the depth keys allocated) follows a call without it for the same frame: the
  * pixels that received more than slots there are filled again with their
  * slots nearest fragments, whatever their arrival order; the others keep
  * theirs (and the counts, so the figures are that call's). */
