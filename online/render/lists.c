@@ -26,16 +26,6 @@ satf_status lists_alloc(frag_lists *l, int slots, satf_error *err) {
   return satf_gl_check("fragment arrays", err);
 }
 
-satf_status lists_alloc_keys(frag_lists *l, satf_error *err) {
-  if (l->keys)
-    return SATF_OK;
-  glGenTextures(1, &l->keys);
-  glBindTexture(GL_TEXTURE_2D_ARRAY, l->keys);
-  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_R32UI, l->width, l->height,
-                 l->slots + 1);
-  return satf_gl_check("fragment depth keys", err);
-}
-
 /* The nearest passes' depth mask, its framebuffer and its program. */
 static satf_status mask_attach(frag_lists *l, satf_error *err) {
   if (l->mask)
@@ -62,6 +52,19 @@ static satf_status mask_attach(frag_lists *l, satf_error *err) {
                          satf_glsl_overflow_mask_fs, "", &l->mask_prog, err);
 }
 
+satf_status lists_alloc_keys(frag_lists *l, satf_error *err) {
+  if (l->keys)
+    return SATF_OK;
+  glGenTextures(1, &l->keys);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, l->keys);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_R32UI, l->width, l->height,
+                 l->slots + 1);
+  satf_status st = satf_gl_check("fragment depth keys", err);
+  /* the mask at the arrays' size, made with the keys: a renderer whose
+   * frames never overflow compiles no program for it */
+  return st == SATF_OK ? mask_attach(l, err) : st;
+}
+
 satf_status lists_attach(frag_lists *l, int width, int height, GLuint depth,
                          satf_error *err) {
   l->width = width;
@@ -79,9 +82,6 @@ satf_status lists_attach(frag_lists *l, int width, int height, GLuint depth,
   glDrawBuffer(GL_NONE);
   glReadBuffer(GL_NONE);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  satf_status st = mask_attach(l, err);
-  if (st != SATF_OK)
-    return st;
   return lists_alloc(l, l->slots > 0 ? l->slots : START_SLOTS, err);
 }
 

@@ -25,7 +25,7 @@ typedef struct frag_lists {
   GLuint depth; /* the frame's depth texture, which fbo tests against */
   /* the nearest passes' framebuffer and its depth, a mask of the pixels
    * the plain pass overflowed (lists_mask_overflow), and the program and
-   * empty vertex array that draw it */
+   * empty vertex array that draw it; made with the keys */
   GLuint mask_fbo, mask, mask_prog, mask_vao;
   int slots; /* fragments kept per pixel */
   int width, height;
@@ -47,7 +47,8 @@ satf_status lists_alloc(frag_lists *l, int slots, satf_error *err);
  * whether the pass must be drawn again. */
 satf_status lists_grow(frag_lists *l, GLuint most, int *grown, satf_error *err);
 /* `slots` layers of depth keys and one more, the counter of the second
- * nearest pass's stores (glsl/list_write.glsl), unless they exist. */
+ * nearest pass's stores (glsl/list_write.glsl), and the overflow mask at
+ * the arrays' size, unless they exist. */
 satf_status lists_alloc_keys(frag_lists *l, satf_error *err);
 void lists_release(frag_lists *l);
 /* Binds the arrays as images for a fill pass of `mode` (u_list_mode:

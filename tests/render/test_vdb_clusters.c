@@ -98,8 +98,10 @@ static void test_clusters_share_one_grid(void **state) {
   double grown = rss_bytes() - before;
   printf("%d clusters naming one %.1f MB VDB: the renderer took %.1f MB\n",
          CLUSTERS, (double)file / 1e6, grown / 1e6);
-  /* a copy per cluster took CLUSTERS times the grid's voxels (5 MB each) */
-  assert_true(grown < 60e6);
+  /* a copy per cluster took CLUSTERS times the grid's voxels (5 MB each,
+   * 240 MB); the renderer's own programs, maps and arrays take about 37 MB
+   * (60 MB under AddressSanitizer), so the bound is half the copies' */
+  assert_true(grown < 120e6);
   satf_renderer_destroy(r);
   satf_scene_destroy(scene);
 }
