@@ -29,7 +29,10 @@
 #        [RES] [HAIRS]   (HAIRS: a space-separated subset of
 #        "ponytail bangs fur curls straight")
 # Environment: SATF_RENDER_ARGS, more options for satf's cluster renders
-# (e.g. "--composite exact" to measure that mode).
+# (e.g. "--composite exact" to measure that mode); SATF_IMPORT_ARGS, more
+# options for satf-import (e.g. "--quality high" or "--clusters 600": how
+# the clustering changes the picture; the strands file, so Cycles' frame,
+# stays the same).
 set -euo pipefail
 build=${1:-build}
 out=${2:-docs/gallery}
@@ -39,6 +42,7 @@ samples=${5:-1}
 res=${6:-640x480}
 hairs=${7:-ponytail bangs fur curls straight}
 read -r -a extra <<<"${SATF_RENDER_ARGS:-}"
+read -r -a import_extra <<<"${SATF_IMPORT_ARGS:-}"
 cd "$(dirname "$0")/.."
 shared=${SATF_SHARED:-../shared} # where the shared data and tools are
 data=$shared/data/hair
@@ -122,7 +126,7 @@ for hair in $hairs; do
   *) echo "compare-cycles: unknown hair $hair" >&2 && exit 2 ;;
   esac
   "$bin/satf-import" "${inputs[@]}" -o "$work/$hair.json" --shading physical \
-    --melanin 0.6 "${material[@]}" 2>/dev/null |
+    --melanin 0.6 "${material[@]}" ${import_extra[@]+"${import_extra[@]}"} 2>/dev/null |
     grep -E '^  (strands  |shells|followers|strand width|time)' || true
   strands=$(scene_copy "$work/$hair.json" "$work/${hair}_front.json")
   cycles "cycles_$hair" "$work/${hair}_front.json" "$strands" 0.6
