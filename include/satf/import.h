@@ -232,7 +232,17 @@ typedef struct satf_import_fit_stats {
   float tolerance; /* 0: none */
   /* strands in all clusters, and in those drawn as shells */
   long long strands, shell_strands;
+  /* over the clusters drawn as shells: p50, p90, max of their strands' p90
+   * angle to the trajectory (degrees), and the strands of those whose p90
+   * exceeds SATF_IMPORT_ACROSS_DEGREES */
+  float direction[3];
+  long long across_strands;
 } satf_import_fit_stats;
+
+/* A shell cluster whose strands' p90 angle to its trajectory exceeds this
+ * (degrees) is counted in satf_import_fit_stats.across_strands: its shells
+ * shade the hair along the trajectory, across many of its strands. */
+#define SATF_IMPORT_ACROSS_DEGREES 30.0f
 
 #define SATF_IMPORT_MAX_INPUTS 64
 /* clusters an import may make (--clusters) */

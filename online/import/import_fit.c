@@ -722,6 +722,32 @@ static satf_status fit_measures(const float *rot, const float *dist, size_t np,
   return SATF_OK;
 }
 
+/* The angle of each strand segment to the trajectory, in degrees (p50,
+ * p90, max into out), from the untwisted offsets (t, x, y) of its two
+ * points: the rotation-minimising frame turns with the trajectory, so
+ * (dx, dy) is the segment's run across it and dt times the length its run
+ * along it (a segment running back along t is over 90 degrees). */
+static satf_status fit_direction(const satf_import_projection *raw,
+                                 double length, float out[3], satf_error *err) {
+  size_t np = raw->offset[raw->n_strands], n = 0;
+  float *angle = malloc((np ? np : 1) * sizeof(float));
+  if (!angle)
+    return satf_error_set(err, SATF_ERR_NOMEM, "fit: out of memory");
+  for (int i = 0; i < raw->n_strands; i++)
+    for (size_t k = raw->offset[i]; k + 1 < raw->offset[i + 1]; k++) {
+      const float *a = raw->txy + 3 * k, *b = a + 3;
+      double along = (double)(b[0] - a[0]) * length;
+      double across = hypot((double)(b[1] - a[1]), (double)(b[2] - a[2]));
+      if (along != 0.0 || across > 0.0)
+        angle[n++] = (float)(atan2(across, along) * (180.0 / SATF_PI));
+    }
+  out[0] = out[1] = out[2] = 0.0f;
+  if (n > 0)
+    percentiles(angle, n, out);
+  free(angle);
+  return SATF_OK;
+}
+
 /* A fur sheet's strands lie side by side, flat on the surface, and do not
  * wind about its axis: one theta for the whole sheet, the principal axis
  * of all its points' offsets. Per bin (fit_twist) a tuft of 50 strands has
@@ -800,6 +826,9 @@ static satf_status fit_section(const satf_import_projection *raw,
   satf_status st = scale_envelope(rot, np, p, out, err);
   if (st == SATF_OK)
     st = fit_measures(rot, dist, np, raw->n_strands, out, err);
+  /* a tuft is drawn as its strands, each along itself */
+  if (st == SATF_OK && !sheet)
+    st = fit_direction(raw, out->length, out->measures.direction, err);
   free(rot);
   return st;
 }

@@ -112,11 +112,16 @@ satf_import_fit_params satf_import_fit_params_default(void);
  * mean envelope area pi A B over t per member strand (how much empty
  * volume the cluster adds: the envelope inflated to hold diverging strands
  * shows here). diameter: twice the mean larger half-axis; aspect: trajectory
- * length over diameter (below 1 a cluster renders as a ring). */
+ * length over diameter (below 1 a cluster renders as a ring). direction:
+ * the angle, in degrees, between each strand segment and the trajectory
+ * (p50, p90, max over the segments; 0 for a tuft, drawn as its strands):
+ * shells shade their hair along the trajectory, so a cluster whose strands
+ * cross it is shaded with other highlights than its strands have. */
 typedef struct satf_import_fit_measures {
   float trajectory[3];
   float surface[3];
   float outside[3];
+  float direction[3];
   float area_per_strand;
   float diameter;
   float aspect;
@@ -274,7 +279,8 @@ void satf_import_fit_stats_compute(const satf_import_fit *fits, int n,
 void satf_import_fit_stats_print(FILE *out, const char *prog,
                                  const satf_import_fit_stats *st);
 /* One line per cluster (strands, length, diameter, aspect, area per strand,
- * p50/p90/max of the trajectory, surface and outside distances) as
+ * p50/p90/max of the trajectory, surface and outside distances and of the
+ * strands' angle to the trajectory) as
  * tab-separated text with a header, written atomically to path. */
 satf_status satf_import_write_fit_report(const char *path,
                                          const satf_import_fit *fits, int n,

@@ -85,6 +85,19 @@ void satf_import_fit_stats_compute(const satf_import_fit *fits, int n,
   for (int c = 0; c < n; c++)
     v[c] = fits[c].measures.aspect;
   over_clusters(v, n, 1, out->aspect);
+  /* the direction over the clusters drawn as shells: those drawn as their
+   * strands are shaded along each strand */
+  int shells = 0;
+  for (int c = 0; c < n; c++) {
+    const satf_import_fit *f = &fits[c];
+    if (satf_scene_tracks_as_strands(f->track_slices, f->n_tracks,
+                                     f->track_count, SATF_SCENE_SPARSE_STRANDS))
+      continue;
+    v[shells++] = f->measures.direction[1];
+    if (f->measures.direction[1] > SATF_IMPORT_ACROSS_DEGREES)
+      out->across_strands += f->strands;
+  }
+  over_clusters(v, shells, 0, out->direction);
   free(v);
 }
 
@@ -105,6 +118,14 @@ void satf_import_fit_stats_print(FILE *out, const char *prog,
           (double)s[0], (double)s[1], (double)s[2], (double)o[0], (double)o[1],
           (double)o[2], (double)a[0], (double)a[1], (double)a[2], (double)q[0],
           (double)q[1], (double)q[2], st->worst_aspect);
+  if (st->shell_strands > 0)
+    fprintf(out,
+            "    direction      %.3g / %.3g / %.3g degrees to the trajectory "
+            "(shell clusters); %lld%% of shell strands where over %g\n",
+            (double)st->direction[0], (double)st->direction[1],
+            (double)st->direction[2],
+            100 * st->across_strands / st->shell_strands,
+            (double)SATF_IMPORT_ACROSS_DEGREES);
   if (st->tolerance > 0.0f)
     fprintf(out,
             "    tolerance      %.4g: %d of %d clusters over it (%d of one "
@@ -131,7 +152,7 @@ void satf_import_fit_stats_print(FILE *out, const char *prog,
 satf_status satf_import_write_fit_report(const char *path,
                                          const satf_import_fit *fits, int n,
                                          satf_error *err) {
-  size_t cap = 512 + (size_t)n * 256, len = 0;
+  size_t cap = 512 + (size_t)n * 320, len = 0;
   char *buf = malloc(cap);
   if (!buf)
     return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
@@ -139,20 +160,21 @@ satf_status satf_import_write_fit_report(const char *path,
       buf + len, cap - len,
       "cluster\tstrands\tpoints\tcontrol\tlength\tdiameter\taspect\t"
       "area_per_strand\ttraj_p50\ttraj_p90\ttraj_max\tsurf_p50\tsurf_p90\t"
-      "surf_max\tout_p50\tout_p90\tout_max\n");
+      "surf_max\tout_p50\tout_p90\tout_max\tdir_p50\tdir_p90\tdir_max\n");
   for (int c = 0; c < n && len < cap; c++) {
     const satf_import_fit *f = &fits[c];
     const satf_import_fit_measures *m = &f->measures;
     len += (size_t)snprintf(
         buf + len, cap - len,
         "%d\t%d\t%zu\t%d\t%.6g\t%.6g\t%.4g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t"
-        "%.6g\t%.6g\t%.6g\t%.6g\t%.6g\n",
+        "%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.4g\t%.4g\t%.4g\n",
         c, f->strands, f->points, f->n_ctrl, (double)f->length,
         (double)m->diameter, (double)m->aspect, (double)m->area_per_strand,
         (double)m->trajectory[0], (double)m->trajectory[1],
         (double)m->trajectory[2], (double)m->surface[0], (double)m->surface[1],
         (double)m->surface[2], (double)m->outside[0], (double)m->outside[1],
-        (double)m->outside[2]);
+        (double)m->outside[2], (double)m->direction[0], (double)m->direction[1],
+        (double)m->direction[2]);
   }
   satf_status st = SATF_OK;
   if (len >= cap)

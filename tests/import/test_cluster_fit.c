@@ -657,6 +657,62 @@ static void test_tuft_tracks_reach_ends(void **state) {
   satf_strand_set_destroy(s);
 }
 
+/* n straight strands of m points, 20 long, crossing in an X: every second
+ * one tilted by +deg from -y in the x-y plane, the others by -deg, their
+ * middles near the origin. */
+static satf_strand_set *crossing(int n, int m, double deg) {
+  built b;
+  alloc_built(&b, n, m);
+  satf_rng rng;
+  satf_rng_seed(&rng, 11, 1);
+  double sx = sin(deg * PI / 180.0), cy = cos(deg * PI / 180.0);
+  for (int i = 0; i < n; i++) {
+    double side = i % 2 ? 1.0 : -1.0;
+    double ox = 0.5 * satf_rng_uniform(&rng), oz = satf_rng_uniform(&rng);
+    for (int k = 0; k < m; k++) {
+      double f = (double)k / (double)(m - 1) - 0.5;
+      float *p = b.pts + ((size_t)i * m + k) * 3;
+      p[0] = (float)(ox + side * sx * 20.0 * f);
+      p[1] = (float)(-cy * 20.0 * f);
+      p[2] = (float)oz;
+    }
+  }
+  return make_set(&b);
+}
+
+/* The strands' angle to their cluster's trajectory: about 0 for parallel
+ * strands, the tilt for strands crossing in an X about a mean straight
+ * down the middle; the summary counts the strands of shell clusters over
+ * SATF_IMPORT_ACROSS_DEGREES. */
+static void test_direction_measure(void **state) {
+  (void)state;
+  int members[200];
+  for (int i = 0; i < 200; i++)
+    members[i] = i;
+  satf_import_fit_params fp = satf_import_fit_params_default();
+  satf_error err;
+  const double tilt[2] = {0.0, 40.0};
+  for (int j = 0; j < 2; j++) {
+    satf_strand_set *s =
+        j ? crossing(200, 16, tilt[j]) : straight_bundle(200, 16, 1.0f, 20.0f);
+    satf_import_fit fit;
+    assert_int_equal(satf_import_fit_cluster(s, members, 200, &fp, &fit, &err),
+                     SATF_OK);
+    const float *d = fit.measures.direction;
+    printf("tilt %.0f: direction p50 %.2f p90 %.2f max %.2f degrees\n", tilt[j],
+           (double)d[0], (double)d[1], (double)d[2]);
+    assert_true(fabs(d[0] - tilt[j]) < 3.0);
+    assert_true(fabs(d[1] - tilt[j]) < 3.0);
+    assert_true(d[0] <= d[1] && d[1] <= d[2]);
+    satf_import_fit_stats st;
+    satf_import_fit_stats_compute(&fit, 1, NULL, &st);
+    assert_true(st.direction[1] == d[1]);
+    assert_true(st.across_strands == (j ? 200 : 0));
+    satf_import_fit_free(&fit);
+    satf_strand_set_destroy(s);
+  }
+}
+
 static void test_row_is_a_ring(void **state) {
   (void)state;
   /* the measures can fail: a row of 200 short strands side by side across
@@ -785,6 +841,7 @@ static void test_report_file(void **state) {
     lines += text[i] == '\n';
   assert_int_equal(lines, o.n + 1);
   assert_non_null(strstr((const char *)text, "traj_p90"));
+  assert_non_null(strstr((const char *)text, "\tdir_p90\t"));
   free(text);
   /* an unwritable path is an error naming it */
   assert_int_not_equal(
@@ -993,6 +1050,7 @@ int main(void) {
       cmocka_unit_test(test_sparse),
       cmocka_unit_test(test_quality_grows_counts),
       cmocka_unit_test(test_report_file),
+      cmocka_unit_test(test_direction_measure),
       cmocka_unit_test(test_tracks_rebuild_members),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
