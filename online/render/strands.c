@@ -80,9 +80,11 @@ static satf_status strands_frame(satf_renderer *r, satf_aov aov, int refresh,
   /* the opacity map's passes add or keep the nearest, in any order */
   strands_gpu_sort(s, r->view.camera.position);
   double t1 = satf_now_seconds();
+  /* the slabs of the cluster path's map (hierarchy_shell_radius), so that
+   * the strands and the shells they are the reference for shadow alike */
   if (refresh && r->effects.cluster_shadows)
-    draw_dom_lights(r, dom_cluster_radius(r->scene, r->nprotos), hair_width(r),
-                    dom_strands, s);
+    draw_dom_lights(r, hierarchy_shell_radius(r), hair_width(r), dom_strands,
+                    s);
   glFinish();
   double t2 = satf_now_seconds();
   float viewproj[16];
