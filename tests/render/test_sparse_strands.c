@@ -336,9 +336,9 @@ static void test_dom_slab_of_shell_clusters(void **state) {
   assert_float_equal(hierarchy_shell_radius(r), 1.5f, 1e-6f);
   float slab = r->dom.slab;
   /* the strand path of the same scene shadows with the same slab, so the
-   * shells and their reference differ by the shells alone (with the mean
-   * of every cluster's radius, 0.8, the ponytail's strands came to 0.73 of
-   * Cycles' luminance; with its shells' 1.09) */
+   * shells and their reference differ by the shells alone (a slab from
+   * every cluster's mean radius, here 0.8, leaves the shared ponytail's
+   * strands at 0.73 of Cycles' luminance; the shells' radius at 1.09) */
   const int counts[1] = {2};
   const float xyz[6] = {0, -3, 0, 0, 3, 0}, width[2] = {0.2f, 0.2f};
   assert_int_equal(
