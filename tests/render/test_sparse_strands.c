@@ -335,10 +335,10 @@ static void test_dom_slab_of_shell_clusters(void **state) {
   assert_int_equal(satf_renderer_render_image(r, 0, &img, &t, &err), SATF_OK);
   assert_float_equal(hierarchy_shell_radius(r), 1.5f, 1e-6f);
   float slab = r->dom.slab;
-  /* the strand path of the same scene shadows with the same slab, so the
-   * shells and their reference differ by the shells alone (a slab from
-   * every cluster's mean radius, here 0.8, leaves the shared ponytail's
-   * strands at 0.73 of Cycles' luminance; the shells' radius at 1.09) */
+  /* the strand path of the same scene takes its slab from the shell
+   * clusters too, half of theirs (strands.c: a slab from every cluster's
+   * mean radius, here 0.8, leaves the shared ponytail's strands at 0.73
+   * of Cycles' luminance) */
   const int counts[1] = {2};
   const float xyz[6] = {0, -3, 0, 0, 3, 0}, width[2] = {0.2f, 0.2f};
   assert_int_equal(
@@ -348,7 +348,7 @@ static void test_dom_slab_of_shell_clusters(void **state) {
   assert_int_equal(satf_renderer_render_image(r, 0, &img, &t, &err), SATF_OK);
   printf("slab of the clusters %.5f, of their strand path %.5f\n", (double)slab,
          (double)r->dom.slab);
-  assert_float_equal(r->dom.slab, slab, 1e-4f * slab);
+  assert_float_equal(r->dom.slab, 0.5f * slab, 1e-4f * slab);
   assert_int_equal(
       satf_renderer_set_strands(r, 0, NULL, NULL, NULL, 0.0f, &err), SATF_OK);
   assert_int_equal(satf_renderer_set_sparse_strands(r, 0, &err), SATF_OK);
@@ -365,6 +365,47 @@ static void test_dom_slab_of_shell_clusters(void **state) {
   satf_scene_destroy(s);
 }
 
+/* In a scene without shell clusters the cluster path draws the same
+ * strands as the strand path, with the same slabs (strands.c): here a
+ * sparse cluster of radius 3, whose slab (a third of it) is deeper than
+ * its strand is wide. */
+static void test_dom_slab_without_shells(void **state) {
+  fixture_gl *f = *state;
+  satf_scene *s = fixture_scene(
+      "{\"macro_clusters\": [{\"prototype\": {"
+      "  \"trajectory\": [[0, -3, 0], [0, 3, 0]], \"a\": 3,"
+      "  \"shell\": {\"layers\": 3, \"st\": 4, \"su\": 8},"
+      "  \"density\": {\"type\": \"tracks\", \"slices\": 5,"
+      "    \"strand_width\": 0.05,"
+      "    \"tracks\": [[0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]]}}}],"
+      " \"camera\": {\"position\": [0, 0, 20], \"target\": [0, 0, 0],"
+      "              \"fov_y\": 30},"
+      " \"lights\": [{\"direction\": [-1, 0, -1]}],"
+      " \"background\": [0, 0, 0]}");
+  assert_non_null(s);
+  satf_renderer *r = NULL;
+  satf_error err;
+  if (satf_renderer_create(s, f->db, W, H, 0, &r, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  satf_image *img = NULL;
+  assert_int_equal(satf_renderer_render_image(r, 0, &img, NULL, &err), SATF_OK);
+  float slab = r->dom.slab;
+  satf_image_destroy(img);
+  img = NULL;
+  const int counts[1] = {2};
+  const float xyz[6] = {0, -3, 0, 0, 3, 0}, width[2] = {0.15f, 0.15f};
+  assert_int_equal(
+      satf_renderer_set_strands(r, 1, counts, xyz, width, 0.0f, &err), SATF_OK);
+  assert_int_equal(satf_renderer_render_image(r, 0, &img, NULL, &err), SATF_OK);
+  printf("no shells: slab of the clusters %.5f, of the strand path %.5f\n",
+         (double)slab, (double)r->dom.slab);
+  assert_true(slab > 0.0f);
+  assert_float_equal(r->dom.slab, slab, 1e-4f * slab);
+  satf_image_destroy(img);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(s);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_sparse_cluster_is_its_strand),
@@ -374,6 +415,7 @@ int main(void) {
       cmocka_unit_test(test_sparse_setting_bounds),
       cmocka_unit_test(test_strands_alone_without_arrays),
       cmocka_unit_test(test_dom_slab_of_shell_clusters),
+      cmocka_unit_test(test_dom_slab_without_shells),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
