@@ -316,6 +316,27 @@ static void test_sparse_setting_bounds(void **state) {
   satf_scene_destroy(s);
 }
 
+/* A frame of r; the deep opacity map's slab it drew. */
+static float frame_slab(satf_renderer *r) {
+  satf_image *img = NULL;
+  satf_error err;
+  if (satf_renderer_render_image(r, 0, &img, NULL, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  satf_image_destroy(img);
+  return r->dom.slab;
+}
+
+/* The strand path with one strand along the clusters' axis (x = z = 0),
+ * `width` wide, or (width 0) back to the clusters. */
+static void strand_path(satf_renderer *r, float width) {
+  const int counts[1] = {2};
+  const float xyz[6] = {0, -3, 0, 0, 3, 0}, w[2] = {width, width};
+  satf_error err;
+  if (satf_renderer_set_strands(r, width > 0.0f, counts, xyz, w, 0.0f, &err) !=
+      SATF_OK)
+    fail_msg("%s", err.message);
+}
+
 /* The deep opacity map's slab follows the clusters drawn with shells
  * (hierarchy_shell_radius): a shell cluster puts all its alpha at its
  * outer shell's depth, so a slab of the thin sparse cluster's scale
@@ -326,41 +347,28 @@ static void test_dom_slab_of_shell_clusters(void **state) {
   fixture_gl *f = *state;
   satf_scene *s = fixture_scene(scene_text(0.0f, 0.0f, 1, 0.0f));
   assert_non_null(s);
-  satf_renderer *r = NULL;
-  satf_error err;
-  if (satf_renderer_create(s, f->db, W, H, 0, &r, &err) != SATF_OK)
-    fail_msg("%s", err.message);
-  satf_image *img = NULL;
-  satf_frame_timing t;
-  assert_int_equal(satf_renderer_render_image(r, 0, &img, &t, &err), SATF_OK);
+  satf_renderer *r = fixture_renderer(s, f->db, W, H, 0);
+  assert_non_null(r);
+  float slab = frame_slab(r);
   assert_float_equal(hierarchy_shell_radius(r), 1.5f, 1e-6f);
-  float slab = r->dom.slab;
   /* the strand path of the same scene takes its slab from the shell
    * clusters too, half of theirs (strands.c: a slab from every cluster's
    * mean radius, here 0.8, leaves the shared ponytail's strands at 0.73
    * of Cycles' luminance) */
-  const int counts[1] = {2};
-  const float xyz[6] = {0, -3, 0, 0, 3, 0}, width[2] = {0.2f, 0.2f};
-  assert_int_equal(
-      satf_renderer_set_strands(r, 1, counts, xyz, width, 0.0f, &err), SATF_OK);
-  satf_image_destroy(img);
-  img = NULL;
-  assert_int_equal(satf_renderer_render_image(r, 0, &img, &t, &err), SATF_OK);
+  strand_path(r, 0.2f);
+  float strands = frame_slab(r);
   printf("slab of the clusters %.5f, of their strand path %.5f\n", (double)slab,
-         (double)r->dom.slab);
-  assert_float_equal(r->dom.slab, 0.5f * slab, 1e-4f * slab);
-  assert_int_equal(
-      satf_renderer_set_strands(r, 0, NULL, NULL, NULL, 0.0f, &err), SATF_OK);
+         (double)strands);
+  assert_float_equal(strands, 0.5f * slab, 1e-4f * slab);
+  strand_path(r, 0.0f);
+  satf_error err;
   assert_int_equal(satf_renderer_set_sparse_strands(r, 0, &err), SATF_OK);
   assert_float_equal(hierarchy_shell_radius(r), 0.8f, 1e-6f);
-  satf_image_destroy(img);
-  img = NULL;
-  assert_int_equal(satf_renderer_render_image(r, 0, &img, &t, &err), SATF_OK);
+  float all = frame_slab(r);
   printf("slab with the sparse cluster as its strand %.5f, as a cluster "
          "%.5f\n",
-         (double)slab, (double)r->dom.slab);
-  assert_float_equal(r->dom.slab, slab * 0.8f / 1.5f, 1e-4f * slab);
-  satf_image_destroy(img);
+         (double)slab, (double)all);
+  assert_float_equal(all, slab * 0.8f / 1.5f, 1e-4f * slab);
   satf_renderer_destroy(r);
   satf_scene_destroy(s);
 }
@@ -383,25 +391,15 @@ static void test_dom_slab_without_shells(void **state) {
       " \"lights\": [{\"direction\": [-1, 0, -1]}],"
       " \"background\": [0, 0, 0]}");
   assert_non_null(s);
-  satf_renderer *r = NULL;
-  satf_error err;
-  if (satf_renderer_create(s, f->db, W, H, 0, &r, &err) != SATF_OK)
-    fail_msg("%s", err.message);
-  satf_image *img = NULL;
-  assert_int_equal(satf_renderer_render_image(r, 0, &img, NULL, &err), SATF_OK);
-  float slab = r->dom.slab;
-  satf_image_destroy(img);
-  img = NULL;
-  const int counts[1] = {2};
-  const float xyz[6] = {0, -3, 0, 0, 3, 0}, width[2] = {0.15f, 0.15f};
-  assert_int_equal(
-      satf_renderer_set_strands(r, 1, counts, xyz, width, 0.0f, &err), SATF_OK);
-  assert_int_equal(satf_renderer_render_image(r, 0, &img, NULL, &err), SATF_OK);
+  satf_renderer *r = fixture_renderer(s, f->db, W, H, 0);
+  assert_non_null(r);
+  float slab = frame_slab(r);
+  strand_path(r, 0.15f);
+  float strands = frame_slab(r);
   printf("no shells: slab of the clusters %.5f, of the strand path %.5f\n",
-         (double)slab, (double)r->dom.slab);
+         (double)slab, (double)strands);
   assert_true(slab > 0.0f);
-  assert_float_equal(r->dom.slab, slab, 1e-4f * slab);
-  satf_image_destroy(img);
+  assert_float_equal(strands, slab, 1e-4f * slab);
   satf_renderer_destroy(r);
   satf_scene_destroy(s);
 }
