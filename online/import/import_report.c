@@ -46,6 +46,7 @@ void satf_import_fit_stats_compute(const satf_import_fit *fits, int n,
     return;
   }
   float worst_t = -1.0f, worst_a = FLT_MAX;
+  int shells = 0;
   for (int c = 0; c < n; c++) {
     const satf_import_fit_measures *m = &fits[c].measures;
     const satf_import_fit *f = &fits[c];
@@ -56,6 +57,13 @@ void satf_import_fit_stats_compute(const satf_import_fit *fits, int n,
     out->strands += f->strands;
     out->shell_strands += strands ? 0 : f->strands;
     out->tufts += strands && f->strands > SATF_SCENE_SPARSE_STRANDS;
+    /* the direction over the clusters drawn as shells (those drawn as
+     * their strands are shaded along each strand), gathered into v first */
+    if (!strands) {
+      v[shells++] = m->direction[1];
+      if (m->direction[1] > SATF_IMPORT_ACROSS_DEGREES)
+        out->across_strands += f->strands;
+    }
     /* a cluster drawn as its strands is no ring however short */
     out->rings += m->aspect < 1.0f && !strands;
     out->single += fits[c].strands == 1;
@@ -70,6 +78,7 @@ void satf_import_fit_stats_compute(const satf_import_fit *fits, int n,
       out->worst_aspect = c;
     }
   }
+  over_clusters(v, shells, 0, out->direction);
   for (int c = 0; c < n; c++)
     v[c] = fits[c].measures.trajectory[1];
   over_clusters(v, n, 0, out->trajectory);
@@ -85,19 +94,6 @@ void satf_import_fit_stats_compute(const satf_import_fit *fits, int n,
   for (int c = 0; c < n; c++)
     v[c] = fits[c].measures.aspect;
   over_clusters(v, n, 1, out->aspect);
-  /* the direction over the clusters drawn as shells: those drawn as their
-   * strands are shaded along each strand */
-  int shells = 0;
-  for (int c = 0; c < n; c++) {
-    const satf_import_fit *f = &fits[c];
-    if (satf_scene_tracks_as_strands(f->track_slices, f->n_tracks,
-                                     f->track_count, SATF_SCENE_SPARSE_STRANDS))
-      continue;
-    v[shells++] = f->measures.direction[1];
-    if (f->measures.direction[1] > SATF_IMPORT_ACROSS_DEGREES)
-      out->across_strands += f->strands;
-  }
-  over_clusters(v, shells, 0, out->direction);
   free(v);
 }
 

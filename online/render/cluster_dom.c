@@ -165,7 +165,7 @@ static void update_map(satf_renderer *r) {
    * |luminance change| <= 7.9% of the cluster shadows'; bench_dom --anim,
    * docs/performance.md), so the default keeps only hair that (nearly) stands
    * still */
-  float cluster_r = hierarchy_shell_radius(r);
+  float cluster_r = hierarchy_shell_radius(r, NULL);
   dom_place(&r->dom, &r->view, cluster_r, hierarchy_hair_width(r));
   if (dom_keep(r)) {
     r->dom.reuses++;

@@ -617,7 +617,7 @@ float hierarchy_hair_width(const satf_renderer *r) {
  * dom_place's floor) where its 234 shell clusters average 3.1: their inner
  * layers took the optical depth of the whole cluster (which their records
  * and s-maps already shadow), in dark blotches over the crown. */
-float hierarchy_shell_radius(const satf_renderer *r) {
+float hierarchy_shell_radius(const satf_renderer *r, int *shells) {
   float sum = 0.0f;
   int n = 0;
   for (int m = 0; m < r->nprotos; m++)
@@ -625,6 +625,8 @@ float hierarchy_shell_radius(const satf_renderer *r) {
       sum += r->scene->macro_clusters[m].prototype.a.values[0];
       n++;
     }
+  if (shells)
+    *shells = n;
   return n > 0 ? sum / (float)n : dom_cluster_radius(r->scene, r->nprotos);
 }
 

@@ -229,8 +229,9 @@ float hierarchy_density_width(const satf_renderer *r);
 float hierarchy_hair_width(const satf_renderer *r);
 /* The mean root radius of the clusters drawn with shells (not as their
  * strands, hierarchy_sparse), which sets the deep opacity map's slab
- * (dom_place); all clusters' when every one is drawn as its strands. */
-float hierarchy_shell_radius(const satf_renderer *r);
+ * (dom_place); all clusters' when every one is drawn as its strands.
+ * *shells (may be NULL): how many are drawn with shells. */
+float hierarchy_shell_radius(const satf_renderer *r, int *shells);
 /* Instance indices far to near from `eye` (malloc'd; NULL: no memory);
  * equal distances by position, never by list order. */
 int *hierarchy_far_to_near(const satf_renderer *r, const float eye[3]);

@@ -68,10 +68,9 @@ static void dom_strands(satf_renderer *r, void *ctx, int opacity) {
  * outer shell's; in a scene without shells the cluster path draws the
  * same strands as these, with the same slabs. */
 static float slab_scale(const satf_renderer *r) {
-  for (int m = 0; m < r->nprotos; m++)
-    if (!r->protos[m].sparse)
-      return STRAND_SLAB_SHARE * hierarchy_shell_radius(r);
-  return hierarchy_shell_radius(r);
+  int shells = 0;
+  float radius = hierarchy_shell_radius(r, &shells);
+  return shells > 0 ? STRAND_SLAB_SHARE * radius : radius;
 }
 
 /* The slabs are at least a strand deep: the strands' median width, or the

@@ -350,7 +350,7 @@ static void test_dom_slab_of_shell_clusters(void **state) {
   satf_renderer *r = fixture_renderer(s, f->db, W, H, 0);
   assert_non_null(r);
   float slab = frame_slab(r);
-  assert_float_equal(hierarchy_shell_radius(r), 1.5f, 1e-6f);
+  assert_float_equal(hierarchy_shell_radius(r, NULL), 1.5f, 1e-6f);
   /* the strand path of the same scene takes its slab from the shell
    * clusters too, half of theirs (strands.c: a slab from every cluster's
    * mean radius, here 0.8, leaves the shared ponytail's strands at 0.73
@@ -363,7 +363,7 @@ static void test_dom_slab_of_shell_clusters(void **state) {
   strand_path(r, 0.0f);
   satf_error err;
   assert_int_equal(satf_renderer_set_sparse_strands(r, 0, &err), SATF_OK);
-  assert_float_equal(hierarchy_shell_radius(r), 0.8f, 1e-6f);
+  assert_float_equal(hierarchy_shell_radius(r, NULL), 0.8f, 1e-6f);
   float all = frame_slab(r);
   printf("slab with the sparse cluster as its strand %.5f, as a cluster "
          "%.5f\n",
