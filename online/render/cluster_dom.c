@@ -127,7 +127,7 @@ float cluster_dom_hair_move(const satf_renderer *r) {
  * slabs since; the map keeps the view it was drawn with (the scene bounds
  * follow the hair, and with them the exact rule's view). */
 static int dom_keep(satf_renderer *r) {
-  if (!r->dom.valid ||
+  if (!r->dom.valid || r->dom.drawn_hair != dom_clusters ||
       (r->dom.maps_stale && !(dom_eye_turn(r) < r->dom.eye_tol)))
     return 0;
   if (r->dom.move_tol < 0.0f)
@@ -176,6 +176,8 @@ static void update_map(satf_renderer *r) {
   memcpy(r->dom.eye, r->view.camera.position, sizeof r->dom.eye);
   view_light_vector(&r->view.lights[r->dom.light_index], r->dom.light);
   r->dom.drawn_slab = r->dom.slab;
+  r->dom.drawn_hair = dom_clusters;
+  r->dom.drawn_ctx = NULL;
   r->dom.maps_stale = 0;
   int n = dom_hair_points(r, NULL);
   float *pts =

@@ -20,6 +20,11 @@
  * (cluster_dom.c; satf_renderer_set_shadow_move). */
 #define DOM_MOVE_TOL 1.0f
 
+/* Draws the hair of the map into the bound target: its depth (opacity 0,
+ * colour writes off) or its opacity into the slabs (1: the first-hair
+ * depth on texture unit 1; dom_uniforms sets a program's uniforms). */
+typedef void (*dom_hair_fn)(satf_renderer *r, void *ctx, int opacity);
+
 typedef struct dom_map {
   satf_gl_target *depth, *opacity;
   /* this frame's orthographic view along the key light, and the depth of
@@ -29,6 +34,10 @@ typedef struct dom_map {
    * with (a path that keeps the map draws with those) */
   int valid;
   float drawn_viewproj[16], drawn_slab;
+  /* the hair that drew it (a drawing path's dom_hair_fn and its ctx): a
+   * path keeps only a map of its own hair */
+  dom_hair_fn drawn_hair;
+  const void *drawn_ctx;
   long reuses; /* frames that reused it */
   /* the maps' alpha, which the map reads, follows the eye's azimuth: the
    * eye when the map was drawn, whether maps were uploaded since, and how

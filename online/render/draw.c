@@ -3,6 +3,8 @@
  * uniforms, the hair's depth test and the full-screen triangle. */
 #include "draw.h"
 
+#include <string.h>
+
 #include "fiber_gpu.h"
 #include "renderer_internal.h"
 
@@ -152,13 +154,33 @@ int draw_fill_shadows(const satf_renderer *r) {
          r->fill_dom.depth && r->view.nlights > 1 && r->effects.cluster_shadows;
 }
 
+/* r->dom drawn by `hair` (ctx), or kept where that hair drew it last at
+ * the place dom_place gives now (draw_dom_lights) */
+static void draw_or_keep(satf_renderer *r, float cluster_r, float hair_width,
+                         dom_hair_fn hair, void *ctx) {
+  dom_map *d = &r->dom;
+  dom_place(d, &r->view, cluster_r, hair_width);
+  if (d->valid && d->drawn_hair == hair && d->drawn_ctx == ctx &&
+      !memcmp(d->drawn_viewproj, d->viewproj, sizeof d->viewproj) &&
+      d->drawn_slab == d->slab) {
+    d->reuses++;
+    return;
+  }
+  draw_dom(r, cluster_r, hair_width, hair, ctx);
+  memcpy(d->drawn_viewproj, d->viewproj, sizeof d->viewproj);
+  d->drawn_slab = d->slab;
+  d->drawn_hair = hair;
+  d->drawn_ctx = ctx;
+  d->valid = 1;
+}
+
 void draw_dom_lights(satf_renderer *r, float cluster_r, float hair_width,
                      dom_hair_fn hair, void *ctx) {
-  draw_dom(r, cluster_r, hair_width, hair, ctx);
+  draw_or_keep(r, cluster_r, hair_width, hair, ctx);
   if (!draw_fill_shadows(r))
     return;
   dom_swap(&r->dom, &r->fill_dom);
-  draw_dom(r, cluster_r, hair_width, hair, ctx);
+  draw_or_keep(r, cluster_r, hair_width, hair, ctx);
   dom_swap(&r->dom, &r->fill_dom);
 }
 

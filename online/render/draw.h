@@ -33,10 +33,6 @@ void draw_begin_frame(const satf_renderer *r, satf_aov aov,
 /* Hair tests against the meshes' depth without writing it (on), or the
  * default depth state again (off). */
 void draw_hair_depth_test(int on);
-/* Draws the hair of the map into the bound target: its depth (opacity 0,
- * colour writes off) or its opacity into the slabs (1: the first-hair
- * depth on texture unit 1; dom_uniforms sets a program's uniforms). */
-typedef void (*dom_hair_fn)(satf_renderer *r, void *ctx, int opacity);
 /* Whether the frame draws and reads the fill light's deep opacity map:
  * the physical mode, two lights or more, shadows between clusters on.
  * Cycles shadows every light; the fill left unshadowed lit the side of
@@ -52,7 +48,11 @@ int draw_fill_shadows(const satf_renderer *r);
 void draw_dom(satf_renderer *r, float cluster_r, float hair_width,
               dom_hair_fn hair, void *ctx);
 /* draw_dom for the key light and, where draw_fill_shadows, the fill's
- * (r->fill_dom, drawn in r->dom's place: dom_swap). */
+ * (r->fill_dom, drawn in r->dom's place: dom_swap), each kept instead
+ * where the same hair and ctx drew it last at the same place (the light's
+ * view over the scene's bounds, the slabs) and it is still valid: a
+ * drawing path whose hair moves only when satf_renderer_set_scene or
+ * satf_renderer_set_strands clears the maps (the strand path). */
 void draw_dom_lights(satf_renderer *r, float cluster_r, float hair_width,
                      dom_hair_fn hair, void *ctx);
 

@@ -456,8 +456,9 @@ satf_status satf_renderer_set_scene(satf_renderer *r, const satf_scene *scene,
   if (st != SATF_OK)
     return st;
   int moved = 0;
-  /* the hair may have moved (else cluster_dom_update measures how far) */
-  if (r->dom.move_tol < 0.0f)
+  /* the hair may have moved (else cluster_dom_update measures how far;
+   * the strand path's maps are drawn again: draw_dom_lights) */
+  if (r->dom.move_tol < 0.0f || r->strands)
     r->dom.valid = r->fill_dom.valid = 0;
   st = hierarchy_update(r, scene, &moved, err);
   if (st == SATF_OK) /* the sparse clusters' strands move with them */

@@ -1,7 +1,8 @@
 /* strands.c - owns the strand path (satf_renderer_set_strands): the
  * scene's source strands drawn as ribbons of their own width (ribbons.c)
  * in the clusters' place, under the same lights, material, shading model
- * and meshes, with a deep opacity map of the strands themselves. Slow
+ * and meshes, with a deep opacity map of the strands themselves (kept
+ * while the lights, the strands and the scene stand: draw_dom_lights). Slow
  * next to the clusters, but what they approximate: the two images differ
  * only by the clusters. */
 #include "renderer_internal.h"
@@ -38,6 +39,7 @@ satf_status satf_renderer_set_strands(satf_renderer *r, int n_strands,
     return st;
   strands_destroy(r);
   r->strands = s;
+  r->dom.valid = r->fill_dom.valid = 0; /* other hair casts the shadows */
   if (s)
     grow_bounds(r, s);
   return SATF_OK;

@@ -304,9 +304,102 @@ static void test_dom_reuse(void **state) {
   satf_scene_destroy(scene);
 }
 
+/* Strands in a row along the light's way, for the strand path: each one
+ * shadows the next. */
+static void set_row_of_strands(satf_renderer *r) {
+  enum { N = 6, P = 5 };
+  int counts[N];
+  float xyz[N * P * 3];
+  for (int i = 0, at = 0; i < N; i++) {
+    counts[i] = P;
+    for (int j = 0; j < P; j++, at++) {
+      xyz[3 * at] = -1.0f + 0.4f * (float)i; /* the light's way in xz */
+      xyz[3 * at + 1] = -2.0f + 4.0f * (float)j / (P - 1);
+      xyz[3 * at + 2] = -1.0f + 0.48f * (float)i;
+    }
+  }
+  satf_error err;
+  assert_int_equal(
+      satf_renderer_set_strands(r, N, counts, xyz, NULL, 0.15f, &err), SATF_OK);
+}
+
+/* A frame of r within a hair's breadth of a fresh renderer's for the
+ * same scene, camera and light (its map drawn for this frame). */
+static void assert_like_fresh(fixture_gl *f, const satf_scene *scene,
+                              satf_renderer *r, satf_image *img) {
+  satf_renderer *fresh = make(f, scene);
+  assert_non_null(fresh);
+  set_row_of_strands(fresh);
+  *satf_renderer_camera(fresh) = *satf_renderer_camera(r);
+  *satf_renderer_light(fresh, 0) = *satf_renderer_light(r, 0);
+  satf_image *want = image(fresh);
+  double most = fixture_max_diff(img, want, "R");
+  printf("strand path against a fresh renderer: max |dR| %.2g\n", most);
+  assert_true(most < 1e-5);
+  assert_true(covered(want) > 100);
+  satf_image_destroy(want);
+  satf_renderer_destroy(fresh);
+}
+
+/* The strand path keeps its deep opacity map while the light, the strands
+ * and the scene stand (draw_dom_lights): the camera orbits for free, a
+ * light that turns, a new scene state or new strands draw it again. */
+static void test_strand_dom_reuse(void **state) {
+  fixture_gl *f = *state;
+  satf_scene *scene = fixture_scene(SCENE);
+  assert_non_null(scene);
+  satf_renderer *r = make(f, scene);
+  assert_non_null(r);
+  set_row_of_strands(r);
+  satf_image *a = image(r), *b = image(r);
+  assert_int_equal(r->dom.reuses, 1);
+  assert_true(fixture_same_bits(a, b, "R"));
+  assert_true(fixture_same_bits(a, b, "A"));
+  /* the shadows are in the frame: without them it is brighter */
+  r->effects.cluster_shadows = 0;
+  satf_image *open = image(r);
+  r->effects.cluster_shadows = 1;
+  printf("the shadows' mean |dR| %.2g\n", mean_diff(a, open));
+  assert_true(mean_diff(a, open) > 1e-3);
+  /* the camera moves: kept */
+  satf_renderer_camera(r)->position[0] += 3.0f;
+  satf_image *c = image(r);
+  assert_int_equal(r->dom.reuses, 2);
+  assert_like_fresh(f, scene, r, c);
+  /* the light turns: drawn again, then kept */
+  satf_renderer_light(r, 0)->direction[0] += 0.3f;
+  satf_image *d = image(r);
+  assert_int_equal(r->dom.reuses, 2);
+  assert_like_fresh(f, scene, r, d);
+  satf_image_destroy(image(r));
+  assert_int_equal(r->dom.reuses, 3);
+  /* a scene state (animation: the scene's camera and light again) and
+   * new strands: drawn again */
+  satf_error err;
+  assert_int_equal(satf_renderer_set_scene(r, scene, NULL, &err), SATF_OK);
+  satf_image_destroy(image(r));
+  assert_int_equal(r->dom.reuses, 3);
+  set_row_of_strands(r);
+  satf_image_destroy(image(r));
+  assert_int_equal(r->dom.reuses, 3);
+  /* back to the clusters: their own map, not the strands' */
+  assert_int_equal(
+      satf_renderer_set_strands(r, 0, NULL, NULL, NULL, 0.0f, &err), SATF_OK);
+  satf_image_destroy(image(r));
+  assert_int_equal(r->dom.reuses, 3);
+  satf_image_destroy(a);
+  satf_image_destroy(b);
+  satf_image_destroy(open);
+  satf_image_destroy(c);
+  satf_image_destroy(d);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(scene);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_instanced_same_image),
+      cmocka_unit_test(test_strand_dom_reuse),
       cmocka_unit_test(test_incremental_lookups),
       cmocka_unit_test(test_layers_split),
       cmocka_unit_test(test_dom_reuse),
