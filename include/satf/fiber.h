@@ -295,6 +295,38 @@ void satf_fiber_dual_global_table(const satf_fiber *f, const float *tables,
 void satf_fiber_global_coords(const satf_fiber *f, float theta_o, float theta_i,
                               float phi, float out[3]);
 
+/* The azimuthal scattering of each lobe averaged across half the fibre,
+ * d'Eon 2011 eq. 3's N_p(phi) = 1/2 int A_p(h) D_p(phi - Phi_p(h)) dh with
+ * Chiang 2016 eq. 10's logistic D_p and d'Eon eq. 12-14's A_p, over
+ * h in [-1, 0] (half 0) and [0, 1] (half 1), each the mean over h by
+ * SATF_FIBER_AZ_H midpoints in gamma_o = asin h: what a strand thinner than a
+ * pixel shows of each side (the remainder: A_3 / (2 pi)). It depends on the
+ * view's inclination only through |sin theta_o| (eta', the paths and Fresnel
+ * are even in it), rows k of SATF_FIBER_AZ_ROWS at |sin theta_o| = k / (rows
+ * - 1), and on the light's azimuth from the view's, columns j of
+ * SATF_FIBER_AZ_COLS at phi = -pi + 2 pi j / cols (periodic). */
+#define SATF_FIBER_AZ_ROWS 64
+#define SATF_FIBER_AZ_COLS 256
+#define SATF_FIBER_AZ_H 64
+#define SATF_FIBER_AZ_LAYERS (2 * SATF_FIBER_LOBES) /* half * lobes + p */
+/* Fills out[((layer * rows + k) * cols + j) * 3 + c], layer = half *
+ * SATF_FIBER_LOBES + p (an RGB 2-D array texture of SATF_FIBER_AZ_LAYERS
+ * layers), on `threads` threads (0: all). */
+void satf_fiber_azimuthal_table(const satf_fiber *f, int threads, float *out);
+/* Bilinear look-up of the table at sin theta_o and phi (any angle), as a
+ * GPU's linear filter reads it: out[c] for layer `layer`. */
+void satf_fiber_azimuthal_lookup(const float *table, int layer,
+                                 float sin_theta_o, float phi, float out[3]);
+
+/* The four lobes' M_p (d'Eon 2011 eq. 7) on an n x n grid of (sin
+ * theta_i, sin theta_o), node (a, b) at sin theta_i = -1 + 2 a / (n - 1)
+ * and sin theta_o = -1 + 2 b / (n - 1), into out[4 (b n + a) + p]: R, TT
+ * and TRT with their tilts (satf_fiber_tilt) and variances, the remainder
+ * untilted with variance v_rest (the fibre's own v[3], or what a caller
+ * takes for light scattered more than once). n >= 2. */
+#define SATF_FIBER_MP_NODES 256
+void satf_fiber_mp_table(const satf_fiber *f, float v_rest, int n, float *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -50,6 +50,42 @@ static void global_tables(fiber_gpu *g, const satf_fiber *f, const float *tab) {
   free(v);
 }
 
+/* The azimuthal and M_p tables (fiber_gpu.h). Without the memory for
+ * them (2.5 MB) they are left unmade: the strands' lobes then read zero. */
+static void azimuthal_tables(fiber_gpu *g, const satf_fiber *f) {
+  size_t n = (size_t)SATF_FIBER_AZ_LAYERS * SATF_FIBER_AZ_ROWS *
+             SATF_FIBER_AZ_COLS * 3;
+  size_t nm = (size_t)SATF_FIBER_MP_NODES * SATF_FIBER_MP_NODES * 4;
+  float *v = malloc((n > nm ? n : nm) * sizeof *v);
+  if (!v)
+    return;
+  if (!g->mp)
+    glGenTextures(1, &g->mp);
+  satf_fiber_mp_table(f, f->v[3], SATF_FIBER_MP_NODES, v);
+  glActiveTexture(GL_TEXTURE0 + FIBER_AZIMUTHAL_UNIT + 1);
+  glBindTexture(GL_TEXTURE_2D, g->mp);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, SATF_FIBER_MP_NODES,
+               SATF_FIBER_MP_NODES, 0, GL_RGBA, GL_FLOAT, v);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  satf_fiber_azimuthal_table(f, g->threads, v);
+  if (!g->azimuthal)
+    glGenTextures(1, &g->azimuthal);
+  glActiveTexture(GL_TEXTURE0 + FIBER_AZIMUTHAL_UNIT);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, g->azimuthal);
+  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGB32F, SATF_FIBER_AZ_COLS,
+               SATF_FIBER_AZ_ROWS, SATF_FIBER_AZ_LAYERS, 0, GL_RGB, GL_FLOAT,
+               v);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  /* the light's azimuth is periodic, the inclination clamped */
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  free(v);
+}
+
 void fiber_gpu_bind(fiber_gpu *g, const satf_scene_material *m, GLuint p) {
   satf_fiber f;
   fiber_from_material(m, &f);
@@ -68,6 +104,8 @@ void fiber_gpu_bind(fiber_gpu *g, const satf_scene_material *m, GLuint p) {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     if (g->with_global)
       global_tables(g, &f, tab);
+    if (g->with_azimuthal)
+      azimuthal_tables(g, &f);
     glActiveTexture(GL_TEXTURE0 + FIBER_TABLE_UNIT);
     g->fiber = f;
     g->has_tables = 1;
@@ -76,6 +114,16 @@ void fiber_gpu_bind(fiber_gpu *g, const satf_scene_material *m, GLuint p) {
   for (int k = 0; g->with_global && k < 2; k++) {
     glActiveTexture(GL_TEXTURE0 + FIBER_TABLE_UNIT + 1 + k);
     glBindTexture(GL_TEXTURE_3D, g->global_tabs[k]);
+  }
+  if (g->with_azimuthal) {
+    glActiveTexture(GL_TEXTURE0 + FIBER_AZIMUTHAL_UNIT);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, g->azimuthal);
+    glUniform1i(glGetUniformLocation(p, "u_fiber_azimuthal"),
+                FIBER_AZIMUTHAL_UNIT);
+    glActiveTexture(GL_TEXTURE0 + FIBER_AZIMUTHAL_UNIT + 1);
+    glBindTexture(GL_TEXTURE_2D, g->mp);
+    glUniform1i(glGetUniformLocation(p, "u_fiber_mp"),
+                FIBER_AZIMUTHAL_UNIT + 1);
   }
   glActiveTexture(GL_TEXTURE0);
   if (g->with_global) {
@@ -96,5 +144,9 @@ void fiber_gpu_release(fiber_gpu *g) {
     glDeleteTextures(1, &g->tables);
   if (g->global_tabs[0])
     glDeleteTextures(2, g->global_tabs);
+  if (g->azimuthal)
+    glDeleteTextures(1, &g->azimuthal);
+  if (g->mp)
+    glDeleteTextures(1, &g->mp);
   memset(g, 0, sizeof *g);
 }

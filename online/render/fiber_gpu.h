@@ -13,6 +13,7 @@
  * they are bound to; the global term's tables take the next two. */
 #define FIBER_TABLE_ROWS 32
 #define FIBER_TABLE_UNIT 6
+#define FIBER_AZIMUTHAL_UNIT (FIBER_TABLE_UNIT + 3)
 
 typedef struct fiber_gpu {
   GLuint tables; /* RGB32F, SATF_FIBER_DUAL_FIELDS x FIBER_TABLE_ROWS */
@@ -25,6 +26,14 @@ typedef struct fiber_gpu {
    * of its 71 ms (llvmpipe runs vertices on one thread) */
   int with_global, threads; /* threads: for computing them (0: all) */
   GLuint global_tabs[2];
+  /* set by the owner before the first bind: also the lobes' azimuthal
+   * scattering over each half of the fibre (satf_fiber_azimuthal_table,
+   * 1.5 MB) as an RGB32F 2-D array texture on FIBER_AZIMUTHAL_UNIT and
+   * their M_p (satf_fiber_mp_table, 1 MB) as an RGBA32F texture on the
+   * next unit, which the physical strands' light per point reads
+   * (strand_fiber.glsl) */
+  int with_azimuthal;
+  GLuint azimuthal, mp;
 } fiber_gpu;
 
 /* The material's fibre: its absorption from melanin and redness or given

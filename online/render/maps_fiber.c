@@ -17,7 +17,7 @@
  * evaluate it four times per light and sector, each a Bessel function and
  * exponentials; bilinear in a 256 x 256 table it takes about a quarter
  * off the map stage (measured on cluster_6a). */
-#define MP_TABLE 256
+#define MP_TABLE SATF_FIBER_MP_NODES
 
 /* Four floats in one vector (GCC's and clang's vector extension): a
  * texel's channels, a sample's colours and alpha, or the four lobes' M_p
@@ -133,25 +133,8 @@ static int rgb_levels(const float sigma[3], float *levels, int level_of[3]) {
   return n;
 }
 
-/* Lobe p's M_p (d'Eon 2011 eq. 7) at sin theta_i, sin theta_o, with the
- * cuticle tilt's shift (satf_fiber_tilt); p = 3: multiple scattering. */
-static float mp_exact(const satf_maps_fiber *f, int p, float si, float so) {
-  float ci = sqrtf(fmaxf(1.0f - si * si, 0.0f));
-  float co = sqrtf(fmaxf(1.0f - so * so, 0.0f));
-  if (p == 3)
-    return satf_fiber_mp(ci, co, si, so, f->v_ms);
-  float sp, cp;
-  satf_fiber_tilt(&f->fiber, p, so, co, &sp, &cp);
-  return satf_fiber_mp(ci, cp, si, sp, f->fiber.v[p]);
-}
-
 static void mp_tables(satf_maps_fiber *f) {
-  for (int b = 0; b < MP_TABLE; b++)
-    for (int a = 0; a < MP_TABLE; a++)
-      for (int p = 0; p < 4; p++)
-        f->mp[(size_t)b * MP_TABLE + (size_t)a][p] =
-            mp_exact(f, p, -1.0f + 2.0f * (float)a / (MP_TABLE - 1),
-                     -1.0f + 2.0f * (float)b / (MP_TABLE - 1));
+  satf_fiber_mp_table(&f->fiber, f->v_ms, MP_TABLE, (float *)f->mp);
 }
 
 /* The four lobes' M_p at (sin theta_i, sin theta_o), bilinear (each lane

@@ -295,8 +295,10 @@ satf_status strands_gpu_create(int n_strands, const int *counts,
   if (!s)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   /* the physical shading reads the dual scattering's global term and back
-   * scattering from their tables (strand_fs.glsl) */
+   * scattering from their tables (strand_fs.glsl), the light per point the
+   * lobes' azimuthal scattering (strand_light_cs.glsl) */
   s->fiber.with_global = 1;
+  s->fiber.with_azimuthal = 1;
   s->nstrands = n_strands;
   s->npoints = total;
   s->nsegs = total - (size_t)n_strands;
@@ -493,6 +495,10 @@ static void set_fiber_uniforms(const satf_renderer *r, strands_gpu *s,
     glUniform1i(glGetUniformLocation(p, "u_fiber_global"),
                 FIBER_TABLE_UNIT + 1);
     glUniform1i(glGetUniformLocation(p, "u_fiber_back"), FIBER_TABLE_UNIT + 2);
+    glUniform1i(glGetUniformLocation(p, "u_fiber_azimuthal"),
+                FIBER_AZIMUTHAL_UNIT);
+    glUniform1i(glGetUniformLocation(p, "u_fiber_mp"),
+                FIBER_AZIMUTHAL_UNIT + 1);
     return;
   }
   glActiveTexture(GL_TEXTURE0 + FIBER_TABLE_UNIT);

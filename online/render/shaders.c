@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "satf/fiber.h"
 #include "satf/scene.h"
 
 extern const char glsl_text_lighting[], glsl_text_layer_vs[],
@@ -68,15 +69,17 @@ static char *with_defines(const char *src, const char *lines) {
 static void limits(char *out, size_t size, const char *extra) {
   snprintf(out, size,
            "#define SATF_MAX_LIGHTS %d\n#define SATF_MAX_FRAGMENTS %d\n"
-           "#define STRAND_LIGHT_VEC4 %d\n%s",
-           SATF_SCENE_MAX_LIGHTS, SATF_MAX_FRAGMENTS, STRAND_LIGHT_VEC4, extra);
+           "#define STRAND_LIGHT_VEC4 %d\n#define SATF_FIBER_AZ_ROWS %d\n"
+           "#define SATF_FIBER_AZ_COLS %d\n#define SATF_FIBER_MP_NODES %d\n%s",
+           SATF_SCENE_MAX_LIGHTS, SATF_MAX_FRAGMENTS, STRAND_LIGHT_VEC4,
+           SATF_FIBER_AZ_ROWS, SATF_FIBER_AZ_COLS, SATF_FIBER_MP_NODES, extra);
 }
 
 /* Compiles one program. Its shaders' arrays are sized by the C limits,
  * defined after their #version lines with `extra` (glsl/). */
 satf_status shaders_program(const char *label, const char *vs, const char *fs,
                             const char *extra, GLuint *out, satf_error *err) {
-  char defines[256];
+  char defines[512];
   limits(defines, sizeof defines, extra);
   /* both stages see them (cluster_vs.glsl shades per vertex in the
    * physical mode) */

@@ -87,7 +87,11 @@ void strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi, int ns,
     d_b_fill *= 1.0 - exp(-fill_hairs_behind(world));
   else
     d_b_fill = d_b;
+#ifdef STRAND_FIBER_TABLE
+  int na = 1; /* both halves from the table */
+#else
   int na = ns / 2;
+#endif
   float inv_a = 1.0 / float(max(na, 1)), inv_b = 1.0 / float(ns - na);
   a = StrandLight(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0),
                   vec3(0.0), vec3(0.0));
@@ -101,11 +105,34 @@ void strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi, int ns,
     float sin_i = clamp(wi.x, -1.0, 1.0);
     float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0));
     float mp[4];
+#ifdef STRAND_FIBER_TABLE
+    /* the four lobes' M_p, tilts included (satf_fiber_mp_table: nodes at
+     * sin = -1 + 2 k / (SATF_FIBER_MP_NODES - 1)) */
+    vec4 m4 = texture(u_fiber_mp,
+                      ((vec2(sin_i, g[0].sin_o) + 1.0) * 0.5 *
+                           float(SATF_FIBER_MP_NODES - 1) + 0.5) /
+                          float(SATF_FIBER_MP_NODES));
+    for (int p = 0; p < 4; p++) mp[p] = m4[p];
+#else
     for (int p = 0; p < 4; p++)
       mp[p] = fiber_mp(cos_i, o[p].y, sin_i, o[p].x, f.v[p]);
+#endif
     float dphi = fiber_atan2(wi.z, wi.y) - g[0].phi_o;
     vec3 la[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
     vec3 lb[4] = la;
+#ifdef STRAND_FIBER_TABLE
+    /* the two halves of the whole fibre from the lobes' azimuthal table
+     * (satf_fiber_azimuthal_table: texel centres at phi = -pi + 2 pi j /
+     * cols, |sin theta_o| = k / (rows - 1); periodic in phi) */
+    vec2 uv = vec2((dphi + FIBER_PI) / (2.0 * FIBER_PI) +
+                       0.5 / float(SATF_FIBER_AZ_COLS),
+                   (abs(g[0].sin_o) * float(SATF_FIBER_AZ_ROWS - 1) + 0.5) /
+                       float(SATF_FIBER_AZ_ROWS));
+    for (int p = 0; p < 4; p++) {
+      la[p] = mp[p] * texture(u_fiber_azimuthal, vec3(uv, float(p))).rgb;
+      lb[p] = mp[p] * texture(u_fiber_azimuthal, vec3(uv, float(4 + p))).rgb;
+    }
+#else
     for (int j = 0; j < ns; j++)
       for (int p = 0; p < 4; p++) {
         float np = p < 3 ? fiber_np(dphi, p, f.s, g[j].gamma_o, g[j].gamma_t)
@@ -118,6 +145,7 @@ void strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi, int ns,
       la[p] *= mp[p] * inv_a;
       lb[p] *= mp[p] * inv_b;
     }
+#endif
     vec3 back;
     vec3 global = aov == 2 || aov == 3 ? vec3(0.0) : key_global(t, v, l, back);
     if (aov == 2 || aov == 3) back = vec3(0.0);

@@ -37,10 +37,14 @@ uniform float u_dom_slab;
 uniform float u_kcluster;
 #include "fiber_cluster.glsl"
 #include "dom_behind.glsl"
-/* offsets h averaged per point: midpoints 1/8 apart, 8 a half (16 and 32
- * over the whole fibre agree within 0.3% in luminance on the straight
- * curtain, 8 and 32 within 1%) */
-const int STRAND_FIBER_MAX_H = 16;
+/* the lobes' azimuthal scattering averaged over each half of the fibre
+ * (satf_fiber_azimuthal_table, fiber_gpu.c): two texture reads a lobe and
+ * light where summing it at 16 offsets h took the physical strands' light
+ * 69 of 69 ms on 40K-strand fur (llvmpipe) */
+uniform sampler2DArray u_fiber_azimuthal;
+uniform sampler2D u_fiber_mp;
+#define STRAND_FIBER_TABLE 1
+const int STRAND_FIBER_MAX_H = 1; /* the view's angles, at h = 0 */
 #include "strand_fiber.glsl"
 
 void main() {
