@@ -105,7 +105,7 @@ void strand_fiber(vec3 t, vec3 v, vec3 world, float h_lo, float h_hi, int ns,
     float sin_i = clamp(wi.x, -1.0, 1.0);
     float cos_i = sqrt(max(1.0 - sin_i * sin_i, 0.0));
     float mp[4];
-#ifdef STRAND_FIBER_TABLE
+#ifdef STRAND_FIBER_MP_TABLE
     /* the four lobes' M_p, tilts included (satf_fiber_mp_table: nodes at
      * sin = -1 + 2 k / (SATF_FIBER_MP_NODES - 1)) */
     vec4 m4 = texture(u_fiber_mp,

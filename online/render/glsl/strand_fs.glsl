@@ -104,6 +104,10 @@ float strand_noise(uint strand, float t) {
  * branch's code even where no fragment takes it, and this one's presence
  * alone made the pass twice as slow. */
 in vec3 v_key_lo, v_key_hi, v_rest_lo, v_rest_hi, v_global, v_af;
+/* the lobes' M_p from their table (satf_fiber_mp_table): per fragment
+ * they were eight Bessel series a fragment of a wide strand */
+uniform sampler2D u_fiber_mp;
+#define STRAND_FIBER_MP_TABLE 1
 const int STRAND_FIBER_MAX_H = 3;
 #include "strand_fiber.glsl"
 StrandLight strand_light(vec3 t, vec3 v) {

@@ -44,6 +44,7 @@ uniform float u_kcluster;
 uniform sampler2DArray u_fiber_azimuthal;
 uniform sampler2D u_fiber_mp;
 #define STRAND_FIBER_TABLE 1
+#define STRAND_FIBER_MP_TABLE 1
 const int STRAND_FIBER_MAX_H = 1; /* the view's angles, at h = 0 */
 #include "strand_fiber.glsl"
 
