@@ -8,8 +8,12 @@
 satf_status dom_create(dom_map *d, satf_error *err) {
   satf_status st =
       satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &d->depth, err);
+  /* the slabs' optical depths, and (-first, last) hair's depth per texel
+   * (glsl/dom_write.glsl) */
+  const satf_gl_format formats[2] = {SATF_GL_RGBA32F, SATF_GL_RGBA32F};
   if (st == SATF_OK)
-    st = satf_gl_target_create(DOM_SIZE, DOM_SIZE, 1, NULL, &d->opacity, err);
+    st =
+        satf_gl_target_create(DOM_SIZE, DOM_SIZE, 2, formats, &d->opacity, err);
   if (st != SATF_OK)
     return st;
   GLuint tex[2] = {satf_gl_target_depth_texture(d->depth),
@@ -33,7 +37,8 @@ void dom_release(dom_map *d) {
 }
 
 /* The map (Yuksel & Keyser 2008) counts the hair in four slabs behind the
- * first hair and lumps all that lies beyond into the fourth; the physical
+ * first hair and lumps all that lies beyond into the fourth, which a
+ * look-up spreads to the texel's last hair (dom_behind.glsl); the physical
  * mode looks it up one slab nearer the light so a strand does not count
  * itself (strand_fs.glsl). A hair is an occluder one diameter deep: slabs
  * thinner than that put the four inside the first hair, so every point

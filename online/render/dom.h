@@ -4,8 +4,9 @@
  * what it was drawn with, so a drawing path can keep it while nothing it
  * reads has changed. dom.c owns it and the drawing sequence every path
  * shares (draw.h: the hair's first depth with the meshes as occluders,
- * then its optical depth summed into four slabs); the paths draw their own
- * hair into it through a dom_hair_fn. */
+ * then its optical depth summed into four slabs, with the first and last
+ * hair's depths per texel beside them); the paths draw their own hair into
+ * it through a dom_hair_fn. */
 #ifndef SATF_RENDER_DOM_H
 #define SATF_RENDER_DOM_H
 
@@ -26,6 +27,9 @@
 typedef void (*dom_hair_fn)(satf_renderer *r, void *ctx, int opacity);
 
 typedef struct dom_map {
+  /* depth: the first hair's depth (the depth pass); opacity: the slabs'
+   * optical depths (colour 0) and (-first, last) hair's depth (colour 1,
+   * what look-ups read for both) */
   satf_gl_target *depth, *opacity;
   /* this frame's orthographic view along the key light, and the depth of
    * one slab in its depth units (dom_place) */

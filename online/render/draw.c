@@ -20,7 +20,8 @@ static void set_light_uniforms(const satf_renderer *r, GLuint p) {
   glUniform3fv(glGetUniformLocation(p, "u_light_color"), r->view.nlights, col);
 }
 
-/* The fill light's deep opacity map on texture units 4 and 5 for the
+/* The fill light's deep opacity map on texture units 4 (the first and
+ * last hair's depths) and 5 (the slabs) for the
  * programs that read it (u_fill_shadow 0: it is not drawn, and the key's
  * textures stand on those units so that every sampler has one). */
 static void set_fill_uniforms(const satf_renderer *r, GLuint p) {
@@ -30,7 +31,7 @@ static void set_fill_uniforms(const satf_renderer *r, GLuint p) {
   glUniform1f(glGetUniformLocation(p, "u_fill_slab"), d->slab);
   draw_set_mat4(p, "u_fill_viewproj", d->viewproj);
   glActiveTexture(GL_TEXTURE4);
-  glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(d->depth));
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_color_texture(d->opacity, 1));
   glUniform1i(glGetUniformLocation(p, "u_fill_depth"), 4);
   glActiveTexture(GL_TEXTURE5);
   glBindTexture(GL_TEXTURE_2D, satf_gl_target_color_texture(d->opacity, 0));
@@ -38,7 +39,8 @@ static void set_fill_uniforms(const satf_renderer *r, GLuint p) {
 }
 
 /* The AOV and the deep opacity maps: the key light's on texture units 2
- * and 3, the fill light's on 4 and 5. */
+ * (the first and last hair's depths) and 3 (the slabs), the fill light's
+ * on 4 and 5. */
 static void set_dom_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
   glUniform1i(glGetUniformLocation(p, "u_cluster_shadow"),
               r->effects.cluster_shadows);
@@ -47,7 +49,7 @@ static void set_dom_uniforms(const satf_renderer *r, GLuint p, satf_aov aov) {
   glUniform1f(glGetUniformLocation(p, "u_dom_slab"), r->dom.slab);
   draw_set_mat4(p, "u_light_viewproj", r->dom.viewproj);
   glActiveTexture(GL_TEXTURE2);
-  glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(r->dom.depth));
+  glBindTexture(GL_TEXTURE_2D, satf_gl_target_color_texture(r->dom.opacity, 1));
   glUniform1i(glGetUniformLocation(p, "u_dom_depth"), 2);
   glActiveTexture(GL_TEXTURE3);
   glBindTexture(GL_TEXTURE_2D, satf_gl_target_color_texture(r->dom.opacity, 0));
@@ -202,9 +204,12 @@ void draw_dom(satf_renderer *r, float cluster_r, float hair_width,
   glDisable(GL_DEPTH_TEST);
 
   satf_gl_target_bind(d->opacity);
-  glClear(GL_COLOR_BUFFER_BIT);
+  const GLfloat none[4] = {0, 0, 0, 0}, depths[4] = {-1, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 0, none);
+  glClearBufferfv(GL_COLOR, 1, depths);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE);
+  glBlendEquationi(1, GL_MAX); /* -first and last hair's depth */
   glActiveTexture(GL_TEXTURE1);
   glBindTexture(GL_TEXTURE_2D, satf_gl_target_depth_texture(d->depth));
   hair(r, ctx, 1);
@@ -212,5 +217,6 @@ void draw_dom(satf_renderer *r, float cluster_r, float hair_width,
     dom_uniforms(d, r->prog_mesh_dom);
     draw_meshes(r, r->prog_mesh_dom, d->viewproj);
   }
+  glBlendEquation(GL_FUNC_ADD);
   glDisable(GL_BLEND);
 }

@@ -404,6 +404,64 @@ static void test_dom_slab_without_shells(void **state) {
   satf_scene_destroy(s);
 }
 
+/* The deep opacity map's last layer holds all the hair beyond its third
+ * slab, read as spread from there to the texel's last hair
+ * (glsl/dom_layers.glsl). Along the light, which comes from +x +z: a
+ * strand F in front, the probed strand P five slabs behind it (in the last
+ * layer) and four strands G about forty slabs behind P. F shadows P; G,
+ * behind P, must not: read as one slab deep, the last layer counted G in
+ * front of P and took P's key light to e^-6 of its F-shadowed value. kk
+ * strand path; P's luminance over its columns. */
+static double probe_luminance(const fixture_gl *f, int front, int behind) {
+  const float a = 0.35f, g = 3.0f; /* 5 and about 42 slabs of 0.1 */
+  float xyz[6 * 6], w[6 * 2];
+  int counts[6], n = 0;
+  const float at[6][2] = {{0, 0},   {a, a},   {-g, -g},
+                          {-g, -g}, {-g, -g}, {-g, -g}};
+  for (int k = 0; k < 6; k++) {
+    if ((k == 1 && !front) || (k >= 2 && !behind))
+      continue;
+    for (int j = 0; j < 2; j++) {
+      float *p = xyz + 6 * n + 3 * j;
+      p[0] = at[k][0];
+      p[1] = j ? 3.0f : -3.0f;
+      p[2] = at[k][1];
+      w[2 * n + j] = 0.1f;
+    }
+    counts[n++] = 2;
+  }
+  satf_scene *s = fixture_scene(scene_text(0.0f, 0.0f, 0, 0.0f));
+  assert_non_null(s);
+  satf_renderer *r = fixture_renderer(s, f->db, W, H, 0);
+  assert_non_null(r);
+  satf_error err;
+  if (satf_renderer_set_strands(r, n, counts, xyz, w, 0.0f, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  satf_image *img = NULL;
+  if (satf_renderer_render_image(r, 0, &img, NULL, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  double sum = 0.0;
+  for (int y = H / 2 - 16; y < H / 2 + 16; y++)
+    for (int x = W / 2 - 2; x < W / 2 + 2; x++)
+      sum += 0.2126 * px(img, "R", x, y) + 0.7152 * px(img, "G", x, y) +
+             0.0722 * px(img, "B", x, y);
+  printf("probe: front %d behind %d: slab %.4f, luminance %.4f\n", front,
+         behind, (double)r->dom.slab, sum);
+  satf_image_destroy(img);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(s);
+  return sum;
+}
+
+static void test_dom_hair_behind_casts_no_shadow(void **state) {
+  double alone = probe_luminance(*state, 0, 0);
+  double shadowed = probe_luminance(*state, 1, 0);
+  double both = probe_luminance(*state, 1, 1);
+  assert_true(alone > 0.0);
+  assert_true(shadowed < 0.8 * alone);
+  assert_true(both > 0.95 * shadowed);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_sparse_cluster_is_its_strand),
@@ -414,6 +472,7 @@ int main(void) {
       cmocka_unit_test(test_strands_alone_without_arrays),
       cmocka_unit_test(test_dom_slab_of_shell_clusters),
       cmocka_unit_test(test_dom_slab_without_shells),
+      cmocka_unit_test(test_dom_hair_behind_casts_no_shadow),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

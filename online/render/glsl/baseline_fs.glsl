@@ -34,14 +34,9 @@ void main() {
 #elif BASE_PASS == 2
 uniform sampler2D u_dom_depth;
 uniform float u_dom_slab;
-out vec4 o_opacity;
+#include "dom_write.glsl"
 void main() {
-  float a = texture(u_hair, v_uv).a;
-  float d0 = texelFetch(u_dom_depth, ivec2(gl_FragCoord.xy), 0).r;
-  float s = max(gl_FragCoord.z - d0, 0.0) / u_dom_slab;
-  vec4 o = vec4(0.0);
-  o[int(min(s, 3.0))] = a; /* summed alpha ~ optical depth */
-  o_opacity = o;
+  dom_write(texture(u_hair, v_uv).a); /* summed alpha ~ optical depth */
 }
 #elif BASE_PASS == 3
 #include "list_write.glsl"

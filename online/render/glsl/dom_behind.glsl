@@ -7,15 +7,25 @@
  * map: cluster_hairs_behind), and where it defines DOM_FILL u_fill_depth,
  * u_fill_opacity, u_fill_viewproj and u_fill_slab (the fill light's:
  * fill_hairs_behind). */
-/* a texel's optical depth in front of depth z (x) and in all (y) */
+/* a texel's optical depth in front of depth z (x) and in all (y); dd: the
+ * map's (-first, last) hair's depths (dom_write.glsl), od: its slabs */
 vec2 dom_texel_depths(sampler2D dd, sampler2D od, float slab, ivec2 c,
                       float z) {
   c = clamp(c, ivec2(0), textureSize(dd, 0) - 1);
-  float d0 = texelFetch(dd, c, 0).r;
+  vec2 nf = texelFetch(dd, c, 0).rg; /* -first hair's depth, last hair's */
+  float d0 = -nf.x;
   vec4 o = texelFetch(od, c, 0);
   float s = max(z - d0, 0.0) / slab;
-  float at = o.x * clamp(s, 0.0, 1.0) + o.y * clamp(s - 1.0, 0.0, 1.0) +
-             o.z * clamp(s - 2.0, 0.0, 1.0) + o.w * clamp(s - 3.0, 0.0, 1.0);
+  /* the share of each slab in front of s: the last from three slabs to
+   * the last hair, at least one slab deep. Read as one slab deep (the
+   * paper's fixed layers), a point four slabs in counted all the hair
+   * beyond three in front of it, what lies behind the point included: on
+   * a hollow volume (curls over a scalp without a head mesh, the key light
+   * through both sides) the far side shadowed the near side, and the
+   * generated curls came to 0.58 of Cycles' luminance (320x240, 16 spp),
+   * 0.79 spread so. A point past the last hair counts all of it. */
+  float last = (s - 3.0) / max((nf.y - d0) / slab - 3.0, 1.0);
+  float at = dot(o, clamp(vec4(s, s - 1.0, s - 2.0, last), 0.0, 1.0));
   return vec2(at, o.x + o.y + o.z + o.w);
 }
 float dom_texel_behind(sampler2D dd, sampler2D od, float slab, ivec2 c,

@@ -11,21 +11,20 @@ noperspective in float v_width;
 uniform sampler2D u_dom_depth;
 uniform float u_dom_slab;
 uniform int u_depth_only;
-out vec4 o_opacity;
+#include "dom_write.glsl"
 void main() {
   float cover = strand_coverage(v_across, v_width);
 #ifdef WHOLE_DEPTH
   /* the cluster path's opaque pre-pass (sparse.c): only the fragments a
    * strand covers whole, by strand_fs.glsl's test, write their depth */
   if (cover < 1.0 - 1.0 / 1024.0) discard;
-  o_opacity = vec4(0.0);
+  o_opacity = o_depths = vec4(0.0);
   return;
 #endif
   if (cover <= 0.0) discard;
-  if (u_depth_only != 0) { o_opacity = vec4(0.0); return; }
-  float d0 = texelFetch(u_dom_depth, ivec2(gl_FragCoord.xy), 0).r;
-  float s = max(gl_FragCoord.z - d0, 0.0) / u_dom_slab;
-  vec4 o = vec4(0.0);
-  o[int(min(s, 3.0))] = cover;
-  o_opacity = o;
+  if (u_depth_only != 0) {
+    o_opacity = o_depths = vec4(0.0);
+    return;
+  }
+  dom_write(cover);
 }
