@@ -406,11 +406,11 @@ static void test_dom_slab_without_shells(void **state) {
 
 /* The deep opacity map's last layer holds all the hair beyond its third
  * slab, read as spread from there to the texel's last hair
- * (glsl/dom_layers.glsl). Along the light, which comes from +x +z: a
+ * (glsl/dom_behind.glsl). Along the light, which comes from +x +z: a
  * strand F in front, the probed strand P five slabs behind it (in the last
  * layer) and four strands G about forty slabs behind P. F shadows P; G,
  * behind P, must not: read as one slab deep, the last layer counted G in
- * front of P and took P's key light to e^-6 of its F-shadowed value. kk
+ * front of P and took P's luminance to 2% of its value without G. kk
  * strand path; P's luminance over its columns. */
 static double probe_luminance(const fixture_gl *f, int front, int behind) {
   const float a = 0.35f, g = 3.0f; /* 5 and about 42 slabs of 0.1 */
