@@ -172,12 +172,9 @@ static void update_map(satf_renderer *r) {
     return;
   }
   draw_dom(r, cluster_r, hierarchy_hair_width(r), dom_clusters, NULL);
-  memcpy(r->dom.drawn_viewproj, r->dom.viewproj, sizeof r->dom.drawn_viewproj);
+  dom_mark_drawn(&r->dom, dom_clusters, NULL);
   memcpy(r->dom.eye, r->view.camera.position, sizeof r->dom.eye);
   view_light_vector(&r->view.lights[r->dom.light_index], r->dom.light);
-  r->dom.drawn_slab = r->dom.slab;
-  r->dom.drawn_hair = dom_clusters;
-  r->dom.drawn_ctx = NULL;
   r->dom.maps_stale = 0;
   int n = dom_hair_points(r, NULL);
   float *pts =
@@ -188,7 +185,6 @@ static void update_map(satf_renderer *r) {
   } else {
     r->dom.npoints = -1; /* not measured: drawn again next frame */
   }
-  r->dom.valid = 1;
 }
 
 /* Deep opacity map (Yuksel & Keyser 2008) from the key light (dom.c

@@ -4,6 +4,7 @@
 #include "dom.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 satf_status dom_create(dom_map *d, satf_error *err) {
   satf_status st =
@@ -60,6 +61,14 @@ void dom_place(dom_map *d, const view *v, float cluster_r, float hair_width) {
   view_light_map(v, d->light_index, d->viewproj, &rad);
   float slab = 0.66f * cluster_r * 0.5f;
   d->slab = (slab > hair_width ? slab : hair_width) / (2.0f * rad);
+}
+
+void dom_mark_drawn(dom_map *d, dom_hair_fn hair, const void *ctx) {
+  memcpy(d->drawn_viewproj, d->viewproj, sizeof d->drawn_viewproj);
+  d->drawn_slab = d->slab;
+  d->drawn_hair = hair;
+  d->drawn_ctx = ctx;
+  d->valid = 1;
 }
 
 void dom_swap(dom_map *a, dom_map *b) {

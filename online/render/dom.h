@@ -65,6 +65,9 @@ typedef struct dom_map {
 /* Its targets, filtered: the map is coarse, and its texels must not show. */
 satf_status dom_create(dom_map *d, satf_error *err);
 void dom_release(dom_map *d);
+/* Records that d was just drawn by `hair` (ctx) with its present view and
+ * slab, which a path compares before it keeps the map. */
+void dom_mark_drawn(dom_map *d, dom_hair_fn hair, const void *ctx);
 /* The fill light's map takes the key's place while it is drawn (the
  * drawing paths draw r->dom): swaps the two, the first's tolerances
  * (eye_tol, move_tol) copied into the second first. */

@@ -169,11 +169,7 @@ static void draw_or_keep(satf_renderer *r, float cluster_r, float hair_width,
     return;
   }
   draw_dom(r, cluster_r, hair_width, hair, ctx);
-  memcpy(d->drawn_viewproj, d->viewproj, sizeof d->viewproj);
-  d->drawn_slab = d->slab;
-  d->drawn_hair = hair;
-  d->drawn_ctx = ctx;
-  d->valid = 1;
+  dom_mark_drawn(d, hair, ctx);
 }
 
 void draw_dom_lights(satf_renderer *r, float cluster_r, float hair_width,
