@@ -34,9 +34,10 @@ options:
   --radius R             scalp / body radius (default 31)
   --length L             strand length (default: per KIND, above)
   --thickness D          strand diameter at the root, written as the
-                         header's default thickness (default: fur 0.12,
-                         sparse 0.3, straight 0.1, curls 0.1: thick, as
-                         each strand stands for many real ones)
+                         header's default thickness (default: a hair
+                         fibre, 1e-3 of the strands' bounding-box
+                         diagonal, as satf-import's default width and
+                         the Cycles reference's; sparse 0.3)
   --per-point-thickness  also write the per-point thickness array: D at the
                          root tapering linearly to D * TAPER at the tip
   --taper F              tip thickness over root thickness (default 0.3)
@@ -303,11 +304,23 @@ def curls(rng, n, pts, R, length):
 
 KINDS = {"fur": fur, "sparse": sparse, "straight": straight, "curls": curls}
 LENGTHS = {"fur": 0.07, "sparse": 0.8, "straight": 2.5, "curls": 1.3}
-# Root diameters: a few thousand strands stand for a real head's 100,000, so
-# each is drawn much thicker than a 0.02-unit fibre (Bangs_100's default
-# thickness is 1% of its scalp radius; fur strands about 6% of their
-# length), which makes the strand reference cover like real hair.
-THICKNESS = {"fur": 0.12, "sparse": 0.3, "straight": 0.1, "curls": 0.1}
+# Root diameters. Fur, straight hair and curls default to a hair fibre: 1e-3
+# of the strands' bounding-box diagonal, the width satf-import gives strands
+# whose file sets none and the radius (5e-4 of the diagonal) at which
+# ../shared/tools/peer_cycles.py renders the Cycles reference, so both draw
+# the same fibres. (Written as a fixed 0.1, the curls were drawn 0.70 times
+# the reference's width and covered 0.92 of its pixels: satf's curls came to
+# 0.79 of Cycles' luminance, 0.89 at the reference's width; 320x240, 16 spp.)
+# The sparse strands keep a visible 0.3, as the tests that read them are
+# rendered a few hundred pixels wide.
+THICKNESS = {"fur": None, "sparse": 0.3, "straight": None, "curls": None}
+
+
+def fibre_width(strands):
+    """A hair fibre's width: 1e-3 of the strands' bounding-box diagonal."""
+    lo = [min(p[c] for s in strands for p in s) for c in range(3)]
+    hi = [max(p[c] for s in strands for p in s) for c in range(3)]
+    return 1e-3 * math.sqrt(sum((h - l) ** 2 for l, h in zip(lo, hi)))
 
 
 # ---- the file --------------------------------------------------------------
@@ -393,7 +406,7 @@ def main(argv):
     rng = random.Random(a.seed)
     strands = KINDS[a.kind](rng, n, pts, a.radius, length)
     info = "satf gen-strands.py %s seed %d R %g" % (a.kind, a.seed, a.radius)
-    thickness = a.thickness or THICKNESS[a.kind]
+    thickness = a.thickness or THICKNESS[a.kind] or fibre_width(strands)
     data = hair_bytes(strands, thickness, a.per_point_thickness, a.taper,
                       info)
     write_atomic(a.output, data)
