@@ -274,15 +274,20 @@ void satf_renderer_set_samples(satf_renderer *r, int samples);
 int satf_renderer_samples(const satf_renderer *r);
 satf_composite satf_renderer_composite(const satf_renderer *r);
 /* The film's pixel filter across the strands drawn as strands (the strand
- * path and the sparse clusters): a one-pixel box (the default), or the
- * Blackman-Harris filter Cycles' film uses by default (1.5 pixels by
- * Blender's setting, 3 pixels of support), whose faint fringe on hair
- * thinner than a pixel matches a path tracer's frame, for frames meant to
- * sit beside one, at about twice the strands' fragments. */
+ * path and the sparse clusters): a one-pixel box, or the Blackman-Harris
+ * filter Cycles' film uses by default (1.5 pixels by Blender's setting, 3
+ * pixels of support), whose faint fringe on hair thinner than a pixel
+ * matches a path tracer's frame, at about twice the strands' fragments.
+ * AUTO (a renderer's default) takes Blackman-Harris for hair of at most
+ * SATF_RENDER_FILTER_AUTO_STRANDS strands (the strands set's, else the
+ * scene's clusters'), whose doubled fragments cost little (sparse strands:
+ * Bangs_100's 100), and the box for denser hair. */
 typedef enum satf_pixel_filter {
   SATF_PIXEL_FILTER_BOX = 0,
-  SATF_PIXEL_FILTER_BLACKMAN_HARRIS
+  SATF_PIXEL_FILTER_BLACKMAN_HARRIS,
+  SATF_PIXEL_FILTER_AUTO
 } satf_pixel_filter;
+#define SATF_RENDER_FILTER_AUTO_STRANDS 1000
 void satf_renderer_set_pixel_filter(satf_renderer *r, satf_pixel_filter f);
 satf_pixel_filter satf_renderer_pixel_filter(const satf_renderer *r);
 /* Sparse clusters drawn as their strands: a cluster whose density is its

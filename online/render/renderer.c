@@ -57,6 +57,7 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   r->scene = scene;
   r->db = db;
+  r->pixel_filter = SATF_PIXEL_FILTER_AUTO;
   r->view.width = width;
   r->view.height = height;
   r->threads = threads > 0 ? threads : satf_cpu_count();
@@ -162,9 +163,10 @@ satf_composite satf_renderer_composite(const satf_renderer *r) {
   return r->composite;
 }
 void satf_renderer_set_pixel_filter(satf_renderer *r, satf_pixel_filter f) {
-  r->pixel_filter = f == SATF_PIXEL_FILTER_BLACKMAN_HARRIS
-                        ? SATF_PIXEL_FILTER_BLACKMAN_HARRIS
-                        : SATF_PIXEL_FILTER_BOX;
+  r->pixel_filter =
+      f == SATF_PIXEL_FILTER_BLACKMAN_HARRIS || f == SATF_PIXEL_FILTER_AUTO
+          ? f
+          : SATF_PIXEL_FILTER_BOX;
 }
 satf_pixel_filter satf_renderer_pixel_filter(const satf_renderer *r) {
   return r->pixel_filter;

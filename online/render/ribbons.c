@@ -425,8 +425,23 @@ int strands_gpu_any_wide(const strands_gpu *s, const float viewproj[16],
   return any_wider(s, viewproj, h, 0.999f);
 }
 
+/* The pixel filter r draws strands with: AUTO resolved by the hair's
+ * strand count (SATF_RENDER_FILTER_AUTO_STRANDS), the strands set where
+ * the renderer draws them, else the scene's clusters' strands, so the
+ * strand path and the cluster path of one imported hair (the strands file
+ * and its clusters) take the same filter. */
+static satf_pixel_filter strands_filter(const satf_renderer *r) {
+  if (r->pixel_filter != SATF_PIXEL_FILTER_AUTO)
+    return r->pixel_filter;
+  long n = r->strands ? (long)strands_gpu_count(r->strands) : r->stats.strands;
+  return n <= SATF_RENDER_FILTER_AUTO_STRANDS
+             ? SATF_PIXEL_FILTER_BLACKMAN_HARRIS
+             : SATF_PIXEL_FILTER_BOX;
+}
+
 /* The vertex shader's view uniforms of `prog` for a w x h target, and the
- * pixel filter of its coverage (strand_cover.glsl). */
+ * pixel filter of its coverage (strand_cover.glsl: 0 box, 1
+ * Blackman-Harris). */
 static void bind_strands(GLuint prog, const float viewproj[16], int w, int h,
                          satf_pixel_filter filter) {
   glUseProgram(prog);
@@ -455,7 +470,7 @@ int strands_gpu_opaque_depth(const satf_renderer *r, const strands_gpu *s,
   if (!s->prog_depth || !strands_gpu_any_wide(s, viewproj, r->view.height))
     return 0; /* hair thinner than a pixel covers none whole */
   bind_strands(s->prog_depth, viewproj, r->view.width, r->view.height,
-               r->pixel_filter);
+               strands_filter(r));
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
@@ -541,7 +556,7 @@ void strands_gpu_begin(const satf_renderer *r, strands_gpu *s, satf_aov aov,
   draw_shading_uniforms(r, p, aov);
   set_fiber_uniforms(r, s, p);
   draw_world_lights(r, p);
-  bind_strands(p, viewproj, r->view.width, r->view.height, r->pixel_filter);
+  bind_strands(p, viewproj, r->view.width, r->view.height, strands_filter(r));
   glUniform1i(glGetUniformLocation(p, "u_whole"), -1);
   if (list_mode >= 0)
     glUniform1i(glGetUniformLocation(p, "u_list_mode"), list_mode);

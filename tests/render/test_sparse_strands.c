@@ -68,6 +68,9 @@ typedef struct how {
   int sparse;    /* satf_renderer_set_sparse_strands, -1: the default */
   int reference; /* draw the strand itself (satf_renderer_set_strands) */
   int ordered;
+  /* satf_pixel_filter, pinned: the default AUTO takes another filter for
+   * a scene of one strand than for one with a cluster of a hundred */
+  int filter;
 } how;
 
 static satf_image *render_counted(const fixture_gl *f, const char *json, how h,
@@ -85,6 +88,7 @@ static satf_image *render_counted(const fixture_gl *f, const char *json, how h,
     fail_msg("%s", err.message);
   if (h.ordered)
     satf_renderer_set_composite(r, SATF_COMPOSITE_ORDERED);
+  satf_renderer_set_pixel_filter(r, (satf_pixel_filter)h.filter);
   if (h.reference) { /* the cluster's strand: its trajectory, 0.2 wide */
     const float *p = scene->macro_clusters[0].prototype.trajectory;
     int count = 5;
@@ -121,10 +125,13 @@ static float px(const satf_image *img, const char *ch, int col, int row) {
  * fragment stored), and looks as it does through the arrays, which it
  * takes when a cluster drawn as shells is in the scene (here behind the
  * camera, so it covers nothing): the same strand, every pixel within
- * 2e-3, in the exact mode and the ordered one. */
+ * 2e-3, in the exact mode and the ordered one, through either filter. */
 static void test_strands_alone_without_arrays(void **state) {
-  for (int ordered = 0; ordered <= 1; ordered++) {
-    how h = {-1, 0, ordered};
+  for (int mode = 0; mode < 4; mode++) {
+    int ordered = mode & 1;
+    how h = {-1, 0, ordered,
+             mode >> 1 ? SATF_PIXEL_FILTER_BLACKMAN_HARRIS
+                       : SATF_PIXEL_FILTER_BOX};
     long alone = -1, arrays = -1;
     satf_image *a =
         render_counted(*state, scene_text(0.0f, 0.0f, 0, 0.0f), h, &alone);
@@ -139,9 +146,10 @@ static void test_strands_alone_without_arrays(void **state) {
           worst = d > worst ? d : worst;
           covered += k == 3 ? px(a, "A", x, y) : 0.0;
         }
-    printf("%s: fragments stored %ld alone, %ld with a shell cluster; "
+    printf("%s, %s: fragments stored %ld alone, %ld with a shell cluster; "
            "largest difference %.2e over %.1f pixels of coverage\n",
-           ordered ? "ordered" : "exact", alone, arrays, worst, covered);
+           ordered ? "ordered" : "exact", mode >> 1 ? "Blackman-Harris" : "box",
+           alone, arrays, worst, covered);
     assert_true(covered > 50.0);
     assert_true(worst < 2e-3);
     if (!ordered) {
@@ -171,9 +179,12 @@ static double row_alpha(const satf_image *img, int row, double *centre) {
  * cluster as thin as its strand is close: 1.91 px of alpha for 1.79). */
 static void test_sparse_cluster_is_its_strand(void **state) {
   const char *json = scene_text(0.0f, 0.0f, 0, 0.0f);
-  satf_image *sparse = render(*state, json, (how){-1, 0, 0});
-  satf_image *ref = render(*state, json, (how){-1, 1, 0});
-  satf_image *cluster = render(*state, json, (how){0, 0, 0});
+  satf_image *sparse =
+      render(*state, json, (how){-1, 0, 0, SATF_PIXEL_FILTER_BOX});
+  satf_image *ref =
+      render(*state, json, (how){-1, 1, 0, SATF_PIXEL_FILTER_BOX});
+  satf_image *cluster =
+      render(*state, json, (how){0, 0, 0, SATF_PIXEL_FILTER_BOX});
   double width_px = WIDTH * RADIUS * px_per_unit();
   for (int row = 30; row <= 66; row += 12) {
     double a = row_alpha(sparse, row, NULL), b = row_alpha(ref, row, NULL);
@@ -216,7 +227,7 @@ static double strand_diff(const satf_image *a, const satf_image *b) {
  * both is the dense cluster alone (the strand moved out of the picture). */
 static void test_sparse_strand_sorted_with_clusters(void **state) {
   for (int ordered = 0; ordered < 2; ordered++) {
-    how h = {-1, 0, ordered};
+    how h = {-1, 0, ordered, SATF_PIXEL_FILTER_BOX};
     satf_image *alone = render(*state, scene_text(40.0f, 0.0f, 1, 0.0f), h);
     satf_image *front = render(*state, scene_text(0.0f, 2.0f, 1, 0.0f), h);
     satf_image *back = render(*state, scene_text(0.0f, -2.0f, 1, 0.0f), h);
@@ -243,7 +254,7 @@ static void test_sparse_strand_sorted_with_clusters(void **state) {
  * strand's own fragments are counted with the cluster behind the camera:
  * a scene of strands alone has no fragment arrays (sparse_composite). */
 static void test_opaque_strand_hides_what_is_behind(void **state) {
-  how h = {-1, 0, 0};
+  how h = {-1, 0, 0, SATF_PIXEL_FILTER_BOX};
   long alone, strand, front;
   satf_image *a =
       render_counted(*state, scene_text(40.0f, 0.0f, 1, 0.0f), h, &alone);

@@ -221,6 +221,76 @@ static void test_blackman_harris_fringe(void **state) {
   satf_image_destroy(bh);
 }
 
+/* The default filter, AUTO, is Blackman-Harris for hair of at most
+ * SATF_RENDER_FILTER_AUTO_STRANDS strands and the box above: the strand a
+ * pixel wide of test_blackman_harris_fringe alone, then with a thousand
+ * more strands out of view; each image equals the one of the filter it
+ * stands for, pixel for pixel, and the two differ at the strand. */
+static void test_auto_filter_by_strand_count(void **state) {
+  double ppu = px_per_unit();
+  enum { HIDDEN = SATF_RENDER_FILTER_AUTO_STRANDS };
+  satf_image *img[2][2]; /* [many][auto, the filter it stands for] */
+  for (int many = 0; many <= 1; many++)
+    for (int k = 0; k <= 1; k++) {
+      satf_scene *scene = fixture_scene(scene_json);
+      assert_non_null(scene);
+      satf_renderer *r = NULL;
+      satf_error err;
+      if (satf_renderer_create(scene, ((const fixture *)*state)->db, W, H, 0,
+                               &r, &err) != SATF_OK)
+        fail_msg("%s", err.message);
+      assert_int_equal(satf_renderer_pixel_filter(r), SATF_PIXEL_FILTER_AUTO);
+      if (k)
+        satf_renderer_set_pixel_filter(
+            r,
+            many ? SATF_PIXEL_FILTER_BOX : SATF_PIXEL_FILTER_BLACKMAN_HARRIS);
+      int n = 1 + (many ? HIDDEN : 0);
+      int *counts = malloc((size_t)n * sizeof *counts);
+      float *xyz = malloc((size_t)n * 6 * sizeof *xyz);
+      float *width = malloc((size_t)n * 2 * sizeof *width);
+      assert_non_null(counts);
+      assert_non_null(xyz);
+      assert_non_null(width);
+      for (int i = 0; i < n; i++) { /* strand 0 in view, the rest far off */
+        float x = i == 0 ? (float)x_of_column(64.5) : 1e3f + (float)i;
+        float p[6] = {x, -3.0f, 0.0f, x, 3.0f, 0.0f};
+        counts[i] = 2;
+        memcpy(xyz + 6 * i, p, sizeof p);
+        width[2 * i] = width[2 * i + 1] = (float)(1.0 / ppu);
+      }
+      if (satf_renderer_set_strands(r, n, counts, xyz, width, 0.0f, &err) !=
+          SATF_OK)
+        fail_msg("%s", err.message);
+      satf_frame_timing t;
+      if (satf_renderer_render_image(r, 0, &img[many][k], &t, &err) != SATF_OK)
+        fail_msg("%s", err.message);
+      free(counts);
+      free(xyz);
+      free(width);
+      satf_renderer_destroy(r);
+      satf_scene_destroy(scene);
+    }
+  for (int many = 0; many <= 1; many++) {
+    double worst = 0.0;
+    for (int row = 0; row < H; row++)
+      for (int col = 0; col < W; col++) {
+        double d = fabs(at(img[many][0], "A", col, row) -
+                        at(img[many][1], "A", col, row));
+        worst = d > worst ? d : worst;
+      }
+    printf("%d strands: auto against %s, largest alpha difference %.2e; "
+           "alpha at column 63 %.4f\n",
+           many ? 1 + HIDDEN : 1, many ? "the box" : "Blackman-Harris", worst,
+           at(img[many][0], "A", 63, 48));
+    assert_true(worst < 1e-6);
+  }
+  assert_near(at(img[0][0], "A", 63, 48), 0.1186, 0.01);
+  assert_true(at(img[1][0], "A", 63, 48) < 0.01f);
+  for (int many = 0; many <= 1; many++)
+    for (int k = 0; k <= 1; k++)
+      satf_image_destroy(img[many][k]);
+}
+
 /* Mean premultiplied colour per unit alpha over the strand at column col. */
 static double strand_luma(const satf_image *img, int col) {
   double rgb = 0.0, a = 0.0;
@@ -386,6 +456,7 @@ int main(void) {
       cmocka_unit_test(test_coverage_follows_strands),
       cmocka_unit_test(test_subpixel_alpha_is_coverage),
       cmocka_unit_test(test_blackman_harris_fringe),
+      cmocka_unit_test(test_auto_filter_by_strand_count),
       cmocka_unit_test(test_strands_shadow_strands),
       cmocka_unit_test(test_wide_strands_occlude_per_pixel),
       cmocka_unit_test(test_strand_aovs),

@@ -56,11 +56,12 @@ static void usage(FILE *out) {
       "  --threads N          CPU threads for the map stage (0 = all)\n"
       "  --samples N          anti-aliasing: N jittered samples per pixel\n"
       "                       (1-64; default: the scene's image.samples, 1)\n"
-      "  --pixel-filter F     box (default) or blackman-harris: the film\n"
-      "                       filter across hair drawn as strands; the\n"
-      "                       second is Cycles' default, for frames set\n"
-      "                       beside a path tracer's (a faint fringe on\n"
-      "                       thin hair; about twice the strands' cost)\n"
+      "  --pixel-filter F     auto (default), box or blackman-harris: the\n"
+      "                       film filter across hair drawn as strands;\n"
+      "                       blackman-harris is Cycles' default (a faint\n"
+      "                       fringe on thin hair, about twice the\n"
+      "                       strands' cost); auto takes it for hair of at\n"
+      "                       most 1000 strands, the box for denser hair\n"
       "  --lod on|off         level of detail by size on screen: clusters a\n"
       "                       few pixels wide read fewer shell layers and\n"
       "                       draw coarser proxies, faded without popping\n"
@@ -173,13 +174,16 @@ static int parse_one(satf_cli_args *it, options *o) {
   if (satf_cli_is(it, NULL, "--pixel-filter")) {
     if (satf_cli_value(it, &val))
       return -1;
-    if (!strcmp(val, "box") || !strcmp(val, "blackman-harris")) {
-      o->pixel_filter = !strcmp(val, "box") ? SATF_PIXEL_FILTER_BOX
-                                            : SATF_PIXEL_FILTER_BLACKMAN_HARRIS;
+    o->pixel_filter = !strcmp(val, "auto")  ? SATF_PIXEL_FILTER_AUTO
+                      : !strcmp(val, "box") ? SATF_PIXEL_FILTER_BOX
+                      : !strcmp(val, "blackman-harris")
+                          ? SATF_PIXEL_FILTER_BLACKMAN_HARRIS
+                          : -1;
+    if (o->pixel_filter >= 0)
       return 0;
-    }
     fprintf(stderr,
-            "%s: --pixel-filter: expected box or blackman-harris, got '%s'\n",
+            "%s: --pixel-filter: expected auto, box or blackman-harris, got "
+            "'%s'\n",
             PROG, val);
     return -1;
   }
@@ -269,6 +273,7 @@ static int parse_args(int argc, char **argv, options *o) {
   o->sparse_strands = -1;
   o->composite = SATF_COMPOSITE_EXACT;
   o->lod = 0;
+  o->pixel_filter = SATF_PIXEL_FILTER_AUTO;
   o->maps = SATF_MAPS_DEFAULT;
   o->shadow_move = NAN;
   satf_cli_args it;
