@@ -265,6 +265,9 @@ static satf_status build_proto(satf_renderer *r, int index,
     return st;
   p->sparse = hierarchy_sparse(c, r->sparse_max);
   p->from_strands = c->density.type != SATF_SCENE_DENSITY_PROCEDURAL;
+  r->hair_strands += (long)(c->density.n_tracks > 0 ? c->density.n_tracks
+                                                    : c->density.strands) *
+                     mc->n_instances;
   if (c->density.type != SATF_SCENE_DENSITY_VDB) {
     r->stats.strands += (long)c->density.strands * mc->n_instances;
     return SATF_OK;

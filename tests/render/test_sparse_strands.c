@@ -161,6 +161,33 @@ static void test_strands_alone_without_arrays(void **state) {
   }
 }
 
+/* The default pixel filter, AUTO, reads the hair's strands from the
+ * clusters' tracks in the cluster path: the scene's one sparse cluster of
+ * one strand is drawn through Blackman-Harris, pixel for pixel, which
+ * differs from the box. */
+static void test_auto_filter_of_sparse_clusters(void **state) {
+  const char *json = scene_text(0.0f, 0.0f, 0, 0.0f);
+  satf_image *img[3];
+  for (int f = 0; f < 3; f++)
+    img[f] = render(*state, json, (how){-1, 0, 0, f});
+  double to_bh = 0.0, to_box = 0.0;
+  for (int y = 0; y < H; y++)
+    for (int x = 0; x < W; x++) {
+      float a = px(img[SATF_PIXEL_FILTER_AUTO], "A", x, y);
+      to_bh =
+          fmax(to_bh,
+               fabs(a - px(img[SATF_PIXEL_FILTER_BLACKMAN_HARRIS], "A", x, y)));
+      to_box =
+          fmax(to_box, fabs(a - px(img[SATF_PIXEL_FILTER_BOX], "A", x, y)));
+    }
+  printf("auto against Blackman-Harris %.2e, against the box %.2e\n", to_bh,
+         to_box);
+  assert_true(to_bh < 1e-6);
+  assert_true(to_box > 0.05);
+  for (int f = 0; f < 3; f++)
+    satf_image_destroy(img[f]);
+}
+
 /* Alpha summed over a row, and its centre column. */
 static double row_alpha(const satf_image *img, int row, double *centre) {
   double s = 0.0, m = 0.0;
@@ -481,6 +508,7 @@ int main(void) {
       cmocka_unit_test(test_sparse_strand_moves_with_scene),
       cmocka_unit_test(test_sparse_setting_bounds),
       cmocka_unit_test(test_strands_alone_without_arrays),
+      cmocka_unit_test(test_auto_filter_of_sparse_clusters),
       cmocka_unit_test(test_dom_slab_of_shell_clusters),
       cmocka_unit_test(test_dom_slab_without_shells),
       cmocka_unit_test(test_dom_hair_behind_casts_no_shadow),
