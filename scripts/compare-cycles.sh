@@ -9,8 +9,10 @@
 # Bangs_100, and generated fur (40K strands of 4 points), curls and a
 # straight curtain (20K strands). For the generated ones the ceiling is
 # Cycles rendering the same generator with --seed 2 against the --seed 1
-# frame: different random strands of the same statistics, what no method
-# but drawing the same strands can beat (SSIM4 is the figure to read).
+# frame (for the ponytail: its TressFX followers placed with satf-import
+# --seed 2): different random strands of the same statistics, what no
+# method but drawing the same strands can beat (SSIM4 is the figure to
+# read).
 # Prints satf-compare's figures (IoU, SSIM, SSIM4, luminance, chroma; those
 # of ../shared/tools/fidelity.py) and the import's shells line and time,
 # and writes reference | satf | difference PNGs into OUT_DIR (the README's
@@ -130,6 +132,12 @@ for hair in $hairs; do
     grep -E '^  (strands  |shells|followers|strand width|time)' || true
   strands=$(scene_copy "$work/$hair.json" "$work/${hair}_front.json")
   cycles "cycles_$hair" "$work/${hair}_front.json" "$strands" 0.6
+  if [ "$hair" = ponytail ]; then # its followers placed with another seed
+    mkdir -p "$work/seed2"
+    "$bin/satf-import" "${inputs[@]}" -o "$work/seed2/$hair.json" --seed 2 \
+      -q ${import_extra[@]+"${import_extra[@]}"}
+    seed2=$(scene_copy "$work/seed2/$hair.json" "$work/seed2/${hair}_front.json")
+  fi
   start=$(date +%s%N)
   "$bin/satf-render" "$work/${hair}_front.json" --db out/satf-fiber.hrirdb.exr \
     -q --size "$res" --samples "$samples" ${extra[@]+"${extra[@]}"} \
