@@ -177,6 +177,8 @@ typedef struct satf_frame_timing {
 #define SATF_LOD_LEVELS 4
 
 typedef struct satf_render_stats {
+  /* strands: the hair's own (satf_scene_strand_count: procedural clusters'
+   * strands and tracks clusters' member strands) */
   long clusters, layers, strands, hsvs, macro_clusters, prototypes_shared;
   /* pixels of the last frame that received more fragments than the
    * per-pixel arrays hold (64; exact compositing): they keep the nearest */

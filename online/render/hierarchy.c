@@ -265,13 +265,8 @@ static satf_status build_proto(satf_renderer *r, int index,
     return st;
   p->sparse = hierarchy_sparse(c, r->sparse_max);
   p->from_strands = c->density.type != SATF_SCENE_DENSITY_PROCEDURAL;
-  r->hair_strands += (long)(c->density.n_tracks > 0 ? c->density.n_tracks
-                                                    : c->density.strands) *
-                     mc->n_instances;
-  if (c->density.type != SATF_SCENE_DENSITY_VDB) {
-    r->stats.strands += (long)c->density.strands * mc->n_instances;
+  if (c->density.type != SATF_SCENE_DENSITY_VDB)
     return SATF_OK;
-  }
   satf_error cerr;
   st = read_vdb(r, index, &c->density, &p->vdb, &cerr);
   if (st != SATF_OK)
@@ -469,6 +464,9 @@ satf_status hierarchy_build(satf_renderer *r, satf_progress_fn progress,
   if (!r->protos || !r->insts)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   r->stats.macro_clusters = r->nprotos;
+  /* the hair's own strands: a tracks density's member strands, not the
+   * strand count its look-ups assume (1,000 unless the scene says) */
+  r->stats.strands = (long)satf_scene_strand_count(scene);
   int ii = 0;
   satf_status st = SATF_OK;
   for (int m = 0; m < r->nprotos && st == SATF_OK; m++) {

@@ -165,10 +165,6 @@ struct satf_renderer {
   int sparse_max;
   /* the strand path's strands (strands.c); NULL: no strands given */
   strands_gpu *strands;
-  /* the hair's own strands in the scene's clusters: each cluster's tracks
-   * (its member strands), else its density's strand count; the pixel
-   * filter's AUTO reads it (ribbons.c) */
-  long hair_strands;
   struct baseline *baseline; /* the baseline path's state (baseline.c) */
   /* under the paths (resources.c): the output, the meshes and their
    * programs, the display blit, an empty vertex array */

@@ -433,7 +433,7 @@ int strands_gpu_any_wide(const strands_gpu *s, const float viewproj[16],
 static satf_pixel_filter strands_filter(const satf_renderer *r) {
   if (r->pixel_filter != SATF_PIXEL_FILTER_AUTO)
     return r->pixel_filter;
-  long n = r->strands ? (long)strands_gpu_count(r->strands) : r->hair_strands;
+  long n = r->strands ? (long)strands_gpu_count(r->strands) : r->stats.strands;
   return n <= SATF_RENDER_FILTER_AUTO_STRANDS
              ? SATF_PIXEL_FILTER_BLACKMAN_HARRIS
              : SATF_PIXEL_FILTER_BOX;
