@@ -73,8 +73,10 @@ typedef struct how {
   int filter;
 } how;
 
+/* The image of json drawn so; fragments: the frame's stored fragments,
+ * strands: the renderer's stats.strands (either may be NULL). */
 static satf_image *render_counted(const fixture_gl *f, const char *json, how h,
-                                  long *fragments) {
+                                  long *fragments, long *strands) {
   satf_scene *scene = fixture_scene(json);
   assert_non_null(scene);
   satf_renderer *r = NULL;
@@ -107,13 +109,18 @@ static satf_image *render_counted(const fixture_gl *f, const char *json, how h,
     fail_msg("%s", err.message);
   if (fragments)
     *fragments = timing.fragments;
+  if (strands) {
+    satf_render_stats st;
+    satf_renderer_stats(r, &st);
+    *strands = st.strands;
+  }
   satf_renderer_destroy(r);
   satf_scene_destroy(scene);
   return img;
 }
 
 static satf_image *render(const fixture_gl *f, const char *json, how h) {
-  return render_counted(f, json, h, NULL);
+  return render_counted(f, json, h, NULL, NULL);
 }
 
 static float px(const satf_image *img, const char *ch, int col, int row) {
@@ -133,10 +140,10 @@ static void test_strands_alone_without_arrays(void **state) {
              mode >> 1 ? SATF_PIXEL_FILTER_BLACKMAN_HARRIS
                        : SATF_PIXEL_FILTER_BOX};
     long alone = -1, arrays = -1;
-    satf_image *a =
-        render_counted(*state, scene_text(0.0f, 0.0f, 0, 0.0f), h, &alone);
-    satf_image *b =
-        render_counted(*state, scene_text(0.0f, 0.0f, 1, 100.0f), h, &arrays);
+    satf_image *a = render_counted(*state, scene_text(0.0f, 0.0f, 0, 0.0f), h,
+                                   &alone, NULL);
+    satf_image *b = render_counted(*state, scene_text(0.0f, 0.0f, 1, 100.0f), h,
+                                   &arrays, NULL);
     double worst = 0.0, covered = 0.0;
     const char *ch[4] = {"R", "G", "B", "A"};
     for (int k = 0; k < 4; k++)
@@ -161,36 +168,22 @@ static void test_strands_alone_without_arrays(void **state) {
   }
 }
 
-/* The hair's strands in the renderer's stats: a tracks cluster counts its
- * member strands (one here), a procedural one its density's strands. */
-static long stats_strands(const fixture_gl *f, const char *json) {
-  satf_scene *scene = fixture_scene(json);
-  assert_non_null(scene);
-  satf_renderer *r = NULL;
-  satf_error err;
-  if (satf_renderer_create(scene, f->db, W, H, 0, &r, &err) != SATF_OK)
-    fail_msg("%s", err.message);
-  satf_render_stats st;
-  satf_renderer_stats(r, &st);
-  satf_renderer_destroy(r);
-  satf_scene_destroy(scene);
-  return st.strands;
-}
-
 /* The default pixel filter, AUTO, reads the hair's strands from the
- * renderer's stats in the cluster path: the scene's one sparse cluster of
- * one strand is drawn through Blackman-Harris, pixel for pixel, which
- * differs from the box; with the procedural cluster of 6,000 strands
+ * renderer's stats (stats.strands) in the cluster path: the scene's one sparse
+ * cluster of one strand is drawn through Blackman-Harris, pixel for pixel,
+ * which differs from the box; with the procedural cluster of 6,000 strands
  * behind the camera the same strand is drawn through the box. */
 static void test_auto_filter_of_sparse_clusters(void **state) {
-  assert_int_equal(stats_strands(*state, scene_text(0.0f, 0.0f, 0, 0.0f)), 1);
-  assert_int_equal(stats_strands(*state, scene_text(0.0f, 0.0f, 1, 100.0f)),
-                   6001);
   for (int dense = 0; dense <= 1; dense++) {
     const char *json = scene_text(0.0f, 0.0f, dense, 100.0f);
     satf_image *img[3];
+    long strands[3];
     for (int f = 0; f < 3; f++)
-      img[f] = render(*state, json, (how){-1, 0, 0, f});
+      img[f] =
+          render_counted(*state, json, (how){-1, 0, 0, f}, NULL, &strands[f]);
+    /* a tracks cluster counts its one member strand, the procedural one
+     * its density's 6,000 */
+    assert_int_equal(strands[SATF_PIXEL_FILTER_AUTO], dense ? 6001 : 1);
     double to_bh = 0.0, to_box = 0.0;
     for (int y = 0; y < H; y++)
       for (int x = 0; x < W; x++) {
@@ -305,11 +298,11 @@ static void test_opaque_strand_hides_what_is_behind(void **state) {
   how h = {-1, 0, 0, SATF_PIXEL_FILTER_BOX};
   long alone, strand, front;
   satf_image *a =
-      render_counted(*state, scene_text(40.0f, 0.0f, 1, 0.0f), h, &alone);
-  satf_image *b =
-      render_counted(*state, scene_text(0.0f, 5.0f, 1, 100.0f), h, &strand);
+      render_counted(*state, scene_text(40.0f, 0.0f, 1, 0.0f), h, &alone, NULL);
+  satf_image *b = render_counted(*state, scene_text(0.0f, 5.0f, 1, 100.0f), h,
+                                 &strand, NULL);
   satf_image *c =
-      render_counted(*state, scene_text(0.0f, 5.0f, 1, 0.0f), h, &front);
+      render_counted(*state, scene_text(0.0f, 5.0f, 1, 0.0f), h, &front, NULL);
   long hidden = alone + strand - front;
   printf("fragments: cluster %ld, strand %ld, strand in front of the "
          "cluster %ld (%ld hidden behind it)\n",
