@@ -318,14 +318,43 @@ void cluster_gpu_resolve(const satf_renderer *r, satf_aov aov,
 satf_status cluster_gpu_ordered(satf_renderer *r, satf_aov aov,
                                 const float viewproj[16], satf_error *err);
 
+/* ---- strand_curve.c: polylines refined along their curves -------------- */
+
+/* a refined piece's chord strays from the curve by at most
+ * STRAND_CURVE_TOLERANCE of the strand's width; a segment is cut into at
+ * most STRAND_CURVE_MAX_PIECES pieces */
+#define STRAND_CURVE_TOLERANCE 0.5f
+#define STRAND_CURVE_MAX_PIECES 16
+
+/* Strands as refined polylines: n strands of counts[i] points, `total` in
+ * all, each with its width. */
+typedef struct strand_curve {
+  int n;
+  int *counts;
+  float *xyz, *width;
+  size_t total;
+} strand_curve;
+
+/* The n strands of counts[i] points (xyz; widths thickness, or
+ * default_width where it is NULL), checked by the caller, refined along
+ * their Catmull-Rom curves into *out (strand_curve_free frees it); a strand
+ * that would pass 65,536 points keeps its own. */
+satf_status strand_curve_refine(int n, const int *counts, const float *xyz,
+                                const float *thickness, float default_width,
+                                strand_curve *out, satf_error *err);
+void strand_curve_free(strand_curve *c);
+
 /* ---- ribbons.c: strands on the GPU as camera-facing ribbons ----------- */
 
 /* n strands of counts[i] points (xyz), each point's width (thickness, or
  * default_width when thickness is NULL); with `list` also the program that
- * writes into the per-pixel arrays. *out is NULL for n = 0. */
+ * writes into the per-pixel arrays; with `curves` drawn along the curves
+ * through their points (strand_curve.c), else as their polylines (whose
+ * segments a caller may then address by index). *out is NULL for n = 0. */
 satf_status strands_gpu_create(int n, const int *counts, const float *xyz,
                                const float *thickness, float default_width,
-                               int list, strands_gpu **out, satf_error *err);
+                               int list, int curves, strands_gpu **out,
+                               satf_error *err);
 void strands_gpu_destroy(strands_gpu *s);
 int strands_gpu_count(const strands_gpu *s);
 /* The ribbons' bounds. */

@@ -281,16 +281,40 @@ void strands_gpu_bounds(const strands_gpu *s, float lo[3], float hi[3]) {
   memcpy(hi, s->hi, sizeof s->hi);
 }
 
+static satf_status create_checked(int n_strands, const int *counts,
+                                  const float *xyz, const float *thickness,
+                                  float default_width, size_t total, int list,
+                                  strands_gpu **out, satf_error *err);
+
 satf_status strands_gpu_create(int n_strands, const int *counts,
                                const float *xyz, const float *thickness,
-                               float default_width, int list, strands_gpu **out,
-                               satf_error *err) {
+                               float default_width, int list, int curves,
+                               strands_gpu **out, satf_error *err) {
   *out = NULL;
   size_t total = 0;
   satf_status st = check_input(n_strands, counts, xyz, thickness, default_width,
                                &total, err);
   if (st != SATF_OK || n_strands == 0)
     return st;
+  if (!curves)
+    return create_checked(n_strands, counts, xyz, thickness, default_width,
+                          total, list, out, err);
+  strand_curve c;
+  st = strand_curve_refine(n_strands, counts, xyz, thickness, default_width, &c,
+                           err);
+  if (st == SATF_OK)
+    st = create_checked(c.n, c.counts, c.xyz, c.width, 0.0f, c.total, list, out,
+                        err);
+  strand_curve_free(&c);
+  return st;
+}
+
+/* strands_gpu_create of input check_input passed (total points) */
+static satf_status create_checked(int n_strands, const int *counts,
+                                  const float *xyz, const float *thickness,
+                                  float default_width, size_t total, int list,
+                                  strands_gpu **out, satf_error *err) {
+  satf_status st;
   strands_gpu *s = calloc(1, sizeof *s);
   if (!s)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");

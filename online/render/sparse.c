@@ -248,7 +248,7 @@ satf_status sparse_build(satf_renderer *r, satf_error *err) {
     }
   }
   if (st == SATF_OK)
-    st = strands_gpu_create(n, counts, xyz, width, 0.0f, 1, &r->sparse, err);
+    st = strands_gpu_create(n, counts, xyz, width, 0.0f, 1, 0, &r->sparse, err);
   if (st == SATF_OK && r->sparse)
     strands_gpu_in_order(r->sparse);
   r->sparse_sorted = 0;

@@ -34,7 +34,7 @@ satf_status satf_renderer_set_strands(satf_renderer *r, int n_strands,
   strands_gpu *s = NULL;
   /* with the list program: the depth AOV sorts the strands' fragments */
   satf_status st = strands_gpu_create(n_strands, counts, xyz, thickness,
-                                      default_width, 1, &s, err);
+                                      default_width, 1, 1, &s, err);
   if (st != SATF_OK)
     return st;
   strands_destroy(r);
