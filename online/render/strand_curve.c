@@ -81,45 +81,55 @@ satf_status strand_curve_refine(int n, const int *counts, const float *xyz,
                                 const float *thickness, float default_width,
                                 strand_curve *out, satf_error *err) {
   memset(out, 0, sizeof *out);
-  size_t total = 0;
-  const float *p = xyz;
-  for (int i = 0; i < n; p += 3 * (size_t)counts[i], i++) {
+  size_t given = 0;
+  for (int i = 0; i < n; i++)
+    given += (size_t)counts[i];
+  /* each segment's pieces, worked out once (1 throughout a strand that
+   * would pass 65,536 points: kept as given) */
+  unsigned char *pieces = malloc(given ? given : 1);
+  if (!pieces)
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  size_t total = 0, src = 0;
+  for (int i = 0; i < n; src += (size_t)counts[i], i++) {
+    const float *w = thickness ? thickness + src : NULL;
+    unsigned char *m = pieces + src;
     size_t c = 1;
     for (int j = 0; j + 1 < counts[i]; j++)
-      c += (size_t)pieces_of(
-          p, thickness ? thickness + (size_t)(p - xyz) / 3 : NULL,
-          default_width, counts[i], j);
-    if (c > 65536)
-      c = 0; /* kept as given: see below */
-    total += c ? c : (size_t)counts[i];
+      c += m[j] = (unsigned char)pieces_of(xyz + 3 * src, w, default_width,
+                                           counts[i], j);
+    if (c > 65536) {
+      memset(m, 1, (size_t)counts[i]);
+      c = (size_t)counts[i];
+    }
+    total += c;
   }
-  if (total >= (size_t)UINT32_MAX / 8)
+  if (total >= (size_t)UINT32_MAX / 8) {
+    free(pieces);
     return satf_error_set(err, SATF_ERR_ARGUMENT,
                           "strands: %zu points along their curves", total);
+  }
   out->counts = malloc((size_t)(n > 0 ? n : 1) * sizeof(int));
   out->xyz = malloc(3 * (total ? total : 1) * sizeof(float));
   out->width = malloc((total ? total : 1) * sizeof(float));
   if (!out->counts || !out->xyz || !out->width) {
+    free(pieces);
     strand_curve_free(out);
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
   }
-  size_t at = 0, src = 0;
+  size_t at = 0;
+  src = 0;
   for (int i = 0; i < n; src += (size_t)counts[i], i++) {
     int k = counts[i];
     const float *q = xyz + 3 * src;
     const float *w = thickness ? thickness + src : NULL;
-    size_t c = 1;
-    for (int j = 0; j + 1 < k; j++)
-      c += (size_t)pieces_of(q, w, default_width, k, j);
-    int refine = c <= 65536;
     size_t first = at;
     for (int j = 0; j < k; j++) {
       float w0 = w ? w[j] : default_width;
       memcpy(out->xyz + 3 * at, q + 3 * j, 3 * sizeof(float));
       out->width[at++] = w0;
-      if (!refine || j + 1 == k)
+      int m = j + 1 < k ? pieces[src + (size_t)j] : 1;
+      if (m < 2)
         continue;
-      int m = pieces_of(q, w, default_width, k, j);
       /* the curve's ends continue their end segments (reflected points) */
       float e0[3], e3[3];
       for (int d = 0; d < 3; d++) {
@@ -137,6 +147,7 @@ satf_status strand_curve_refine(int n, const int *counts, const float *xyz,
     }
     out->counts[i] = (int)(at - first);
   }
+  free(pieces);
   out->n = n;
   out->total = at;
   return SATF_OK;
