@@ -1,7 +1,8 @@
 /* test_correctness.c - rendering cases that were once wrong:
  * mirrored instances, non-uniform instance scale, rays leaving through a
  * cluster's end (phantom caps), a lone cluster under the deep opacity map
- * (self-shadowing counted once), and anti-aliasing by jittered samples. */
+ * (self-shadowing counted once), a cluster lit along its axis, and
+ * anti-aliasing by jittered samples. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -258,6 +259,61 @@ static void test_lone_cluster_dom(void **state) {
   satf_image_destroy(off);
 }
 
+/* A cluster lit nearly along its axis, from the end where a dense cluster
+ * lies across the light: the look-up for its shadow is taken where the
+ * light's ray leaves the cluster, which on the local elliptic cylinder
+ * runs off to infinity as the light turns along the axis (here 16 units
+ * away, past the other cluster, so it cast no shadow). Taken within the
+ * widest chord, the map counts the hair beyond it, the other cluster's
+ * included. */
+static void axis_lit(char *buf, size_t size, int occluder) {
+  snprintf(buf, size,
+           "{\"macro_clusters\": [{\"prototype\": {"
+           "  \"trajectory\": [[0, -3, 0], [0, 3, 0]], \"a\": 0.5,"
+           "  \"shell\": {\"layers\": 4, \"st\": 12, \"su\": 10},"
+           "  \"density\": {\"strands\": 400, \"seed\": 4,"
+           "               \"strand_width\": 0.03}}}%s],"
+           " \"camera\": {\"position\": [0, 0, 14], \"target\": [0, 0, 0],"
+           "              \"fov_y\": 50},"
+           " \"lights\": [{\"direction\": [-0.03, -1, 0]}],"
+           " \"image\": {\"width\": %d, \"height\": %d}}",
+           occluder ? ", {\"prototype\": {"
+                      "  \"trajectory\": [[-3, 5, 0], [3, 5, 0]], \"a\": 1.5,"
+                      "  \"shell\": {\"layers\": 4, \"st\": 12, \"su\": 16},"
+                      "  \"density\": {\"strands\": 6000, \"seed\": 6,"
+                      "               \"strand_width\": 0.05}}}"
+                    : "",
+           W, H);
+}
+
+static void test_shadow_along_axis(void **state) {
+  (void)state;
+  char json[4096];
+  axis_lit(json, sizeof json, 0);
+  satf_image *alone = render_json(json, 1, 0, 1);
+  axis_lit(json, sizeof json, 1);
+  satf_image *under = render_json(json, 1, 0, 1);
+  const float *a = fixture_plane(alone, "shadow.Y"),
+              *b = fixture_plane(under, "shadow.Y"),
+              *cover = fixture_plane(alone, "alpha.Y");
+  double sa = 0.0, sb = 0.0, n = 0.0;
+  for (int i = 0; i < W * H; i++)
+    if (cover[i] > 0.5f) { /* the lit cluster's pixels: the other lies above */
+      sa += a[i];
+      sb += b[i];
+      n += 1.0;
+    }
+  printf("lit along its axis: shadow AOV %.4f alone, %.4f under the other "
+         "cluster (%.0f pixels)\n",
+         sa / n, sb / n, n);
+  assert_true(n > 200.0);
+  assert_true(sa / n > 0.05);
+  /* 0.004 against 0.57 alone; the exit unbounded left 0.22 */
+  assert_true(sb < 0.1 * sa);
+  satf_image_destroy(alone);
+  satf_image_destroy(under);
+}
+
 /* Pixels whose alpha is strictly between the two bounds. */
 static int partial_pixels(const satf_image *img) {
   const float *A = fixture_plane(img, "A");
@@ -317,6 +373,7 @@ int main(void) {
       cmocka_unit_test(test_non_uniform_refused),
       cmocka_unit_test(test_no_phantom_caps),
       cmocka_unit_test(test_lone_cluster_dom),
+      cmocka_unit_test(test_shadow_along_axis),
       cmocka_unit_test(test_samples_antialias),
   };
   return cmocka_run_group_tests(tests, setup, teardown);

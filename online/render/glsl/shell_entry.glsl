@@ -6,9 +6,19 @@
  * cluster's own slab must not be counted again). p: the point, l: the
  * unit direction to the light, both in the prototype's frame. No #version
  * line: included (shade_fs.glsl per fragment, cluster_vs.glsl per vertex). */
+/* The exit is taken at most the widest chord, 2 max(A, B), from the
+ * point: the shell is traced as the local elliptic cylinder, whose exit
+ * runs off to infinity as the light turns along the axis, and a look-up
+ * past every hair left the cluster unshadowed (the imported ponytail lit
+ * from behind: clusters running towards the light at the tie). What lies
+ * along the light beyond the chord, the cluster's own hair included, is
+ * the map's to count; eq. 12's s-map holds the outer layers' alpha across
+ * the cluster, which a ray within the chord meets. */
+#define SHELL_ENTRY_MAX_CHORDS 1.0
 vec3 shell_entry(vec3 p, vec2 P, vec3 l, vec3 n1, vec3 n2, float A, float B) {
   vec2 L = vec2(dot(l, n1) / A, dot(l, n2) / B);
   float a = max(dot(L, L), 1e-12), b = dot(P, L), c = dot(P, P);
   float s = max((-b + sqrt(max(b * b - a * (c - 1.0), 0.0))) / a, 0.0);
+  s = min(s, SHELL_ENTRY_MAX_CHORDS * 2.0 * max(A, B));
   return p + (s + 0.1 * max(A, B)) * l;
 }
