@@ -13,8 +13,8 @@
  * generated fur and curls): per HSV the sector features, neighbours,
  * angles, maps and their textures; per procedural or track strand its
  * base, wobble and bucket entries; per pixel the fragment arrays of exact
- * compositing (64 slots of 16 bytes, their counters and depth keys) and the
- * frame targets. */
+ * compositing (64 slots of 16 bytes, their counters and depth keys, the
+ * pool past them: lists_pool_bytes, 20 bytes) and the frame targets. */
 #define BYTES_PER_HSV 2000.0
 /* Per HSV of a cluster drawn as its strands (hierarchy_sparse at the
  * renderer's default SATF_SPARSE_STRANDS_DEFAULT): its shell geometry and
@@ -23,7 +23,7 @@
  * them as clusters, at BYTES_PER_HSV. */
 #define BYTES_PER_SPARSE_HSV 700.0
 #define BYTES_PER_STRAND 36.0
-#define BYTES_PER_PIXEL 300.0
+#define BYTES_PER_PIXEL 320.0
 /* A VDB grid in memory over its file's size: the file stores leaves
  * compressed and the tree adds its internal nodes. */
 #define VDB_MEMORY_PER_FILE_BYTE 3.0

@@ -117,11 +117,12 @@ static void fill_lists(const satf_renderer *r, satf_aov aov,
   sparse_lists(r, aov, viewproj, mode); /* their strands, sorted with them */
   draw_hair_depth_test(0);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                  GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                   GL_TEXTURE_FETCH_BARRIER_BIT);
 }
 
 void cluster_gpu_resolve(const satf_renderer *r, satf_aov aov,
-                         const float viewproj[16]) {
+                         const float viewproj[16], int pool) {
   if (aov == SATF_AOV_DEPTH) {
     depth_resolve(r, viewproj);
     return;
@@ -134,8 +135,9 @@ void cluster_gpu_resolve(const satf_renderer *r, satf_aov aov,
   view_screen_box(&r->view, viewproj, box);
   glEnable(GL_SCISSOR_TEST);
   glScissor(box[0], box[1], box[2], box[3]);
-  glUseProgram(r->prog_resolve);
-  glUniform1i(glGetUniformLocation(r->prog_resolve, "u_slots"), r->lists.slots);
+  GLuint prog = pool ? r->prog_resolve_pool : r->prog_resolve;
+  glUseProgram(prog);
+  glUniform1i(glGetUniformLocation(prog, "u_slots"), r->lists.slots);
   shaders_fullscreen(r->empty_vao);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_BLEND);
@@ -165,6 +167,7 @@ GLuint cluster_gpu_lists(satf_renderer *r, satf_aov aov,
     fill_lists(r, aov, viewproj, 2, opaque);
     glDisable(GL_SCISSOR_TEST);
   } else {
+    lists_begin(&r->lists);
     fill_lists(r, aov, viewproj, 0, opaque);
   }
   return lists_count(&r->lists, nearest, fragments, overflow);

@@ -38,10 +38,14 @@ static satf_status composite(satf_renderer *r, satf_aov aov,
     return st;
   if (grown)
     cluster_gpu_lists(r, aov, viewproj, 0, count, &over);
-  if (over > 0 && (st = lists_alloc_keys(&r->lists, err)) == SATF_OK)
+  /* the colour's resolve reads the fragments past the slots from the
+   * pool where it held them all; else (or for the depth) the nearest
+   * passes store each pixel's nearest */
+  int pool = over > 0 && aov != SATF_AOV_DEPTH && lists_pool_held(&r->lists);
+  if (over > 0 && !pool && (st = lists_alloc_keys(&r->lists, err)) == SATF_OK)
     cluster_gpu_lists(r, aov, viewproj, 1, count, &ignore);
   if (st == SATF_OK)
-    cluster_gpu_resolve(r, aov, viewproj);
+    cluster_gpu_resolve(r, aov, viewproj, pool);
   r->stats.overflow_pixels = over;
   return st;
 }

@@ -18,6 +18,7 @@ static void fill_pass(satf_renderer *r, const float viewproj[16],
   fill(r, ctx, viewproj, mode);
   draw_hair_depth_test(0);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                  GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                   GL_TEXTURE_FETCH_BARRIER_BIT);
 }
 
@@ -25,6 +26,7 @@ satf_status depth_lists(satf_renderer *r, const float viewproj[16],
                         depth_fill_fn fill, void *ctx, satf_error *err) {
   draw_begin_frame(r, SATF_AOV_DEPTH, viewproj);
   long count = 0, over = 0, ignore = 0;
+  lists_begin(&r->lists);
   fill_pass(r, viewproj, fill, ctx, 0);
   GLuint most = lists_count(&r->lists, 0, &count, &over);
   int grown = 0;
@@ -32,6 +34,7 @@ satf_status depth_lists(satf_renderer *r, const float viewproj[16],
   if (st != SATF_OK)
     return st;
   if (grown) {
+    lists_begin(&r->lists);
     fill_pass(r, viewproj, fill, ctx, 0);
     lists_count(&r->lists, 0, &count, &over);
   }

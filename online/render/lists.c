@@ -65,11 +65,67 @@ satf_status lists_alloc_keys(frag_lists *l, satf_error *err) {
   return st == SATF_OK ? mask_attach(l, err) : st;
 }
 
+static int pool_capacity(int width, int height) {
+  long n = (long)width * height;
+  return n < LISTS_POOL_MAX ? (int)n : LISTS_POOL_MAX;
+}
+
+size_t lists_pool_bytes(int width, int height) {
+  return 16 * ((size_t)pool_capacity(width, height) + 1) +
+         4 * (size_t)width * (size_t)height;
+}
+
+/* The pool and the heads at the frame's size. */
+static satf_status pool_alloc(frag_lists *l, satf_error *err) {
+  if (l->heads)
+    glDeleteTextures(1, &l->heads);
+  if (l->pool_buf)
+    glDeleteBuffers(1, &l->pool_buf);
+  glGenTextures(1, &l->heads);
+  glBindTexture(GL_TEXTURE_2D, l->heads);
+  glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32UI, l->width, l->height);
+  l->pool = pool_capacity(l->width, l->height);
+  GLuint header[4] = {0, (GLuint)l->pool, 0, 0};
+  glGenBuffers(1, &l->pool_buf);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, l->pool_buf);
+  glBufferData(GL_SHADER_STORAGE_BUFFER, 16 * ((GLsizeiptr)l->pool + 1), NULL,
+               GL_DYNAMIC_COPY);
+  glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof header, header);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  l->pool_dirty = 1; /* the heads hold nothing defined yet */
+  return satf_gl_check("fragment pool", err);
+}
+
+void lists_begin(frag_lists *l) {
+  /* a frame that overflowed nothing left the pool empty: clearing it
+   * anyway stalled on the last frame's resolve (hair_7a's shading 10-20%
+   * slower) */
+  if (!l->pool_dirty)
+    return;
+  GLuint zero = 0;
+  glClearTexImage(l->heads, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, l->pool_buf);
+  glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zero, &zero);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  l->pool_dirty = 0;
+}
+
+int lists_pool_held(const frag_lists *l) {
+  GLuint count = 0xFFFFFFFFu;
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, l->pool_buf);
+  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof count, &count);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  return count <= (GLuint)l->pool;
+}
+
 satf_status lists_attach(frag_lists *l, int width, int height, GLuint depth,
                          satf_error *err) {
   l->width = width;
   l->height = height;
   l->depth = depth;
+  satf_status st = pool_alloc(l, err);
+  if (st != SATF_OK)
+    return st;
   if (!l->fbo)
     glGenFramebuffers(1, &l->fbo);
   glBindFramebuffer(GL_FRAMEBUFFER, l->fbo);
@@ -86,8 +142,11 @@ satf_status lists_attach(frag_lists *l, int width, int height, GLuint depth,
 }
 
 void lists_release(frag_lists *l) {
-  GLuint texs[4] = {l->counts, l->frags, l->keys, l->mask};
-  glDeleteTextures(4, texs);
+  GLuint texs[5] = {l->counts, l->frags, l->keys, l->mask, l->heads};
+  glDeleteTextures(5, texs);
+  if (l->pool_buf)
+    glDeleteBuffers(1, &l->pool_buf);
+  l->pool_buf = l->heads = 0;
   GLuint fbos[2] = {l->fbo, l->mask_fbo};
   glDeleteFramebuffers(2, fbos);
   if (l->mask_vao)
@@ -114,6 +173,8 @@ void lists_bind(const frag_lists *l, int mode) {
   GLuint zero = 0, empty = 0xFFFFFFFFu;
   if (mode == 0) /* the nearest passes redo only pixels it overflowed */
     glClearTexImage(l->counts, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindImageTexture(3, l->heads, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, l->pool_buf);
   glBindImageTexture(0, l->counts, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
   glBindImageTexture(1, l->frags, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32UI);
   if (mode == 1) /* no key yet: every slot farther than any fragment */
@@ -150,6 +211,7 @@ GLuint lists_count(frag_lists *l, int nearest, long *fragments,
   *fragments = 0;
   *overflow = 0;
   int box[4] = {0, 0, l->width, l->height}; /* x0, y0, x1, y1 */
+  int read = counts != NULL;
   if (counts) {
     glBindTexture(GL_TEXTURE_2D, l->counts);
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, counts);
@@ -167,6 +229,9 @@ GLuint lists_count(frag_lists *l, int nearest, long *fragments,
     }
     free(counts);
   }
+  /* its fragments past the slots went there (counts unread: maybe) */
+  if (!nearest && (*overflow > 0 || !read))
+    l->pool_dirty = 1;
   if (!nearest) { /* the counts are the plain pass's in both */
     l->overflow_box[0] = box[0], l->overflow_box[1] = box[1];
     l->overflow_box[2] = box[2] > box[0] ? box[2] - box[0] : 0;

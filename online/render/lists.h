@@ -17,10 +17,20 @@
  * SATF_MAX_FRAGMENTS) when a frame needs more. */
 #define START_SLOTS 16
 
+/* The most fragments the pool past the arrays holds (16 bytes each; a
+ * frame takes one per pixel up to this many). */
+#define LISTS_POOL_MAX (1 << 22)
+
 typedef struct frag_lists {
   GLuint counts, frags;
-  GLuint keys; /* per-pixel depth keys of the nearest `slots` fragments,
-                  made when a pixel first overflows (0: none yet) */
+  /* the plain pass's fragments past a pixel's slots (glsl/list_write.glsl):
+   * a storage buffer of a count, a capacity and `pool` entries, and each
+   * pixel's last entry (r32ui) */
+  GLuint pool_buf, heads;
+  int pool;
+  int pool_dirty; /* written since cleared: lists_begin clears it */
+  GLuint keys;    /* per-pixel depth keys of the nearest `slots` fragments,
+                     made when a pixel first overflows (0: none yet) */
   GLuint fbo;
   GLuint depth; /* the frame's depth texture, which fbo tests against */
   /* the nearest passes' framebuffer and its depth, a mask of the pixels
@@ -68,5 +78,14 @@ void lists_mask_overflow(const frag_lists *l);
  * fragments kept (*fragments) and the pixels that received more than
  * `slots` (*overflow); a plain pass (nearest 0) also records their box. */
 GLuint lists_count(frag_lists *l, int nearest, long *fragments, long *overflow);
+/* Before a plain pass: the pool emptied, where a pass wrote to it since
+ * (one that overflowed a pixel's slots). */
+void lists_begin(frag_lists *l);
+/* After a plain pass: whether the pool held every fragment past the slots
+ * (then the resolve reads it, and no nearest pass is needed). */
+int lists_pool_held(const frag_lists *l);
+/* The pool's and heads' bytes for a width x height frame (the memory
+ * estimate's). */
+size_t lists_pool_bytes(int width, int height);
 
 #endif

@@ -153,6 +153,7 @@ struct satf_renderer {
   satf_pixel_filter pixel_filter; /* strand_cover.glsl */
   GLuint prog_shade, prog_shade_ordered, prog_depth, prog_dom, prog_resolve;
   GLuint prog_resolve_depth; /* SATF_AOV_DEPTH's resolve (depth.c) */
+  GLuint prog_resolve_pool;  /* the resolve reading the lists' pool */
   GLuint prog_shade_lod, prog_shade_ordered_lod;
   GLuint inst_models, inst_shading;
   int instanced; /* 0: one draw per instance (a test's reference) */
@@ -311,9 +312,12 @@ GLuint cluster_gpu_lists(satf_renderer *r, satf_aov aov,
 /* The arrays of the last cluster_gpu_lists sorted and composited (SATF
  * eq. 14) over the frame it began, or their depth (depth.c): once a
  * frame, after the arrays' last fill (a pass drawn again, grown or
- * nearest, replaces what it would have composited). */
+ * nearest, replaces what it would have composited); pool: the plain
+ * pass's pool holds the fragments past the slots (lists_pool_held) and no
+ * nearest pass was drawn, so the colour's resolve keeps the nearest of
+ * the arrays and the pool. */
 void cluster_gpu_resolve(const satf_renderer *r, satf_aov aov,
-                         const float viewproj[16]);
+                         const float viewproj[16], int pool);
 /* Clusters drawn far to near with "over" blending. */
 satf_status cluster_gpu_ordered(satf_renderer *r, satf_aov aov,
                                 const float viewproj[16], satf_error *err);

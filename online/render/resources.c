@@ -44,6 +44,8 @@ static satf_status build_programs(satf_renderer *r, satf_error *err) {
       {"dom", satf_glsl_layer_vs, satf_glsl_dom_fs, physical, &r->prog_dom},
       {"resolve", satf_glsl_fullscreen_vs, satf_glsl_resolve_fs, "",
        &r->prog_resolve},
+      {"resolve (pool)", satf_glsl_fullscreen_vs, satf_glsl_resolve_fs,
+       "#define POOL 1\n", &r->prog_resolve_pool},
       {"resolve (depth)", satf_glsl_fullscreen_vs, satf_glsl_resolve_fs,
        "#define DEPTH 1\n", &r->prog_resolve_depth},
       {"display", satf_glsl_fullscreen_vs, satf_glsl_display_fs, "",
@@ -188,13 +190,14 @@ void resources_release(satf_renderer *r) {
     glDeleteBuffers(1, &r->meshes[i].ibo);
   }
   free(r->meshes);
-  GLuint progs[12] = {r->prog_shade,     r->prog_shade_ordered,
-                      r->prog_shade_lod, r->prog_shade_ordered_lod,
-                      r->prog_depth,     r->prog_dom,
-                      r->prog_resolve,   r->prog_display,
-                      r->prog_mesh,      r->prog_mesh_depth,
-                      r->prog_mesh_dom,  r->prog_resolve_depth};
-  for (int i = 0; i < 12; i++)
+  GLuint progs[13] = {r->prog_shade,       r->prog_shade_ordered,
+                      r->prog_shade_lod,   r->prog_shade_ordered_lod,
+                      r->prog_depth,       r->prog_dom,
+                      r->prog_resolve,     r->prog_display,
+                      r->prog_mesh,        r->prog_mesh_depth,
+                      r->prog_mesh_dom,    r->prog_resolve_depth,
+                      r->prog_resolve_pool};
+  for (int i = 0; i < 13; i++)
     if (progs[i])
       glDeleteProgram(progs[i]);
   if (r->empty_vao)

@@ -1,7 +1,9 @@
 /* test_overflow.c - exact compositing beyond the per-pixel arrays (64
  * fragments, SATF_MAX_FRAGMENTS): a pixel behind more clusters than that
  * keeps its nearest fragments, whatever order they arrive in, and the
- * renderer counts such pixels (satf_render_stats.overflow_pixels). */
+ * renderer counts such pixels (satf_render_stats.overflow_pixels); kept
+ * from the pool past the arrays (glsl/list_write.glsl), and by the
+ * nearest passes where the pool is full. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -23,6 +25,9 @@
 #define H 64
 #define NEAR 64 /* vertical copies: exactly what a pixel's arrays hold */
 #define FAR 16  /* horizontal copies behind them all */
+/* so many that the fragments past the slots (80 pixels of NEAR + FAR_FULL)
+ * do not fit the pool of one per pixel (W x H = 4,096) */
+#define FAR_FULL 72
 
 typedef fixture_gl fixture;
 
@@ -114,15 +119,15 @@ static satf_image *render_stack(const fixture *f, const satf_scene *scene,
 
 static const char *const rgba[4] = {"R", "G", "B", "A"};
 
-/* More than 64 clusters over a pixel: the frame is the same bit for bit
- * twice and with the clusters listed (so arriving) in the other order, and
- * where the near clusters cover a pixel fully it is the frame of the 64
- * nearest alone: the far ones were the ones left out. Before, the first
- * 64 to arrive were kept (here the far ones: listed first). */
-static void test_nearest_fragments_kept(void **state) {
-  fixture *f = *state;
-  satf_scene *far_first = stack_scene(NEAR, FAR, 1);
-  satf_scene *near_first = stack_scene(NEAR, FAR, 0);
+/* More than 64 clusters over a pixel (`far` behind the 64 near ones): the
+ * frame is the same bit for bit twice and with the clusters listed (so
+ * arriving) in the other order, and where the near clusters cover a pixel
+ * fully it is the frame of the 64 nearest alone: the far ones were the
+ * ones left out. Before, the first 64 to arrive were kept (here the far
+ * ones: listed first). */
+static void nearest_kept(fixture *f, int far) {
+  satf_scene *far_first = stack_scene(NEAR, far, 1);
+  satf_scene *near_first = stack_scene(NEAR, far, 0);
   satf_scene *nearest = stack_scene(NEAR, 0, 0);
   assert_non_null(far_first);
   assert_non_null(near_first);
@@ -136,8 +141,9 @@ static void test_nearest_fragments_kept(void **state) {
   assert_non_null(b);
   assert_non_null(c);
   assert_non_null(ref);
-  printf("pixels over 64 fragments: %ld (%ld, %ld); 64 nearest alone: %ld\n",
-         over_a, over_b, over_c, over_ref);
+  printf("%d behind: pixels over 64 fragments: %ld (%ld, %ld); 64 nearest "
+         "alone: %ld\n",
+         far, over_a, over_b, over_c, over_ref);
   assert_true(over_a > 0);
   assert_int_equal(over_a, over_b);
   assert_int_equal(over_a, over_c);
@@ -173,6 +179,16 @@ static void test_nearest_fragments_kept(void **state) {
   satf_scene_destroy(nearest);
 }
 
+/* The fragments past the slots held by the pool, read by the resolve. */
+static void test_nearest_fragments_kept(void **state) {
+  nearest_kept(*state, FAR);
+}
+
+/* The pool full: the nearest passes keep them. */
+static void test_nearest_kept_pool_full(void **state) {
+  nearest_kept(*state, FAR_FULL);
+}
+
 /* The same for sparse clusters drawn as their strands (sparse.c), whose
  * first nearest pass writes only depth keys (glsl/strand_fs.glsl): the
  * frame does not depend on the order the strands arrive in. */
@@ -202,6 +218,7 @@ static void test_nearest_strands_kept(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_nearest_fragments_kept),
+      cmocka_unit_test(test_nearest_kept_pool_full),
       cmocka_unit_test(test_nearest_strands_kept),
   };
   return cmocka_run_group_tests(tests, setup, teardown);

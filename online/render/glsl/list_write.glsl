@@ -20,6 +20,17 @@ layout(binding = 1, rgba32ui) uniform writeonly uimage2DArray u_frags;
 /* u_slots layers of keys, then mode 2's count of stores (cleared with the
  * keys to 0xFFFFFFFF, so its first add returns slot 0 - 1) */
 layout(binding = 2, r32ui) uniform coherent uimage2DArray u_keys;
+/* The plain pass's fragments past a pixel's u_slots: a pool shared by the
+ * frame (lists.h), each entry the fragment as the arrays hold it with the
+ * pool index + 1 of the pixel's previous one in w (0: none), the pixel's
+ * last in u_heads; resolve_fs.glsl keeps the nearest u_slots of the array
+ * and the pool, so the nearest passes are drawn only when the pool is
+ * full. */
+layout(binding = 3, r32ui) uniform coherent uimage2D u_heads;
+layout(std430, binding = 7) buffer satf_pool {
+  uint g_pool_count, g_pool_capacity, g_pool_pad0, g_pool_pad1;
+  uvec4 g_pool[];
+};
 /* whether the nearest passes need nothing of this fragment: mode 0 did not
  * overflow its pixel (they draw only inside the box of those that
  * overflowed, cluster_gpu_lists, and their early depth test against the
@@ -51,8 +62,16 @@ void list_write(vec3 col, float alpha) {
   } else {
     slot = imageAtomicAdd(u_counts, px, 1u);
   }
-  if (slot >= uint(u_slots)) return;
-  imageStore(u_frags, ivec3(px, int(slot)),
-             uvec4(packHalf2x16(col.rg), packHalf2x16(vec2(col.b, alpha)),
-                   floatBitsToUint(gl_FragCoord.z), 0u));
+  if (slot < uint(u_slots)) {
+    imageStore(u_frags, ivec3(px, int(slot)),
+               uvec4(packHalf2x16(col.rg), packHalf2x16(vec2(col.b, alpha)),
+                     floatBitsToUint(gl_FragCoord.z), 0u));
+    return;
+  }
+  if (u_list_mode != 0) return;
+  uint i = atomicAdd(g_pool_count, 1u);
+  if (i >= g_pool_capacity) return;
+  g_pool[i] = uvec4(packHalf2x16(col.rg), packHalf2x16(vec2(col.b, alpha)),
+                    floatBitsToUint(gl_FragCoord.z),
+                    imageAtomicExchange(u_heads, px, i + 1u));
 }

@@ -6,11 +6,26 @@
 #ifndef DEPTH
 #define DEPTH 0
 #endif
+/* 1: the plain pass's fragments past the slots are in the pool (a second
+ * program: the pool's loop in the one every frame draws made hair_7a's
+ * shading 15-25% slower on llvmpipe, taken or not) */
+#ifndef POOL
+#define POOL 0
+#endif
 #define MAXF SATF_MAX_FRAGMENTS
 layout(binding = 0, r32ui) uniform readonly uimage2D u_counts;
 layout(binding = 1, rgba32ui) uniform readonly uimage2DArray u_frags;
 uniform int u_slots;
 out vec4 o_color;
+#if POOL
+/* the plain pass's fragments past the slots (glsl/list_write.glsl): the
+ * nearest passes were not drawn */
+layout(binding = 3, r32ui) uniform readonly uimage2D u_heads;
+layout(std430, binding = 7) readonly buffer satf_pool {
+  uint g_pool_count, g_pool_capacity, g_pool_pad0, g_pool_pad1;
+  uvec4 g_pool[];
+};
+#endif
 #if DEPTH
 #include "depth_encode.glsl"
 uniform mat4 u_inv_viewproj; /* the sample's, jitter and all */
@@ -27,7 +42,8 @@ bool farther(uvec4 a, uvec4 b) {
 void main() {
   uvec4 f[MAXF];
   ivec2 px = ivec2(gl_FragCoord.xy);
-  int n = min(int(imageLoad(u_counts, px).r), min(u_slots, MAXF));
+  int total = int(imageLoad(u_counts, px).r), keep = min(u_slots, MAXF);
+  int n = min(total, keep);
   for (int k = 0; k < n; k++) f[k] = imageLoad(u_frags, ivec3(px, k));
   for (int a = 1; a < n; a++) {
     uvec4 x = f[a];
@@ -35,6 +51,29 @@ void main() {
     while (b >= 0 && farther(x, f[b])) { f[b + 1] = f[b]; b--; }
     f[b + 1] = x;
   }
+#if POOL
+  /* the pixel's fragments in the pool: each nearer than the farthest kept
+   * takes its place, so the `keep` nearest of all remain, whatever order
+   * they arrived in (the nearest passes' result) */
+  if (total > n) {
+    for (uint i = imageLoad(u_heads, px).r; i != 0u;) {
+      uvec4 x = g_pool[i - 1u];
+      i = x.w;
+      x.w = 0u;
+      int b;
+      if (n < keep) { /* room: insert */
+        b = n - 1;
+        while (b >= 0 && farther(x, f[b])) { f[b + 1] = f[b]; b--; }
+        f[b + 1] = x;
+        n++;
+      } else if (farther(f[0], x)) { /* the farthest out, x in */
+        b = 0;
+        while (b + 1 < n && farther(f[b + 1], x)) { f[b] = f[b + 1]; b++; }
+        f[b] = x;
+      }
+    }
+  }
+#endif
 #if DEPTH
   /* Half coverage: the median of where rays through the pixel stop, so
    * the depth a path tracer's first hit gives most often (Blender's Z
