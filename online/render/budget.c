@@ -14,7 +14,7 @@
  * angles, maps and their textures; per procedural or track strand its
  * base, wobble and bucket entries; per pixel the fragment arrays of exact
  * compositing (64 slots of 16 bytes, their counters and depth keys, the
- * pool past them: lists_pool_bytes, 20 bytes) and the frame targets. */
+ * pool past them: 20 bytes, lists.h) and the frame targets. */
 #define BYTES_PER_HSV 2000.0
 /* Per HSV of a cluster drawn as its strands (hierarchy_sparse at the
  * renderer's default SATF_SPARSE_STRANDS_DEFAULT): its shell geometry and

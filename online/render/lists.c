@@ -70,11 +70,6 @@ static int pool_capacity(int width, int height) {
   return n < LISTS_POOL_MAX ? (int)n : LISTS_POOL_MAX;
 }
 
-size_t lists_pool_bytes(int width, int height) {
-  return 16 * ((size_t)pool_capacity(width, height) + 1) +
-         4 * (size_t)width * (size_t)height;
-}
-
 /* The pool and the heads at the frame's size. */
 static satf_status pool_alloc(frag_lists *l, satf_error *err) {
   if (l->heads)

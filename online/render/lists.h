@@ -1,12 +1,16 @@
 /* lists.h - per-pixel fragment arrays (private to online/render): an
  * r32ui counter per pixel and a layered rgba32ui image of `slots`
- * fragments (colour as halves, depth), the depth keys of the nearest
- * passes, and the framebuffer the hair's fragment passes draw into (it
- * tests against the frame's depth). A texture rather than a storage
- * buffer: llvmpipe caps buffers at 128 MB, and a per-pixel counter avoids
- * the contention of one global atomic counter, which made linked lists
- * three times slower there. lists.c owns them; the shaders that fill and
- * resolve them are glsl/list_write.glsl and glsl/resolve_fs.glsl. */
+ * fragments (colour as halves, depth), the pool of the fragments past a
+ * pixel's slots (a storage buffer, one entry per pixel of room, chained
+ * per pixel from an r32ui head), the depth keys of the nearest passes
+ * (drawn where the pool is full), and the framebuffer the hair's fragment
+ * passes draw into (it tests against the frame's depth). The slots a
+ * texture rather than a storage buffer: llvmpipe caps buffers at 128 MB,
+ * and a per-pixel counter avoids the contention of one global atomic
+ * counter, which made linked lists of every fragment three times slower
+ * there (the pool takes only the few past the slots). lists.c owns them;
+ * the shaders that fill and resolve them are glsl/list_write.glsl and
+ * glsl/resolve_fs.glsl. */
 #ifndef SATF_RENDER_LISTS_H
 #define SATF_RENDER_LISTS_H
 
@@ -84,8 +88,5 @@ void lists_begin(frag_lists *l);
 /* After a plain pass: whether the pool held every fragment past the slots
  * (then the resolve reads it, and no nearest pass is needed). */
 int lists_pool_held(const frag_lists *l);
-/* The pool's and heads' bytes for a width x height frame (the memory
- * estimate's). */
-size_t lists_pool_bytes(int width, int height);
 
 #endif
