@@ -36,17 +36,20 @@ static float turn_at(const float *a, const float *b, const float *c) {
   return acosf(c0 > 1.0f ? 1.0f : c0 < -1.0f ? -1.0f : c0);
 }
 
-/* Pieces of segment j of the strand p (n points, xyz; widths w, or
- * default_width): a chord of length l turning by t (radians, the larger of
- * its ends' turns) strays from its arc by about l t / 8; cut into m pieces,
- * by l t / (8 m^2), at most STRAND_CURVE_TOLERANCE of the narrower end's
+/* The turn at point j of the strand p of n points (0 at its ends). */
+static float turn_of(const float *p, int n, int j) {
+  return j > 0 && j + 1 < n
+             ? turn_at(p + 3 * (j - 1), p + 3 * j, p + 3 * (j + 1))
+             : 0.0f;
+}
+
+/* Pieces of segment j of the strand p (xyz; widths w, or default_width),
+ * whose ends turn by t0 and t1: a chord of length l turning by t (radians,
+ * the larger) strays from its arc by about l t / 8; cut into m pieces, by
+ * l t / (8 m^2), at most STRAND_CURVE_TOLERANCE of the narrower end's
  * width. */
-static int pieces_of(const float *p, const float *w, float default_width, int n,
-                     int j) {
-  float t0 =
-      j > 0 ? turn_at(p + 3 * (j - 1), p + 3 * j, p + 3 * (j + 1)) : 0.0f;
-  float t1 =
-      j + 2 < n ? turn_at(p + 3 * j, p + 3 * (j + 1), p + 3 * (j + 2)) : 0.0f;
+static int pieces_of(const float *p, const float *w, float default_width, int j,
+                     float t0, float t1) {
   float t = t0 > t1 ? t0 : t1;
   float d[3] = {p[3 * j + 3] - p[3 * j], p[3 * j + 4] - p[3 * j + 1],
                 p[3 * j + 5] - p[3 * j + 2]};
@@ -94,9 +97,14 @@ satf_status strand_curve_refine(int n, const int *counts, const float *xyz,
     const float *w = thickness ? thickness + src : NULL;
     unsigned char *m = pieces + src;
     size_t c = 1;
-    for (int j = 0; j + 1 < counts[i]; j++)
-      c += m[j] = (unsigned char)pieces_of(xyz + 3 * src, w, default_width,
-                                           counts[i], j);
+    /* each point's turn once: segment j reads those at j and j + 1 */
+    float t0 = 0.0f;
+    for (int j = 0; j + 1 < counts[i]; j++) {
+      float t1 = turn_of(xyz + 3 * src, counts[i], j + 1);
+      c += m[j] =
+          (unsigned char)pieces_of(xyz + 3 * src, w, default_width, j, t0, t1);
+      t0 = t1;
+    }
     if (c > 65536) {
       memset(m, 1, (size_t)counts[i]);
       c = (size_t)counts[i];
