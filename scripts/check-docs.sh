@@ -4,6 +4,7 @@
 #    who did a change, in which sitting, under which tracker number); the
 #    code and the documents say what is true now and why. The pattern is
 #    built from pieces so that this file does not match it.
+#    Nor does it cite notes in a scratch folder under /tmp as its sources.
 # 2. README.md stays short (under 300 lines): the details live in docs/.
 # 3. every relative link in README.md, docs/*.md and samples/README.md
 #    names a file or folder of the tree (and a heading there, with #).
@@ -19,6 +20,13 @@ s='sess''ion'
 pattern="\\($h|$h h-|$i [0-9]+|\\($i|$s"
 if git grep -nIiE "$pattern"; then
   echo "check-docs: the lines above speak of how the work was organised" >&2
+  fail=1
+fi
+# a note in a scratch folder under /tmp is no source for a reader of
+# the tree; programs that make their own temporary files name them by a
+# pattern (/tmp/satf-...), which this does not match
+if git grep -nIE '/tmp/[A-Za-z0-9_.-]+/[A-Za-z0-9_.-]+\.(md|txt|png|exr|json)'; then
+  echo "check-docs: the lines above cite scratch files outside the tree" >&2
   fail=1
 fi
 

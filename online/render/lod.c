@@ -13,10 +13,10 @@
  * Between levels n and n + 1 the shells level n + 1 drops keep a weight
  * 1 - f and those it keeps take f of them, so the image is continuous in
  * the level and the level continuous in the width on screen (log2 full_px
- * / width): no
- * popping, and no second evaluation in the band (it costs what level n
- * costs). Our choice, measured against full detail in
- * /tmp/h/readme-lod.md: the paper has no level of detail.
+ * / width): no popping, and no second evaluation in the band (it costs
+ * what level n costs). Our choice, measured against full detail in
+ * docs/performance.md ("Level of detail"): the paper has no level of
+ * detail.
  *
  * Proxies. Shading traces the shells analytically, so the proxy only has
  * to cover the silhouette; a CPU rasteriser pays for each triangle, so a

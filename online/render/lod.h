@@ -27,7 +27,8 @@ enum {
 int lod_proxy_rows(int p);
 int lod_proxy_thin(int p);
 
-/* The thresholds, in pixels on screen (measured: /tmp/h/readme-lod.md). */
+/* The thresholds, in pixels on screen (their image error and cost:
+ * docs/performance.md, "Level of detail"). */
 typedef struct lod_params {
   float full_px;    /* clusters at least this wide read every layer */
   float thin_px;    /* clusters at most this wide take the thin ring */
