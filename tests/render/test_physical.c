@@ -44,7 +44,8 @@ static int teardown(void **state) {
 }
 
 /* One straight vertical cluster seen from +z, under `lights` (JSON), with
- * the material's fibre `material` (JSON keys) and the effects given. */
+ * the material's fibre `material` (JSON keys); shadows 1: cluster shadows
+ * and self-shadowing, 2: self-shadowing alone, 0: neither. */
 static void scene_json(char *buf, size_t size, const char *material,
                        const char *lights, int shadows) {
   snprintf(buf, size,
@@ -60,7 +61,7 @@ static void scene_json(char *buf, size_t size, const char *material,
            " \"effects\": {\"cluster_shadows\": %s, \"self_shadow\": %s},"
            " \"image\": {\"width\": %d, \"height\": %d}}",
            lights, material[0] ? ", " : "", material,
-           shadows ? "true" : "false", shadows ? "true" : "false", W, H);
+           shadows == 1 ? "true" : "false", shadows ? "true" : "false", W, H);
 }
 
 /* A renderer of `json`'s scene (*s, to destroy after it) on database db:
@@ -162,6 +163,36 @@ static void test_back_lit_glow(void **state) {
   assert_true(back[0] > 1.3 * back[2]);
   satf_image_destroy(a);
   satf_image_destroy(b);
+}
+
+/* A cluster lit from behind is shadowed by its own hair between the light
+ * and the layers the eye sees first (shade_fs.glsl: through_count), not
+ * only by the layers outside them, which are the same from either side:
+ * what its self-shadowing keeps of the light is far less from behind
+ * than from the front. */
+static void test_back_lit_own_shadow(void **state) {
+  (void)state;
+  const char *const lights[2] = {
+      FRONT, "{\"direction\": [0.3, -0.4, 0.87], \"intensity\": 3}"};
+  double kept[2];
+  for (int i = 0; i < 2; i++) {
+    char json[2048];
+    double on[3], off[3];
+    scene_json(json, sizeof json, "\"melanin\": 0.2", lights[i], 2);
+    satf_image *a = render(json);
+    scene_json(json, sizeof json, "\"melanin\": 0.2", lights[i], 0);
+    satf_image *b = render(json);
+    mean_rgb(a, on);
+    mean_rgb(b, off);
+    kept[i] = luminance(on) / fmax(luminance(off), 1e-9);
+    satf_image_destroy(a);
+    satf_image_destroy(b);
+  }
+  printf("self-shadowing keeps %.3f of the light from the front, %.3f from "
+         "behind\n",
+         kept[0], kept[1]);
+  assert_true(kept[0] > 0.3);
+  assert_true(kept[1] < 0.6 * kept[0]);
 }
 
 /* A fibre that absorbs nothing under white light is white: every channel
@@ -608,6 +639,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_colour_follows_melanin),
       cmocka_unit_test(test_back_lit_glow),
+      cmocka_unit_test(test_back_lit_own_shadow),
       cmocka_unit_test(test_clear_fibre_is_neutral),
       cmocka_unit_test(test_lights_add),
       cmocka_unit_test(test_fill_light_shadowed),

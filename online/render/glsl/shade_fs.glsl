@@ -193,6 +193,27 @@ float lod_alpha(int k, float a) {
   return a;
 #endif
 }
+/* The layers a light crosses on its way to the layer point at radius r of
+ * shell k beyond those eq. 12's s-map counts (the shells outside k, once
+ * each): where the light runs inwards from the point (a cluster lit from
+ * behind), it crosses shell k again on the far side and each inner shell
+ * its line passes within, twice. In the scaled normal plane the shells
+ * are circles of radius r_j = core + (1 - core)(j + 1) / layers; the line
+ * X + s L comes within d of the centre, d^2 = r^2 - (X.L)^2 / |L|^2 (xl:
+ * X.L, inv_al: 1 / |L|^2, shells: layers / (1 - core)). The records hold
+ * the shadowing inside one sector only (an annular piece of one layer)
+ * and the deep opacity map is read where the light enters the cluster
+ * (shell_entry), so without this a front layer lit through its own
+ * cluster would be lit as if nothing stood between. Our addition: SATF's
+ * eq. 12 is the outer layers' alpha alone, which holds for a light on the
+ * viewer's side. Each crossing is taken at the point's own alpha (the
+ * inner layers' maps are not read here). */
+float through_count(float r, float xl, float inv_al, float shells, int k) {
+  float d = sqrt(max(r * r - xl * xl * inv_al, 0.0));
+  /* the innermost shell the line meets: r_j > d */
+  float first = clamp(floor((d - u_core) * shells), 0.0, float(k));
+  return xl < 0.0 ? 1.0 + 2.0 * (float(k) - first) : 0.0;
+}
 vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   if (u_aov == 1) return dif;
   if (u_aov == 2) return s1;
@@ -247,11 +268,18 @@ void main() {
    * layer point only takes its depth's transmittance (Zinke's eq. 5) */
   vec3 af0 = fiber_dual_field(u_fiber_tables, 0,
                               fiber_asin(clamp(dot(l0, hair), -1.0, 1.0)));
+  /* the key light's direction in the scaled normal plane, for the
+   * layers it crosses on its way to each point (through_count) */
+  vec2 Lk = vec2(dot(l0, n1) / A, dot(l0, n2) / B);
+  /* X.L = P.L + s D.L along the eye ray, and 1 / |L|^2 */
+  vec3 thru0 = vec3(dot(P, Lk), dot(D, Lk), 1.0 / max(dot(Lk, Lk), 1e-12));
+  float shells = float(u_layers) / max(1.0 - u_core, 1e-6);
   /* the fill light (and those after it, whose light the maps sum with
    * the fill's) the same way through its own map, where it is drawn */
   bool fill_shadow = u_fill_shadow != 0 && NLIGHTS > 1 && !KEYS_ONLY;
   float n_fill = 0.0;
   vec3 e1 = vec3(0.0), back1 = vec3(0.0), af1 = vec3(0.0);
+  vec3 thru1 = vec3(0.0);
   if (fill_shadow) {
     int k1 = NLIGHTS > 1 ? 1 : 0;
     vec3 dl1 = u_light_local[k1].xyz - u_light_local[k1].w * v_local;
@@ -259,9 +287,11 @@ void main() {
          (u_light_local[k1].w > 0.0 ? 1.0 / max(dot(dl1, dl1), 1e-6) : 1.0);
     n_fill = -log(max(v_fill_dom, 1e-6));
     back1 = FIBER_DUAL_DENSITY * e1 * v_fill_back;
-    af1 = fiber_dual_field(
-        u_fiber_tables, 0,
-        fiber_asin(clamp(dot(normalize(dl1), hair), -1.0, 1.0)));
+    vec3 l1 = normalize(dl1);
+    af1 = fiber_dual_field(u_fiber_tables, 0,
+                           fiber_asin(clamp(dot(l1, hair), -1.0, 1.0)));
+    vec2 Lf = vec2(dot(l1, n1) / A, dot(l1, n2) / B);
+    thru1 = vec3(dot(P, Lf), dot(D, Lf), 1.0 / max(dot(Lf, Lf), 1e-12));
   }
 #endif
   vec3 col = vec3(0.0);
@@ -305,7 +335,12 @@ void main() {
       /* the direct light crosses the outer layers' hairs as a Poisson
        * count (exp(-n), Zinke's model; the paper's k_shadow belongs to
        * the kk mode) */
-      float tau = u_self_shadow != 0 ? exp(-mf.a) : 1.0;
+      float n_self = u_self_shadow != 0
+                         ? mf.a + through_count(r, thru0.x + s * thru0.y,
+                                                thru0.z, shells, k) *
+                                      ra.y
+                         : 0.0;
+      float tau = exp(-n_self);
 #else
       vec4 m = fetch_map(u_turns, t, k);
       vec2 ra = reflectance_alpha(m);
@@ -325,15 +360,20 @@ void main() {
          * mode; the records hold the shadowing inside an HSV */
         y = (mk.rgb + back) * (tau * dom);
         if (u_cluster_shadow != 0) /* forward-scattered: Zinke 2008 */
-          y += e0 * global * max(exp(-(n_dom + mf.a) * (1.0 - af0)) -
-                                 exp(-(n_dom + mf.a)), vec3(0.0));
-        if (fill_shadow)
-          y += (mf.rgb + back1) * (tau * exp(-n_fill)) +
+          y += e0 * global * max(exp(-(n_dom + n_self) * (1.0 - af0)) -
+                                 exp(-(n_dom + n_self)), vec3(0.0));
+        if (fill_shadow) {
+          float n1_self = u_self_shadow != 0
+                              ? mf.a + through_count(r, thru1.x + s * thru1.y,
+                                                  thru1.z, shells, k) *
+                                        ra.y
+                              : 0.0;
+          y += (mf.rgb + back1) * exp(-(n_fill + n1_self)) +
                e1 * v_fill_global *
-                   max(exp(-(n_fill + mf.a) * (1.0 - af1)) -
-                           exp(-(n_fill + mf.a)),
+                   max(exp(-(n_fill + n1_self) * (1.0 - af1)) -
+                           exp(-(n_fill + n1_self)),
                        vec3(0.0));
-        else
+        } else
           y += mf.rgb;
       }
       col += transmit * ra.y * y;
