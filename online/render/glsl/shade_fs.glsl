@@ -194,25 +194,31 @@ float lod_alpha(int k, float a) {
 #endif
 }
 /* The layers a light crosses on its way to the layer point at radius r of
- * shell k beyond those eq. 12's s-map counts (the shells outside k, once
+ * shell k beyond those eq. 12's s-map counts (the layers outside k, once
  * each): where the light runs inwards from the point (a cluster lit from
- * behind), it crosses shell k again on the far side and each inner shell
- * its line passes within, twice. In the scaled normal plane the shells
- * are circles of radius r_j = core + (1 - core)(j + 1) / layers; the line
- * X + s L comes within d of the centre, d^2 = r^2 - (X.L)^2 / |L|^2 (xl:
- * X.L, inv_al: 1 / |L|^2, shells: layers / (1 - core)). The records hold
- * the shadowing inside one sector only (an annular piece of one layer)
- * and the deep opacity map is read where the light enters the cluster
- * (shell_entry), so without this a front layer lit through its own
- * cluster would be lit as if nothing stood between. Our addition: SATF's
- * eq. 12 is the outer layers' alpha alone, which holds for a light on the
- * viewer's side. Each crossing is taken at the point's own alpha (the
- * inner layers' maps are not read here). */
+ * behind), it crosses layer k again on the far side and each inner layer
+ * its line passes through twice, or once along a chord where it turns
+ * back out. In the scaled normal plane the shells are circles of radius
+ * r_j = core + (1 - core)(j + 1) / layers, layer j lying between r_(j-1)
+ * and r_j; the line X + s L comes within d of the centre, d^2 = r^2 -
+ * (X.L)^2 / |L|^2 (xl: X.L, inv_al: 1 / |L|^2, shells: layers / (1 -
+ * core)). The records hold the shadowing inside one sector only (an
+ * annular piece of one layer) and the deep opacity map is read where the
+ * light enters the cluster (shell_entry), so without this a front layer
+ * lit through its own cluster would be lit as if nothing stood between.
+ * Our addition: SATF's eq. 12 is the outer layers' alpha alone, which
+ * holds for a light on the viewer's side. Each crossing is taken at the
+ * point's own alpha (the inner layers' maps are not read here). */
 float through_count(float r, float xl, float inv_al, float shells, int k) {
   float d = sqrt(max(r * r - xl * xl * inv_al, 0.0));
   /* the innermost shell the line meets: r_j > d */
   float first = clamp(floor((d - u_core) * shells), 0.0, float(k));
-  return xl < 0.0 ? 1.0 + 2.0 * (float(k) - first) : 0.0;
+  float inner = float(k) - first;
+  /* the layer between shells first - 1 and first, where the line turns
+   * back out, is crossed once, along one chord (not where it runs through
+   * the hollow core) */
+  float turn = d > u_core && inner > 0.0 ? 1.0 : 0.0;
+  return xl < 0.0 ? 1.0 + 2.0 * inner - turn : 0.0;
 }
 vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   if (u_aov == 1) return dif;
