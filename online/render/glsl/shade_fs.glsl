@@ -125,8 +125,10 @@ float atan2_turns(float y, float x) {
 #include "shell_entry.glsl"
 /* Who owns self-shadowing: the records own the attenuation among the
  * strands of one HSV (traced in the sector, paper 001 sec. 4), eq. 12's
- * s-map owns the attenuation by this cluster's outer layers, and the deep
- * opacity map owns the other clusters. So the map is read where the key
+ * s-map owns the attenuation by this cluster's outer layers (in the
+ * physical mode with the rest of its own layers the light crosses:
+ * through_layers), and the deep opacity map owns the other clusters. So
+ * the map is read where the key
  * light's ray towards this point enters the cluster (its exit from the
  * outermost ellipse, in the scaled normal-plane coordinates P of main),
  * moved out by a tenth of the cluster's radius: the map's proxies
@@ -193,32 +195,34 @@ float lod_alpha(int k, float a) {
   return a;
 #endif
 }
-/* The layers a light crosses on its way to the layer point at radius r of
- * shell k beyond those eq. 12's s-map counts (the layers outside k, once
- * each): where the light runs inwards from the point (a cluster lit from
- * behind), it crosses layer k again on the far side and each inner layer
- * its line passes through twice, or once along a chord where it turns
- * back out. In the scaled normal plane the shells are circles of radius
- * r_j = core + (1 - core)(j + 1) / layers, layer j lying between r_(j-1)
- * and r_j; the line X + s L comes within d of the centre, d^2 = r^2 -
- * (X.L)^2 / |L|^2 (xl: X.L, inv_al: 1 / |L|^2, shells: layers / (1 -
- * core)). The records hold the shadowing inside one sector only (an
- * annular piece of one layer) and the deep opacity map is read where the
- * light enters the cluster (shell_entry), so without this a front layer
- * lit through its own cluster would be lit as if nothing stood between.
- * Our addition: SATF's eq. 12 is the outer layers' alpha alone, which
- * holds for a light on the viewer's side. Each crossing is taken at the
- * point's own alpha (the inner layers' maps are not read here). */
-float through_count(float r, float xl, float inv_al, float shells, int k) {
+/* How many of its cluster's layers a light crosses on its way to the layer
+ * point at radius r of shell k beyond those eq. 12's s-map counts (the
+ * layers outside k, once each) and the point's own record holds (its own
+ * layer on the near side). Where the light runs towards the axis from the
+ * point (it comes from across the cluster: X.L < 0), its line runs through
+ * the cluster to the far side of shell k. In the scaled normal plane the
+ * shells are circles, r_j = core + (1 - core)(j + 1) / layers, and the
+ * line's chord inside shell k, less the hollow core's, in layer
+ * thicknesses (1 - core) / layers, less the one on the near side, is the
+ * count: 2k + 1 for a line through the axis, as many as the layers it
+ * crosses, continuous in the light's direction (counting whole crossings
+ * stepped the light by e^-alpha from one shell's tangent to the next).
+ * The deep opacity map is read at most `cap` along the light from the
+ * fragment (shell_entry), beyond which it counts the cluster's hair
+ * itself, so the count is scaled to the part of the path within the cap.
+ * xl: X.L, inv_al: 1 / |L|^2 (L the unit light direction projected into
+ * the scaled plane), shells: layers / (1 - core). Our addition: SATF's
+ * eq. 12 is the outer layers' alpha alone, the same from either side. */
+float through_layers(float r, float xl, float inv_al, float shells,
+                     float cap, int k) {
+  if (xl >= 0.0) return 0.0;
   float d = sqrt(max(r * r - xl * xl * inv_al, 0.0));
-  /* the innermost shell the line meets: r_j > d */
-  float first = clamp(floor((d - u_core) * shells), 0.0, float(k));
-  float inner = float(k) - first;
-  /* the layer between shells first - 1 and first, where the line turns
-   * back out, is crossed once, along one chord (not where it runs through
-   * the hollow core) */
-  float turn = d > u_core && inner > 0.0 ? 1.0 : 0.0;
-  return xl < 0.0 ? 1.0 + 2.0 * inner - turn : 0.0;
+  /* how many layers deep the line dips, down to the hollow core */
+  float q = (r - max(d, u_core)) * shells;
+  /* the path to the far side of shell k, in scene units along the light */
+  float path = -2.0 * xl * inv_al;
+  return min(2.0 * q, 2.0 * float(k) + 1.0) *
+         min(cap / max(path, 1e-12), 1.0);
 }
 vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   if (u_aov == 1) return dif;
@@ -275,11 +279,13 @@ void main() {
   vec3 af0 = fiber_dual_field(u_fiber_tables, 0,
                               fiber_asin(clamp(dot(l0, hair), -1.0, 1.0)));
   /* the key light's direction in the scaled normal plane, for the
-   * layers it crosses on its way to each point (through_count) */
+   * layers it crosses on its way to each point (through_layers) */
   vec2 Lk = vec2(dot(l0, n1) / A, dot(l0, n2) / B);
   /* X.L = P.L + s D.L along the eye ray, and 1 / |L|^2 */
   vec3 thru0 = vec3(dot(P, Lk), dot(D, Lk), 1.0 / max(dot(Lk, Lk), 1e-12));
   float shells = float(u_layers) / max(1.0 - u_core, 1e-6);
+  float cap = SHELL_ENTRY_MAX_CHORDS * 2.0 * max(A, B);
+  bool through = u_self_shadow != 0 && !KEYS_ONLY;
   /* the fill light (and those after it, whose light the maps sum with
    * the fill's) the same way through its own map, where it is drawn */
   bool fill_shadow = u_fill_shadow != 0 && NLIGHTS > 1 && !KEYS_ONLY;
@@ -338,15 +344,16 @@ void main() {
       fetch_maps(u_turns, t, k, mk, mf);
       vec2 ra = vec2(1.0, lod_alpha(k, mk.a));
       if (ra.y < 1.0 / 1024.0) continue;
-      /* the direct light crosses the outer layers' hairs as a Poisson
+      /* the direct light crosses the outer layers' hairs, and those of
+       * its cluster it meets on its way (through_layers), as a Poisson
        * count (exp(-n), Zinke's model; the paper's k_shadow belongs to
-       * the kk mode) */
-      float n_self = u_self_shadow != 0
-                         ? mf.a + through_count(r, thru0.x + s * thru0.y,
-                                                thru0.z, shells, k) *
-                                      ra.y
-                         : 0.0;
-      float tau = exp(-n_self);
+       * the kk mode); each layer crossed at this one's own alpha */
+      float n_self =
+          mf.a + (through ? through_layers(r, thru0.x + s * thru0.y,
+                                           thru0.z, shells, cap, k) *
+                                mk.a
+                          : 0.0);
+      float tau = u_self_shadow != 0 ? exp(-n_self) : 1.0;
 #else
       vec4 m = fetch_map(u_turns, t, k);
       vec2 ra = reflectance_alpha(m);
@@ -361,20 +368,21 @@ void main() {
       else if (u_aov == 4) y = vec3(tau * dom);
       else if (u_aov == 5) y = vec3(1.0);
       else {
-        /* the key light shadowed by this cluster's outer layers (eq. 12)
-         * and the other clusters (deep opacity map), as in the paper's
-         * mode; the records hold the shadowing inside an HSV */
+        /* the key light shadowed by this cluster's layers (eq. 12 and
+         * through_layers) and the other clusters (deep opacity map); the
+         * records hold the shadowing inside an HSV */
         y = (mk.rgb + back) * (tau * dom);
         if (u_cluster_shadow != 0) /* forward-scattered: Zinke 2008 */
           y += e0 * global * max(exp(-(n_dom + n_self) * (1.0 - af0)) -
                                  exp(-(n_dom + n_self)), vec3(0.0));
-        if (fill_shadow) {
-          float n1_self = u_self_shadow != 0
-                              ? mf.a + through_count(r, thru1.x + s * thru1.y,
-                                                  thru1.z, shells, k) *
-                                        ra.y
-                              : 0.0;
-          y += (mf.rgb + back1) * exp(-(n_fill + n1_self)) +
+        if (fill_shadow) { /* the fill light through its own path */
+          float n1_self =
+              mf.a + (through ? through_layers(r, thru1.x + s * thru1.y,
+                                               thru1.z, shells, cap, k) *
+                                    mk.a
+                              : 0.0);
+          float tau1 = u_self_shadow != 0 ? exp(-n1_self) : 1.0;
+          y += (mf.rgb + back1) * (tau1 * exp(-n_fill)) +
                e1 * v_fill_global *
                    max(exp(-(n_fill + n1_self) * (1.0 - af1)) -
                            exp(-(n_fill + n1_self)),

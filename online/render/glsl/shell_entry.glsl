@@ -12,8 +12,10 @@
  * past every hair left the cluster unshadowed (the imported ponytail lit
  * from behind: clusters running towards the light at the tie). What lies
  * along the light beyond the chord, the cluster's own hair included, is
- * the map's to count; eq. 12's s-map holds the outer layers' alpha across
- * the cluster, which a ray within the chord meets. */
+ * the map's to count; within it, eq. 12's s-map (the outer layers'
+ * alpha) and, in the physical mode, the layers the light crosses on its
+ * way through the cluster (shade_fs.glsl: through_layers, scaled to the
+ * part of its path within the chord). */
 #define SHELL_ENTRY_MAX_CHORDS 1.0
 vec3 shell_entry(vec3 p, vec2 P, vec3 l, vec3 n1, vec3 n2, float A, float B) {
   vec2 L = vec2(dot(l, n1) / A, dot(l, n2) / B);
