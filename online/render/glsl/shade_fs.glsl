@@ -221,8 +221,10 @@ float through_layers(float r, float xl, float inv_al, float shells,
   float q = (r - max(d, u_core)) * shells;
   /* the path to the far side of shell k, in scene units along the light */
   float path = -2.0 * xl * inv_al;
-  return min(2.0 * q, 2.0 * float(k) + 1.0) *
-         min(cap / max(path, 1e-12), 1.0);
+  /* whole crossings, 1 within the point's own layer, then 2, 4, 6 ... for
+   * each layer deeper, through lines linear between the layers' middles */
+  float n = max(min(2.0 * q, q + 0.5), 2.0 * q - 1.0);
+  return min(n, 2.0 * float(k) + 1.0) * min(cap / max(path, 1e-12), 1.0);
 }
 vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   if (u_aov == 1) return dif;
