@@ -199,20 +199,24 @@ float lod_alpha(int k, float a) {
  * point at radius r of shell k beyond those eq. 12's s-map counts (the
  * layers outside k, once each) and the point's own record holds (its own
  * layer on the near side). Where the light runs towards the axis from the
- * point (it comes from across the cluster: X.L < 0), its line runs through
- * the cluster to the far side of shell k. In the scaled normal plane the
- * shells are circles, r_j = core + (1 - core)(j + 1) / layers, and the
- * line's chord inside shell k, less the hollow core's, in layer
- * thicknesses (1 - core) / layers, less the one on the near side, is the
- * count: 2k + 1 for a line through the axis, as many as the layers it
- * crosses, continuous in the light's direction (counting whole crossings
- * stepped the light by e^-alpha from one shell's tangent to the next).
- * The deep opacity map is read at most `cap` along the light from the
- * fragment (shell_entry), beyond which it counts the cluster's hair
- * itself, so the count is scaled to the part of the path within the cap.
- * xl: X.L, inv_al: 1 / |L|^2 (L the unit light direction projected into
- * the scaled plane), shells: layers / (1 - core). Our addition: SATF's
- * eq. 12 is the outer layers' alpha alone, the same from either side. */
+ * point (it comes from across the cluster: X.L < 0), its line dips q
+ * layers deep below the point, down to the hollow core, and leaves
+ * through the far side of shell k: within the point's own layer it
+ * crosses that layer once more, and for each layer deeper that layer
+ * twice and the one where it turns back out once: 1, 2, 4, 6 ... up to
+ * 2k + 1 through the core (layer j lies between r_(j-1) and r_j, r_j =
+ * core + (1 - core)(j + 1) / layers, circles in the scaled normal plane).
+ * The count is taken linear in q between the layers' middles, so the
+ * light changes continuously with its direction (whole crossings stepped
+ * it at every shell's tangent); the chord's length through the layers,
+ * which weighs a light skimming a layer heavily, came out darker against
+ * Cycles (docs/shading.md, a cluster lit through itself). The deep
+ * opacity map is read at most `cap` along the light from the fragment
+ * (shell_entry), beyond which it counts the cluster's hair itself, so the
+ * count is scaled to the part of the path within the cap. xl: X.L,
+ * inv_al: 1 / |L|^2 (L the unit light direction projected into the scaled
+ * plane), shells: layers / (1 - core). Our addition: SATF's eq. 12 is the
+ * outer layers' alpha alone, the same from either side. */
 float through_layers(float r, float xl, float inv_al, float shells,
                      float cap, int k) {
   if (xl >= 0.0) return 0.0;
@@ -221,8 +225,7 @@ float through_layers(float r, float xl, float inv_al, float shells,
   float q = (r - max(d, u_core)) * shells;
   /* the path to the far side of shell k, in scene units along the light */
   float path = -2.0 * xl * inv_al;
-  /* whole crossings, 1 within the point's own layer, then 2, 4, 6 ... for
-   * each layer deeper, through lines linear between the layers' middles */
+  /* through (0, 0), (1/2, 1), (3/2, 2), (5/2, 4), (7/2, 6) ... */
   float n = max(min(2.0 * q, q + 0.5), 2.0 * q - 1.0);
   return min(n, 2.0 * float(k) + 1.0) * min(cap / max(path, 1e-12), 1.0);
 }
