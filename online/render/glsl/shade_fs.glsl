@@ -128,14 +128,14 @@ float atan2_turns(float y, float x) {
  * s-map owns the attenuation by this cluster's outer layers (in the
  * physical mode with the rest of its own layers the light crosses:
  * through_layers), and the deep opacity map owns the other clusters. So
- * the map is read where the key
- * light's ray towards this point enters the cluster (its exit from the
- * outermost ellipse, in the scaled normal-plane coordinates P of main),
- * moved out by a tenth of the cluster's radius: the map's proxies
- * circumscribe the shell coarsely, and the cluster's own slab must not be
- * counted a second (or third) time. A lone cluster is the first hair
- * there, so the map leaves it unlit by nothing (tests/render/
- * test_correctness.c). */
+ * the map is read where the key light's ray towards this point enters the
+ * cluster (its exit from the outermost ellipse, in the scaled normal-plane
+ * coordinates P of main, taken within the widest chord of the point:
+ * shell_entry.glsl), moved out by a tenth of the cluster's radius: the
+ * map's proxies circumscribe the shell coarsely, and the cluster's own
+ * slab must not be counted a second (or third) time. A lone cluster is
+ * the first hair there, so the map leaves it unlit by nothing
+ * (tests/render/test_correctness.c). */
 float key_light_dom(vec2 P, vec3 n1, vec3 n2, float A, float B) {
   vec3 l = normalize(u_light_local[0].xyz - u_light_local[0].w * v_local);
   vec3 entry = shell_entry(v_local, P, l, n1, n2, A, B);
