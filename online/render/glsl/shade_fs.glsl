@@ -229,6 +229,17 @@ float through_layers(float r, float xl, float inv_al, float shells,
   float n = max(min(2.0 * q, q + 0.5), 2.0 * q - 1.0);
   return min(n, 2.0 * float(k) + 1.0) * min(cap / max(path, 1e-12), 1.0);
 }
+/* A light's Poisson count of this cluster's hairs in front of the layer
+ * point at s along the eye ray: eq. 12's outer layers (`outer`) and, when
+ * `through`, the layers it crosses (thru: X.L = thru.x + s thru.y, and
+ * 1 / |L|^2), each at the layer's own `alpha`. */
+float self_hairs(vec3 thru, float s, float r, float shells, float cap, int k,
+                 float outer, float alpha, bool through) {
+  return outer + (through ? through_layers(r, thru.x + s * thru.y, thru.z,
+                                           shells, cap, k) *
+                                alpha
+                          : 0.0);
+}
 vec3 select_aov(vec3 dif, vec3 s1, vec3 s2) {
   if (u_aov == 1) return dif;
   if (u_aov == 2) return s1;
@@ -354,10 +365,7 @@ void main() {
        * count (exp(-n), Zinke's model; the paper's k_shadow belongs to
        * the kk mode); each layer crossed at this one's own alpha */
       float n_self =
-          mf.a + (through ? through_layers(r, thru0.x + s * thru0.y,
-                                           thru0.z, shells, cap, k) *
-                                mk.a
-                          : 0.0);
+          self_hairs(thru0, s, r, shells, cap, k, mf.a, mk.a, through);
       float tau = u_self_shadow != 0 ? exp(-n_self) : 1.0;
 #else
       vec4 m = fetch_map(u_turns, t, k);
@@ -382,10 +390,7 @@ void main() {
                                  exp(-(n_dom + n_self)), vec3(0.0));
         if (fill_shadow) { /* the fill light through its own path */
           float n1_self =
-              mf.a + (through ? through_layers(r, thru1.x + s * thru1.y,
-                                               thru1.z, shells, cap, k) *
-                                    mk.a
-                              : 0.0);
+              self_hairs(thru1, s, r, shells, cap, k, mf.a, mk.a, through);
           float tau1 = u_self_shadow != 0 ? exp(-n1_self) : 1.0;
           y += (mf.rgb + back1) * (tau1 * exp(-n_fill)) +
                e1 * v_fill_global *
