@@ -172,6 +172,10 @@ typedef struct satf_frame_timing {
   double total_ms;
   long lookups;
   long fragments; /* fragments stored in the per-pixel lists */
+  /* L's passes of the exact composite, while satf_renderer_set_pass_timing
+   * is on (else 0): the clusters' shells, the strands drawn among them
+   * (clusters drawn as their strands) and the sorted resolve */
+  double shells_ms, strands_ms, resolve_ms;
 } satf_frame_timing;
 
 #define SATF_LOD_LEVELS 4
@@ -311,6 +315,11 @@ int satf_renderer_sparse_strands(const satf_renderer *r);
  * (no popping), and draws a coarser proxy. */
 void satf_renderer_set_lod(satf_renderer *r, int on);
 int satf_renderer_lod(const satf_renderer *r);
+/* Times L's passes apart (satf_frame_timing: shells_ms, strands_ms,
+ * resolve_ms; off at creation): the GPU is waited for between them, which
+ * a frame otherwise does not do, so L may take a little longer with it. */
+void satf_renderer_set_pass_timing(satf_renderer *r, int on);
+int satf_renderer_pass_timing(const satf_renderer *r);
 /* The cluster shadows' deep opacity map is kept across scene changes
  * (satf_renderer_set_scene: animated hair) while no cluster's control
  * point has moved more than `texels` of its texels across the light or

@@ -11,6 +11,7 @@
 
 #include "depth.h"
 #include "draw.h"
+#include "satf/common.h"
 #include "shaders.h"
 
 /* Per-draw uniform locations of a layer program. */
@@ -99,10 +100,22 @@ void cluster_gpu_draw(const satf_renderer *r, GLuint prog,
   glFrontFace(GL_CCW);
 }
 
+/* With pass timing on (satf_renderer_set_pass_timing): waits for the GPU
+ * and adds the time since *t0 to r->pass_ms[pass], restarting *t0. */
+static void pass_mark(satf_renderer *r, int pass, double *t0) {
+  if (!r->pass_timing)
+    return;
+  glFinish();
+  double t = satf_now_seconds();
+  if (pass >= 0)
+    r->pass_ms[pass] += 1e3 * (t - *t0);
+  *t0 = t;
+}
+
 /* Every cluster's fragments into the per-pixel arrays (mode: u_list_mode
  * of glsl/shade_fs.glsl). */
-static void fill_lists(const satf_renderer *r, satf_aov aov,
-                       const float viewproj[16], int mode, int opaque) {
+static void fill_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
+                       int mode, int opaque) {
   lists_bind(&r->lists, mode);
   /* the nearest passes test against the overflow mask */
   draw_hair_depth_test(r->nmeshes > 0 || opaque || mode > 0);
@@ -112,19 +125,26 @@ static void fill_lists(const satf_renderer *r, satf_aov aov,
   glUniform1i(glGetUniformLocation(prog, "u_list_mode"), mode);
   glEnable(GL_CULL_FACE); /* front faces: each traces the whole cluster */
   glCullFace(GL_BACK);
+  double t0 = 0.0;
+  pass_mark(r, -1, &t0);
   cluster_gpu_draw(r, prog, viewproj, 0);
+  pass_mark(r, 0, &t0);
   glDisable(GL_CULL_FACE);
   sparse_lists(r, aov, viewproj, mode); /* their strands, sorted with them */
+  pass_mark(r, 1, &t0);
   draw_hair_depth_test(0);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                   GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
                   GL_TEXTURE_FETCH_BARRIER_BIT);
 }
 
-void cluster_gpu_resolve(const satf_renderer *r, satf_aov aov,
+void cluster_gpu_resolve(satf_renderer *r, satf_aov aov,
                          const float viewproj[16], int pool) {
+  double t0 = 0.0;
+  pass_mark(r, -1, &t0);
   if (aov == SATF_AOV_DEPTH) {
     depth_resolve(r, viewproj);
+    pass_mark(r, 2, &t0);
     return;
   }
   satf_gl_target_bind(r->out);
@@ -141,6 +161,7 @@ void cluster_gpu_resolve(const satf_renderer *r, satf_aov aov,
   shaders_fullscreen(r->empty_vao);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_BLEND);
+  pass_mark(r, 2, &t0);
 }
 
 GLuint cluster_gpu_lists(satf_renderer *r, satf_aov aov,

@@ -68,6 +68,7 @@ static satf_status clusters_frame(satf_renderer *r, satf_aov aov, int refresh,
   float viewproj[16];
   view_camera(&r->view, viewproj);
   long count = 0;
+  memset(r->pass_ms, 0, sizeof r->pass_ms);
   st = composite(r, aov, viewproj, &count, err);
   if (st != SATF_OK)
     return st;
@@ -77,6 +78,9 @@ static satf_status clusters_frame(satf_renderer *r, satf_aov aov, int refresh,
   t.lighting_ms = 1e3 * (t3 - t2);
   t.total_ms = 1e3 * (t3 - t0);
   t.fragments = (long)count;
+  t.shells_ms = r->pass_ms[0];
+  t.strands_ms = r->pass_ms[1];
+  t.resolve_ms = r->pass_ms[2];
   if (timing)
     *timing = t;
   return satf_gl_check("frame", err);

@@ -172,6 +172,10 @@ satf_pixel_filter satf_renderer_pixel_filter(const satf_renderer *r) {
   return r->pixel_filter;
 }
 void satf_renderer_set_lod(satf_renderer *r, int on) { r->lod = on != 0; }
+void satf_renderer_set_pass_timing(satf_renderer *r, int on) {
+  r->pass_timing = on != 0;
+}
+int satf_renderer_pass_timing(const satf_renderer *r) { return r->pass_timing; }
 int satf_renderer_lod(const satf_renderer *r) { return r->lod; }
 void satf_renderer_set_shadow_move(satf_renderer *r, float texels) {
   r->dom.move_tol = texels >= 0.0f ? texels : -1.0f;
@@ -257,6 +261,9 @@ static satf_status render_frame(satf_renderer *r, satf_aov aov, int refresh,
     sum.lighting_ms += t.lighting_ms;
     sum.total_ms += t.total_ms;
     sum.fragments += t.fragments;
+    sum.shells_ms += t.shells_ms;
+    sum.strands_ms += t.strands_ms;
+    sum.resolve_ms += t.resolve_ms;
   }
   r->view.jitter[0] = r->view.jitter[1] = 0.0f;
   if (st == SATF_OK)

@@ -158,6 +158,10 @@ struct satf_renderer {
   GLuint inst_models, inst_shading;
   int instanced; /* 0: one draw per instance (a test's reference) */
   int lod;       /* level of detail by size on screen (lod.c) */
+  /* satf_renderer_set_pass_timing, and this frame's L by pass so far:
+   * shells, strands among them, resolve (cluster_gpu.c) */
+  int pass_timing;
+  double pass_ms[3];
   lod_params lod_opt;
   /* sparse clusters' strands (sparse.c), NULL if none; sparse_max: the
    * most strands a cluster drawn so may hold (0: none is) */
@@ -316,7 +320,7 @@ GLuint cluster_gpu_lists(satf_renderer *r, satf_aov aov,
  * pass's pool holds the fragments past the slots (lists_pool_held) and no
  * nearest pass was drawn, so the colour's resolve keeps the nearest of
  * the arrays and the pool. */
-void cluster_gpu_resolve(const satf_renderer *r, satf_aov aov,
+void cluster_gpu_resolve(satf_renderer *r, satf_aov aov,
                          const float viewproj[16], int pool);
 /* Clusters drawn far to near with "over" blending. */
 satf_status cluster_gpu_ordered(satf_renderer *r, satf_aov aov,

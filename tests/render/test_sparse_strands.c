@@ -119,6 +119,39 @@ static satf_image *render_counted(const fixture_gl *f, const char *json, how h,
   return img;
 }
 
+/* L's passes timed apart (satf_renderer_set_pass_timing): a sparse strand
+ * in front of a dense cluster puts time in each of the exact composite's
+ * three passes, which lie within L; with the timing off (the default) the
+ * frame reports none. */
+static void test_pass_timing(void **state) {
+  const fixture_gl *f = *state;
+  satf_scene *scene = fixture_scene(scene_text(0.0f, 2.0f, 1, -2.0f));
+  assert_non_null(scene);
+  satf_renderer *r = NULL;
+  satf_error err;
+  if (satf_renderer_create(scene, f->db, W, H, 0, &r, &err) != SATF_OK)
+    fail_msg("%s", err.message);
+  assert_int_equal(satf_renderer_pass_timing(r), 0);
+  for (int on = 0; on <= 1; on++) {
+    satf_renderer_set_pass_timing(r, on);
+    assert_int_equal(satf_renderer_pass_timing(r), on);
+    satf_frame_timing t;
+    if (satf_renderer_render(r, SATF_AOV_BEAUTY, &t, &err) != SATF_OK)
+      fail_msg("%s", err.message);
+    double sum = t.shells_ms + t.strands_ms + t.resolve_ms;
+    if (!on) {
+      assert_true(sum == 0.0);
+      continue;
+    }
+    assert_true(t.shells_ms > 0.0);
+    assert_true(t.strands_ms > 0.0);
+    assert_true(t.resolve_ms > 0.0);
+    assert_true(sum <= t.lighting_ms + 1e-3);
+  }
+  satf_renderer_destroy(r);
+  satf_scene_destroy(scene);
+}
+
 static satf_image *render(const fixture_gl *f, const char *json, how h) {
   return render_counted(f, json, h, NULL, NULL);
 }
@@ -522,6 +555,7 @@ int main(void) {
       cmocka_unit_test(test_sparse_strand_moves_with_scene),
       cmocka_unit_test(test_sparse_setting_bounds),
       cmocka_unit_test(test_strands_alone_without_arrays),
+      cmocka_unit_test(test_pass_timing),
       cmocka_unit_test(test_auto_filter_of_sparse_clusters),
       cmocka_unit_test(test_dom_slab_of_shell_clusters),
       cmocka_unit_test(test_dom_slab_without_shells),

@@ -426,6 +426,10 @@ static satf_status bench(const options *o, const satf_gl_context *ctx,
    * ordered composite blends without counting them) and the look-ups of a
    * frame after the camera moved and of one where nothing changed */
   satf_frame_timing moved, still;
+  /* L by pass: its shells, the strands among them and the resolve, timed
+   * apart (waiting for the GPU between them) only for these frames, so
+   * the row above is the frame as it runs */
+  satf_renderer_set_pass_timing(r, 1);
   st = satf_renderer_render(r, SATF_AOV_BEAUTY, &moved, err);
   if (st == SATF_OK)
     st = satf_renderer_render(r, SATF_AOV_BEAUTY, &still, err);
@@ -439,6 +443,14 @@ static satf_status bench(const options *o, const satf_gl_context *ctx,
     printf("fragments - (ordered)");
   printf("; look-ups %ld after a move, %ld when still (%.1f ms C)\n",
          moved.lookups, still.lookups, still.maps_ms);
+  satf_renderer_set_pass_timing(r, 0);
+  if (still.shells_ms + still.strands_ms + still.resolve_ms > 0.0)
+    printf("L by pass %.1f ms: shells %.1f, strands among them %.1f, "
+           "resolve %.1f, the rest (clears, meshes, counts) %.1f\n",
+           still.lighting_ms, still.shells_ms, still.strands_ms,
+           still.resolve_ms,
+           still.lighting_ms - still.shells_ms - still.strands_ms -
+               still.resolve_ms);
   /* clusters per level of detail at the starting view (lod.c) */
   satf_render_stats now;
   satf_renderer_stats(r, &now);
