@@ -231,7 +231,11 @@ satf_status sparse_build(satf_renderer *r, satf_error *err) {
       in->seg0 = seg;
       size_t from = at;
       for (int k = n; k < n + got; k++) {
-        /* within a tenth of the strand's width: no pixel sees it */
+        /* within a quarter of the strand's width: the drawn strand keeps
+         * covering the line through its points; a tenth kept about 1.6
+         * times the segments (docs/performance.md, "Strands among the
+         * clusters": generated curls at 0.65-0.75x the frame rate, 0.002
+         * closer to Cycles in SSIM4) */
         size_t c = (size_t)counts[k];
         if (from != at) {
           memmove(xyz + 3 * at, xyz + 3 * from, 3 * c * sizeof(float));
@@ -239,7 +243,7 @@ satf_status sparse_build(satf_renderer *r, satf_error *err) {
         }
         from += c;
         counts[k] =
-            thin_strand(xyz + 3 * at, width + at, counts[k], 0.1f * width[at]);
+            thin_strand(xyz + 3 * at, width + at, counts[k], 0.25f * width[at]);
         at += (size_t)counts[k];
         seg += (size_t)counts[k] - 1;
       }
