@@ -172,11 +172,11 @@ satf_pixel_filter satf_renderer_pixel_filter(const satf_renderer *r) {
   return r->pixel_filter;
 }
 void satf_renderer_set_lod(satf_renderer *r, int on) { r->lod = on != 0; }
+int satf_renderer_lod(const satf_renderer *r) { return r->lod; }
 void satf_renderer_set_pass_timing(satf_renderer *r, int on) {
   r->pass_timing = on != 0;
 }
 int satf_renderer_pass_timing(const satf_renderer *r) { return r->pass_timing; }
-int satf_renderer_lod(const satf_renderer *r) { return r->lod; }
 void satf_renderer_set_shadow_move(satf_renderer *r, float texels) {
   r->dom.move_tol = texels >= 0.0f ? texels : -1.0f;
 }
