@@ -433,6 +433,7 @@ static satf_status bench(const options *o, const satf_gl_context *ctx,
   st = satf_renderer_render(r, SATF_AOV_BEAUTY, &moved, err);
   if (st == SATF_OK)
     st = satf_renderer_render(r, SATF_AOV_BEAUTY, &still, err);
+  satf_renderer_set_pass_timing(r, 0);
   if (st != SATF_OK)
     return st;
   double px = (double)o->w * (double)o->h;
@@ -443,7 +444,6 @@ static satf_status bench(const options *o, const satf_gl_context *ctx,
     printf("fragments - (ordered)");
   printf("; look-ups %ld after a move, %ld when still (%.1f ms C)\n",
          moved.lookups, still.lookups, still.maps_ms);
-  satf_renderer_set_pass_timing(r, 0);
   if (still.shells_ms + still.strands_ms + still.resolve_ms > 0.0)
     printf("L by pass %.1f ms: shells %.1f, strands among them %.1f, "
            "resolve %.1f, the rest (clears, meshes, counts) %.1f\n",
