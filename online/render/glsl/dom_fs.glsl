@@ -1,11 +1,12 @@
 #version 430 core
 /* dom_fs.glsl - the deep opacity map's slabs: each cluster's alpha added
- * into the slab its depth falls in. */
+ * into the slabs between its outermost shell and its axis. */
 #ifndef PHYSICAL
 #define PHYSICAL 0
 #endif
 #include "map_fetch.glsl"
 in vec2 v_uv;
+in float v_centre_z; /* the depth of the cluster's axis at v_uv's t */
 uniform sampler2D u_dom_depth;
 uniform float u_dom_slab;
 #include "dom_write.glsl"
@@ -20,5 +21,5 @@ void main() {
   vec4 m = fetch_map(v_uv.x, v_uv.y, 0);
   float a = m.b + m.g;
 #endif
-  dom_write(a); /* summed alpha ~ optical depth */
+  dom_write_spread(a, v_centre_z); /* summed alpha ~ optical depth */
 }
