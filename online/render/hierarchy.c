@@ -22,7 +22,9 @@
 #define THIN_COLUMNS 6
 
 /* The proxy: (st + 1) x (PROXY_COLUMNS + 1) vertices on an elliptic
- * cylinder circumscribing the outer shell, each with position, hair
+ * cylinder circumscribing the outer shell (then the thin ring's, then the
+ * hubs of the end caps that close it for the shading passes: a cluster
+ * seen down its axis shows no outward wall), each with position, hair
  * tangent, (u, t), and the cross-section at t as the shading pass needs it:
  * C(t), the ellipse's axes n1, n2 (already turned by the twist theta, SATF
  * eq. 1 as satf/geometry.h reads it, so the shader measures the phase u
@@ -44,6 +46,25 @@ void hierarchy_resample_curve(const satf_scene_curve *c, int n, float *out) {
   }
 }
 
+/* One proxy vertex (PROXY_FLOATS, layout above) of section sec at t: at
+ * radius v (1: the outer shell) and phase u, texture u coordinate `tex_u`;
+ * the hair's direction is the outer shell's where v lies beyond it. */
+static void proxy_vertex(const satf_cluster_section *sec, float t, float v,
+                         float u, float tex_u, float *out) {
+  satf_cluster_section_point(sec, v, u, out);
+  satf_cluster_section_hair_tangent(sec, v < 1.0f ? v : 1.0f, u, out + 3);
+  out[6] = tex_u;
+  out[7] = t;
+  memcpy(out + 8, sec->center, 3 * sizeof(float));
+  memcpy(out + 11, sec->n1, 3 * sizeof(float));
+  memcpy(out + 14, sec->n2, 3 * sizeof(float));
+  out[17] = sec->a;
+  out[18] = sec->b;
+  out[19] = sec->theta;
+  out[20] = sqrtf(satf_dot3f(sec->dcenter, sec->dcenter));
+  memcpy(out + 21, sec->tangent, 3 * sizeof(float));
+}
+
 /* The proxy's vertices (PROXY_FLOATS each, layout above) for `columns`
  * columns around. */
 static void proxy_vertices(const satf_cluster *cluster, int st, int columns,
@@ -56,23 +77,20 @@ static void proxy_vertices(const satf_cluster *cluster, int st, int columns,
     satf_cluster_section sec;
     float t = (float)i / (float)st;
     satf_cluster_section_at(cluster, t, &sec);
-    float speed = sqrtf(satf_dot3f(sec.dcenter, sec.dcenter));
-    for (int j = 0; j < cols; j++) {
-      float *v = f + PROXY_FLOATS * ((size_t)i * cols + (size_t)j);
-      float u = SATF_TWO_PI_F * (float)j / (float)columns;
-      satf_cluster_section_point(&sec, inflate, u, v);
-      satf_cluster_section_hair_tangent(&sec, 1.0f, u, v + 3);
-      v[6] = (float)j / (float)columns;
-      v[7] = t;
-      memcpy(v + 8, sec.center, 3 * sizeof(float));
-      memcpy(v + 11, sec.n1, 3 * sizeof(float));
-      memcpy(v + 14, sec.n2, 3 * sizeof(float));
-      v[17] = sec.a;
-      v[18] = sec.b;
-      v[19] = sec.theta;
-      v[20] = speed;
-      memcpy(v + 21, sec.tangent, 3 * sizeof(float));
-    }
+    for (int j = 0; j < cols; j++)
+      proxy_vertex(&sec, t, inflate, SATF_TWO_PI_F * (float)j / (float)columns,
+                   (float)j / (float)columns,
+                   f + PROXY_FLOATS * ((size_t)i * cols + (size_t)j));
+  }
+}
+
+/* The centres of the proxy's two ends, t = 0 then t = 1, into f (2 x
+ * PROXY_FLOATS): the hubs of its end caps. */
+static void proxy_hubs(const satf_cluster *cluster, float *f) {
+  for (int e = 0; e < 2; e++) {
+    satf_cluster_section sec;
+    satf_cluster_section_at(cluster, (float)e, &sec);
+    proxy_vertex(&sec, (float)e, 0.0f, 0.0f, 0.0f, f + PROXY_FLOATS * e);
   }
 }
 
@@ -92,24 +110,50 @@ static uint32_t *proxy_band(int i0, int i1, int columns, uint32_t base,
   return q;
 }
 
+/* Whether proxy `level` is closed by caps at its ends: the shading's
+ * levels, not the light passes' (LOD_PROXY_DOM: its walls' alpha is the
+ * whole column's, cluster_dom.c). */
+static int proxy_capped(int level) { return level != LOD_PROXY_DOM; }
+
 /* Triangles of proxy `level` (lod.h) for st rows. */
 static size_t proxy_triangles(int level, int st) {
   int rows = lod_proxy_rows(level);
   int cols = lod_proxy_thin(level) ? THIN_COLUMNS : PROXY_COLUMNS;
-  return 2 * (size_t)((st + rows - 1) / rows) * (size_t)cols;
+  return 2 * (size_t)((st + rows - 1) / rows) * (size_t)cols +
+         (proxy_capped(level) ? 2 * (size_t)cols : 0);
 }
 
-/* Every proxy's bands, one after another (p->lod_first, p->lod_count);
- * the thin ones' vertices start at `thin_base`. */
-static void proxy_indices(proto *p, int st, uint32_t thin_base, uint32_t *q) {
+/* The two end caps of a proxy of `columns` columns whose ring vertices
+ * start at `base` (st rows) and whose hubs are `hubs` (t = 0) and hubs + 1
+ * (t = 1): a fan each, counter-clockwise seen from outside, as
+ * proxy_band's faces (d/du x d/dt outwards makes n1 x n2 the direction of
+ * growing t, so the fan turns with u at t = 1 and against it at t = 0). */
+static uint32_t *proxy_caps(int st, int columns, uint32_t base, uint32_t hubs,
+                            uint32_t *q) {
+  int cols = columns + 1;
+  for (int j = 0; j < columns; j++) {
+    uint32_t a = base + (uint32_t)j, e = base + (uint32_t)(st * cols + j);
+    *q++ = hubs, *q++ = a + 1, *q++ = a;
+    *q++ = hubs + 1, *q++ = e, *q++ = e + 1;
+  }
+  return q;
+}
+
+/* Every proxy's bands and caps, one after another (p->lod_first,
+ * p->lod_count); the thin ones' vertices start at `thin_base`, the hubs
+ * at `hubs`. */
+static void proxy_indices(proto *p, int st, uint32_t thin_base, uint32_t hubs,
+                          uint32_t *q) {
   const uint32_t *start = q;
   for (int level = 0; level < LOD_PROXIES; level++) {
     int rows = lod_proxy_rows(level), thin = lod_proxy_thin(level);
+    int columns = thin ? THIN_COLUMNS : PROXY_COLUMNS;
+    uint32_t base = thin ? thin_base : 0;
     p->lod_first[level] = (GLsizei)(q - start);
     for (int i = 0; i < st; i += rows)
-      q = proxy_band(i, i + rows < st ? i + rows : st,
-                     thin ? THIN_COLUMNS : PROXY_COLUMNS, thin ? thin_base : 0,
-                     q);
+      q = proxy_band(i, i + rows < st ? i + rows : st, columns, base, q);
+    if (proxy_capped(level))
+      q = proxy_caps(st, columns, base, hubs, q);
     p->lod_count[level] = (GLsizei)(q - start) - p->lod_first[level];
   }
 }
@@ -143,7 +187,8 @@ static void proxy_upload(proto *p, const float *f, size_t nv,
 static satf_status build_proxy(proto *p, const satf_shell_params *sh,
                                satf_error *err) {
   size_t nfull = (size_t)(sh->st + 1) * (size_t)(PROXY_COLUMNS + 1);
-  size_t nv = nfull + (size_t)(sh->st + 1) * (size_t)(THIN_COLUMNS + 1);
+  size_t nthin = (size_t)(sh->st + 1) * (size_t)(THIN_COLUMNS + 1);
+  size_t nv = nfull + nthin + 2; /* and the caps' two hubs */
   size_t ntri = 0;
   for (int level = 0; level < LOD_PROXIES; level++)
     ntri += proxy_triangles(level, sh->st);
@@ -156,7 +201,8 @@ static satf_status build_proxy(proto *p, const satf_shell_params *sh,
   }
   proxy_vertices(p->cluster, sh->st, PROXY_COLUMNS, f);
   proxy_vertices(p->cluster, sh->st, THIN_COLUMNS, f + nfull * PROXY_FLOATS);
-  proxy_indices(p, sh->st, (uint32_t)nfull, idx);
+  proxy_hubs(p->cluster, f + (nfull + nthin) * PROXY_FLOATS);
+  proxy_indices(p, sh->st, (uint32_t)nfull, (uint32_t)(nfull + nthin), idx);
   lod_measure(f, nfull, PROXY_FLOATS, PROXY_COLUMNS + 1, sh->st, p->lod_sphere,
               &p->lod_width, &p->lod_sag);
   proxy_upload(p, f, nv, idx, ntri * 3);
