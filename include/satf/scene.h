@@ -116,6 +116,10 @@ typedef struct satf_scene_density {
   int holes;          /* holes: number of empty discs */
   float hole_radius;  /* holes: hole radius / cluster radius */
   float gradient;     /* gradient: density slope from core to surface */
+  /* procedural and tracks: the angle (degrees, 0 to 90) at which the
+   * fibres cross the trajectory, curling about it (0: along it); the
+   * physical shading averages the lobes' M_p over that cone of tangents */
+  float curl;
   /* vdb */
   char *vdb_file; /* resolved against the scene file's directory */
   char *vdb_grid; /* grid name, default "density" */

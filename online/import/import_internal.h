@@ -162,6 +162,10 @@ typedef struct satf_import_fit {
    * all at strand_width) */
   int *track_member;
   float *track_width;
+  /* the members' own curl (satf_import_members_curl), scene units; > 0:
+   * the scene gives the cluster the strands' angle to its trajectory
+   * (satf_scene_density.curl) */
+  float curl;
 } satf_import_fit;
 
 /* Fits the cluster of the strands `members`: the trajectory is the
@@ -247,6 +251,20 @@ typedef struct satf_import_refine_params {
 satf_import_refine_params
 satf_import_refine_params_for(const satf_strand_set *s, satf_import_quality q,
                               double tolerance);
+
+/* How far strand i curls about its own course (import_curl.c): the p90
+ * distance of its points, 33 evenly along it, to their moving average over
+ * a quarter of the strand; about a helix's radius, near 0 for straight or
+ * wavy hair. */
+float satf_import_strand_curl(const satf_strand_set *s, int i);
+
+/* The median of curl[] over the n members (0 for fewer than two). */
+float satf_import_members_curl(const float *curl, const int *members, int n);
+
+/* Sets fits[c].curl for each of the n clusters (labels: each strand's),
+ * on `threads` threads (0: all cores). Returns 0, or -1 out of memory. */
+int satf_import_fits_curl(const satf_strand_set *s, const int *labels,
+                          satf_import_fit *fits, int n, int threads);
 
 /* How much of a tolerance a fit uses: the largest of its measures over its
  * limit (<= 1: it passes). */

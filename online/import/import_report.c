@@ -148,7 +148,7 @@ void satf_import_fit_stats_print(FILE *out, const char *prog,
 satf_status satf_import_write_fit_report(const char *path,
                                          const satf_import_fit *fits, int n,
                                          satf_error *err) {
-  size_t cap = 512 + (size_t)n * 320, len = 0;
+  size_t cap = 512 + (size_t)n * 336, len = 0;
   char *buf = malloc(cap);
   if (!buf)
     return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory", path);
@@ -156,21 +156,21 @@ satf_status satf_import_write_fit_report(const char *path,
       buf + len, cap - len,
       "cluster\tstrands\tpoints\tcontrol\tlength\tdiameter\taspect\t"
       "area_per_strand\ttraj_p50\ttraj_p90\ttraj_max\tsurf_p50\tsurf_p90\t"
-      "surf_max\tout_p50\tout_p90\tout_max\tdir_p50\tdir_p90\tdir_max\n");
+      "surf_max\tout_p50\tout_p90\tout_max\tdir_p50\tdir_p90\tdir_max\tcurl\n");
   for (int c = 0; c < n && len < cap; c++) {
     const satf_import_fit *f = &fits[c];
     const satf_import_fit_measures *m = &f->measures;
     len += (size_t)snprintf(
         buf + len, cap - len,
         "%d\t%d\t%zu\t%d\t%.6g\t%.6g\t%.4g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t"
-        "%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.4g\t%.4g\t%.4g\n",
+        "%.6g\t%.6g\t%.6g\t%.6g\t%.6g\t%.4g\t%.4g\t%.4g\t%.4g\n",
         c, f->strands, f->points, f->n_ctrl, (double)f->length,
         (double)m->diameter, (double)m->aspect, (double)m->area_per_strand,
         (double)m->trajectory[0], (double)m->trajectory[1],
         (double)m->trajectory[2], (double)m->surface[0], (double)m->surface[1],
         (double)m->surface[2], (double)m->outside[0], (double)m->outside[1],
         (double)m->outside[2], (double)m->direction[0], (double)m->direction[1],
-        (double)m->direction[2]);
+        (double)m->direction[2], (double)f->curl);
   }
   satf_status st = SATF_OK;
   if (len >= cap)

@@ -301,11 +301,20 @@ static satf_status cluster(run *u, satf_error *err) {
   return st;
 }
 
+/* Each cluster's curl (import_curl.c), after either clustering. */
+static satf_status fits_curl(run *u, satf_error *err) {
+  if (satf_import_fits_curl(u->all, u->labels, u->fits, u->r->n_clusters,
+                            (int)u->o->threads))
+    return satf_error_set(err, SATF_ERR_NOMEM, "%s: out of memory",
+                          u->o->inputs[0]);
+  return SATF_OK;
+}
+
 static satf_status fit(run *u, satf_error *err) {
   const satf_import_options *o = u->o;
   int n = u->r->n_clusters;
   if (u->fits) /* the adaptive clustering fitted them */
-    return SATF_OK;
+    return fits_curl(u, err);
   u->fits = calloc((size_t)n, sizeof *u->fits);
   u->fp = satf_import_fit_params_default();
   u->fp.n_ctrl = (int)o->control;
@@ -324,7 +333,7 @@ static satf_status fit(run *u, satf_error *err) {
     return satf_error_set(err, st, "%s%s: fitting failed: %s", o->inputs[0],
                           o->n_inputs > 1 ? " (and the other inputs)" : "",
                           why.message);
-  return SATF_OK;
+  return fits_curl(u, err);
 }
 
 /* The VDB voxel: a sixth of the median cluster radius, no finer than 1/512

@@ -87,6 +87,10 @@ static void fill_cluster(const satf_import_fit *f,
     return;
   }
   d->strand_width = round7(f->strand_width);
+  /* curly strands (their median curl above 0: import_curl.c) cross their
+   * trajectory at the median angle of their points' tangents to it */
+  if (f->curl > 0.0f)
+    d->curl = round7(fminf(f->measures.direction[0], 90.0f));
   d->scale = round7(satf_import_density_scale(
       f->strand_width, (1.0f - c->shell.core) / (float)c->shell.layers));
   if (f->n_tracks > 0) { /* the cluster's own strands (tracks) */

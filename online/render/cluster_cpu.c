@@ -124,6 +124,7 @@ static int fiber_maps(const satf_renderer *r, const inst *in, int part,
   maps_fiber_lights(&r->view, in->inv, lights);
   satf_map_options opt = r->map_opt;
   opt.orientation_free &= r->protos[in->proto].from_strands;
+  opt.tilt = r->protos[in->proto].tilt;
   return satf_maps_fiber_build(r->maps, r->fiber, &in->geom, in->eye, lights,
                                r->view.nlights, r->effects.secondary_highlight,
                                &opt, part, parts, sums, in->texels);

@@ -311,6 +311,9 @@ static satf_status build_proto(satf_renderer *r, int index,
     return st;
   p->sparse = hierarchy_sparse(c, r->sparse_max);
   p->from_strands = c->density.type != SATF_SCENE_DENSITY_PROCEDURAL;
+  p->tilt = c->density.type == SATF_SCENE_DENSITY_VDB
+                ? 0.0f
+                : c->density.curl * (SATF_PI_F / 180.0f);
   if (c->density.type != SATF_SCENE_DENSITY_VDB)
     return SATF_OK;
   satf_error cerr;

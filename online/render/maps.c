@@ -144,7 +144,7 @@ satf_status satf_maps_prepare(const satf_maps *m, satf_shell_geom *g,
  * neighbouring HSVs 25-45% (reflectance), for 1.3-1.5x the map stage;
  * k = 8 gains 1-2% more accuracy for 1.7-2.2x. */
 satf_map_options satf_map_options_default(void) {
-  satf_map_options o = {0.05f, 4, 1};
+  satf_map_options o = {0.05f, 4, 1, 0.0f};
   return o;
 }
 

@@ -63,6 +63,9 @@ typedef struct satf_map_options {
    * procedural density is a wisp of its own, which the records' own
    * level shades round, lit on the light's side (samples/cluster_6a). */
   int orientation_free;
+  /* the physical mode: the cluster's fibres cross its trajectory at this
+   * angle (radians; satf_scene_density.tilt), M_p averaged over the cone */
+  float tilt;
 } satf_map_options;
 
 satf_map_options satf_map_options_default(void);

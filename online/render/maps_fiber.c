@@ -282,6 +282,9 @@ typedef struct sector_look {
   direction light[SATF_SCENE_MAX_LIGHTS];
   float fall[SATF_SCENE_MAX_LIGHTS]; /* falloff (1: directional) */
   satf_db_cell key; /* the key light's look-up's, for it and its prefetch */
+  /* with a tilt (satf_map_options.tilt) only: the sector's two axes
+   * across the hair, and the unit directions to the eye and each light */
+  float across[2][3], to_eye[3], to_light[SATF_SCENE_MAX_LIGHTS][3];
 } sector_look;
 
 /* Light l from sector frame fr: its direction and falloff. */
@@ -293,9 +296,18 @@ static direction light_direction(const float *fr, const float hair[3],
   return sector_direction(fr, hair, ld);
 }
 
+/* The unit vector from sector frame fr towards light l. */
+static void light_vector(const float *fr, const satf_fiber_light *l,
+                         float out[3]) {
+  const float *L = l->local;
+  for (int c = 0; c < 3; c++)
+    out[c] = L[c] - L[3] * fr[c];
+  satf_normalize3f(out);
+}
+
 static void look_at(const satf_maps_fiber *f, const satf_shell_geom *g,
                     size_t q, const float eye[3],
-                    const satf_fiber_light *lights, int n_lights,
+                    const satf_fiber_light *lights, int n_lights, float tilt,
                     column_entry *c, sector_look *s) {
   const float *fr = g->frames + 9 * q;
   s->q = q;
@@ -320,6 +332,46 @@ static void look_at(const satf_maps_fiber *f, const satf_shell_geom *g,
                       : light_direction(fr, s->hair, &lights[l], &s->fall[l]);
   }
   satf_db_cell_find(f->db, s->view.azimuth, s->light[0].azimuth, &s->key);
+  if (tilt > 0.0f) {
+    memcpy(s->across, fr + 3, sizeof s->across);
+    satf_normalize3f(s->across[0]);
+    satf_normalize3f(s->across[1]);
+    memcpy(s->to_eye, vd, sizeof vd);
+    satf_normalize3f(s->to_eye);
+    for (int l = 0; l < n_lights; l++)
+      light_vector(fr, &lights[l], s->to_light[l]);
+  }
+}
+
+/* Fibre tangents around a tilted cluster's cone: enough that M_p's
+ * average over them varies by under 1% as the view turns about the
+ * trajectory at a 45 degree tilt (the R lobe's width, about 17 degrees at
+ * roughness 0.3, spans a sixth of the cone's circumference). */
+#define TILT_TANGENTS 8
+
+/* The four lobes' M_p of a sector whose fibres cross the hair direction
+ * at angle `tilt`, curling about it (satf_scene_density.tilt): the mean
+ * of M_p over TILT_TANGENTS tangents evenly around that cone, each at its
+ * own sin theta to the light and the eye (d'Eon 2011 eq. 7 for M_p at
+ * each; the cone is our model of curls, whose fibres' azimuth about the
+ * trajectory is uniform along a helix). The records' azimuthal part stays
+ * the sector's. */
+static v4f mp_tilted(const satf_maps_fiber *f, const sector_look *s, int li,
+                     float tilt) {
+  float ct = cosf(tilt), stt = sinf(tilt);
+  v4f sum = {0.0f, 0.0f, 0.0f, 0.0f};
+  float wsum = 0.0f;
+  for (int k = 0; k < TILT_TANGENTS; k++) {
+    float psi = SATF_TWO_PI_F * ((float)k + 0.5f) / TILT_TANGENTS;
+    float cu = stt * cosf(psi), cv = stt * sinf(psi), t[3];
+    for (int c = 0; c < 3; c++)
+      t[c] = ct * s->hair[c] + cu * s->across[0][c] + cv * s->across[1][c];
+    float so = satf_dot3f(s->to_eye, t);
+    float wo = sqrtf(fmaxf(1.0f - so * so, 0.0f));
+    sum += wo * mp_lookup(f, satf_dot3f(s->to_light[li], t), so);
+    wsum += wo;
+  }
+  return wsum > 0.0f ? sum * (1.0f / wsum) : sum;
 }
 
 /* The lobes' orientation-free level (rel_levels) of the samples nb
@@ -410,7 +462,7 @@ static v4f level_scale(const satf_maps_fiber *f, const satf_db_neighbors *nb,
 static void sector_radiance(const satf_maps_fiber *f, const sector_look *s,
                             const satf_db_neighbors *nb,
                             const satf_fiber_light *lights, int n_lights,
-                            int trt, const float *cw, int w,
+                            int trt, float tilt, const float *cw, int w,
                             float *restrict key, float *restrict fill) {
   int n = f->levels;
   /* alpha and the lobes (SATF_DB_CH_ALPHA on): the reflectance channel,
@@ -420,7 +472,8 @@ static void sector_radiance(const satf_maps_fiber *f, const sector_look *s,
     memset(fill, 0, 4 * (size_t)w * sizeof(float));
   for (int li = 0; li < n_lights; li++) {
     const direction *i = &s->light[li];
-    v4f mp = mp_lookup(f, i->sin_t, s->view.sin_t);
+    v4f mp = tilt > 0.0f ? mp_tilted(f, s, li, tilt)
+                         : mp_lookup(f, i->sin_t, s->view.sin_t);
     if (!trt)
       mp[2] = 0.0f;
     /* the other lights from the nearest sample alone: a quarter of the
@@ -563,11 +616,11 @@ static int build_column(const satf_maps *m, const satf_maps_fiber *f,
    * the current and next boundary's looks swap roles rather than copy */
   sector_look looks[2], *cur = &looks[0], *next = &looks[1];
   look_at(f, g, maps_sector_index(sh, 0, k, j), eye, lights, n_lights,
-          &column[0], cur);
+          opt->tilt, &column[0], cur);
   for (int i = 0; i <= sh->st; i++) {
     if (i < sh->st) { /* the next boundary's records load meanwhile */
       look_at(f, g, maps_sector_index(sh, i + 1, k, j), eye, lights, n_lights,
-              &column[i + 1], next);
+              opt->tilt, &column[i + 1], next);
       prefetch_key(f, g, next, opt->k_nearest);
     }
     satf_db_neighbors found;
@@ -581,7 +634,7 @@ static int build_column(const satf_maps *m, const satf_maps_fiber *f,
     float cw[MAPS_MAX_WIDTH + 1];
     if (opt->orientation_free)
       column_weights(m, cur->view.azimuth, cw);
-    sector_radiance(f, cur, nb, lights, n_lights, trt,
+    sector_radiance(f, cur, nb, lights, n_lights, trt, opt->tilt,
                     opt->orientation_free ? cw : NULL, w, key, fill);
     lookups += n_lights;
     lay_fiber_row(m, key, fill, cur->view.azimuth, sums + (size_t)i * w, row);

@@ -344,7 +344,7 @@ satf_status maps_gpu_build(satf_renderer *r, maps_gpu *g, const int *moved,
     const satf_shell_params *sh = &in->geom.shell;
     gpu_inst *e = &g->insts[m];
     memcpy(e->eye, in->eye, sizeof in->eye);
-    e->eye[3] = 0.0f;
+    e->eye[3] = r->protos[in->proto].tilt; /* maps_fiber_cs.glsl */
     memcpy(e->light, in->light, sizeof e->light);
     memcpy(e->base, g->base[moved[m]], sizeof g->base[0]);
     e->base[3] = in->layer0;

@@ -65,6 +65,8 @@ typedef struct proto {
   /* its density is its strands' (tracks, VDB: imported hair), so its
    * records take an orientation-free level (satf_map_options) */
   int from_strands;
+  float tilt; /* the density's curl: its fibres' angle to the trajectory,
+                 radians */
 } proto;
 
 /* One placed copy of a prototype with its own maps. */

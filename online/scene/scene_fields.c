@@ -72,6 +72,8 @@
   { 1, SATF_SCENE_MAX_CLUMPS, 0, 1 }
 #define R_GRADIENT                                                             \
   { -1, 1, 0, 0 }
+#define R_CURL                                                                 \
+  { 0, 90, 0, 0 }
 #define R_SLICES                                                               \
   { 2, SATF_SCENE_MAX_TRACK_SLICES, 0, 1 }
 #define R_FOV                                                                  \
@@ -165,6 +167,7 @@ static const scene_field procedural[] = {
     F(INT, "holes", holes, 4, NULL, R_CLUMPS, ONLY(HOLES)),
     F(FLOAT, "hole_radius", hole_radius, 0.2, NULL, R_FRACTION, ONLY(HOLES)),
     F(FLOAT, "gradient", gradient, 0.8, NULL, R_GRADIENT, ONLY(GRADIENT)),
+    F(FLOAT, "curl", curl, 0.0, NULL, R_CURL, .above_default = 1),
 };
 #undef ONLY
 const scene_table SCENE_PROCEDURAL = {"`density`, procedural", procedural,
@@ -175,6 +178,7 @@ static const scene_field tracks[] = {
     OTHER_IN("slices", R_SLICES), /* required */
     F(FLOAT, "strand_width", strand_width, 0.03, NULL, R_TRACK_WIDTH),
     F(FLOAT, "scale", scale, 1.0, NULL, R_SCALE),
+    F(FLOAT, "curl", curl, 0.0, NULL, R_CURL, .above_default = 1),
     OTHER("tracks"),
     OTHER("ends"),
     OTHER("widths"),

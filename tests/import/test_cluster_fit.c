@@ -713,6 +713,116 @@ static void test_direction_measure(void **state) {
   }
 }
 
+/* One strand of m points along -y, length len, displaced across by a
+ * helix of radius hr and `turns` turns (helix 1) or a wave in x of
+ * amplitude hr and `turns` periods (helix 0). */
+static satf_strand_set *one_strand(int helix, float hr, float turns, float len,
+                                   int m) {
+  built b;
+  alloc_built(&b, 1, m);
+  for (int k = 0; k < m; k++) {
+    double f = (double)k / (m - 1), ph = 2 * PI * turns * f;
+    float *p = b.pts + (size_t)k * 3;
+    p[0] = (float)(hr * (helix ? cos(ph) : sin(ph)));
+    p[1] = (float)(-len * f);
+    p[2] = (float)(helix ? hr * sin(ph) : 0.0);
+  }
+  return make_set(&b);
+}
+
+static void test_strand_curl(void **state) {
+  (void)state;
+  /* a helix of radius 1.2, 4 turns over 30 (crossing its axis at 45
+   * degrees): about its radius; straight: none; a wave of amplitude 1.2 as
+   * long as the strand (at most 14 degrees to its course): none, the
+   * cluster's trajectory follows it; the same wave 8 times over (57
+   * degrees): a curl */
+  struct {
+    int helix;
+    float hr, turns;
+    double lo, hi;
+  } c[] = {{1, 1.2f, 4.0f, 0.9, 1.6},
+           {1, 0.0f, 4.0f, 0.0, 0.0},
+           {0, 1.2f, 1.0f, 0.0, 0.0},
+           {0, 1.2f, 8.0f, 0.5, 1.6}};
+  for (size_t j = 0; j < sizeof c / sizeof c[0]; j++) {
+    satf_strand_set *s = one_strand(c[j].helix, c[j].hr, c[j].turns, 30.0f, 96);
+    float curl = satf_import_strand_curl(s, 0);
+    printf("case %zu: curl %.3f\n", j, (double)curl);
+    assert_true(curl >= c[j].lo && curl <= c[j].hi);
+    satf_strand_set_destroy(s);
+  }
+  /* the median over members, none for one */
+  float v[5] = {3.0f, 1.0f, 4.0f, 1.5f, 9.0f};
+  int all[5] = {0, 1, 2, 3, 4}, one[1] = {2};
+  assert_true(satf_import_members_curl(v, all, 5) == 3.0f);
+  assert_true(satf_import_members_curl(v, one, 1) == 0.0f);
+}
+
+/* Curly hair as the generator makes it: n helices of radius 1.5-2.4 and
+ * 2.5-4 turns over length 40 (28-63 degrees to their axes), random phase
+ * and hand, their axes straight down from roots on a square grid 1.2
+ * apart. */
+static satf_strand_set *curly_head(int n, int m) {
+  built b;
+  alloc_built(&b, n, m);
+  satf_rng rng;
+  satf_rng_seed(&rng, 13, 3);
+  int side = (int)ceil(sqrt((double)n));
+  for (int i = 0; i < n; i++) {
+    double hr = 1.5 + 0.9 * satf_rng_uniform(&rng);
+    double turns = 2.5 + 1.5 * satf_rng_uniform(&rng);
+    double ph0 = 2 * PI * satf_rng_uniform(&rng);
+    double hand = satf_rng_uniform(&rng) < 0.5 ? -1.0 : 1.0;
+    double x = 1.2 * (i % side), z = 1.2 * (i / side);
+    for (int k = 0; k < m; k++) {
+      double f = (double)k / (m - 1), ph = ph0 + hand * 2 * PI * turns * f;
+      double r = hr * (f < 0.1 ? f / 0.1 : 1.0);
+      float *p = b.pts + ((size_t)i * m + k) * 3;
+      p[0] = (float)(x + r * cos(ph));
+      p[1] = (float)(-40.0 * f);
+      p[2] = (float)(z + r * sin(ph));
+    }
+  }
+  return make_set(&b);
+}
+
+static void test_curly_clusters(void **state) {
+  (void)state;
+  /* 2,500 independent curls at the draft tolerance (4%: clusters of
+   * them pass it): each cluster of more than a few gets its members'
+   * curl, about the helices' radius (1.9-2.6 measured), and its strands'
+   * median angle to the trajectory (25-46 measured, of the helices'
+   * 28-63 degrees); a straight bundle's clusters
+   * get none (satf_import_fits_curl, as satf-import calls it) */
+  satf_strand_set *s = curly_head(2500, 48);
+  outcome o;
+  refine(s, SATF_IMPORT_QUALITY_DRAFT, &o);
+  assert_int_equal(satf_import_fits_curl(s, o.labels, o.fits, o.n, 2), 0);
+  int curly = 0;
+  for (int c = 0; c < o.n; c++) {
+    const satf_import_fit *f = &o.fits[c];
+    if (f->strands <= SATF_SCENE_SPARSE_STRANDS)
+      continue;
+    curly++;
+    assert_true(f->curl > 1.0f && f->curl < 3.0f);
+    assert_true(f->measures.direction[0] > 20.0f &&
+                f->measures.direction[0] < 65.0f);
+  }
+  printf("curls: %d clusters, %d of more than %d strands\n", o.n, curly,
+         SATF_SCENE_SPARSE_STRANDS);
+  assert_true(curly >= 10);
+  outcome_free(&o);
+  satf_strand_set_destroy(s);
+  s = straight_bundle(300, 16, 1.5f, 40.0f);
+  refine(s, SATF_IMPORT_QUALITY_DEFAULT, &o);
+  assert_int_equal(satf_import_fits_curl(s, o.labels, o.fits, o.n, 2), 0);
+  for (int c = 0; c < o.n; c++)
+    assert_true(o.fits[c].curl == 0.0f);
+  outcome_free(&o);
+  satf_strand_set_destroy(s);
+}
+
 static void test_row_is_a_ring(void **state) {
   (void)state;
   /* the measures can fail: a row of 200 short strands side by side across
@@ -1051,6 +1161,8 @@ int main(void) {
       cmocka_unit_test(test_quality_grows_counts),
       cmocka_unit_test(test_report_file),
       cmocka_unit_test(test_direction_measure),
+      cmocka_unit_test(test_strand_curl),
+      cmocka_unit_test(test_curly_clusters),
       cmocka_unit_test(test_tracks_rebuild_members),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

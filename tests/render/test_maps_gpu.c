@@ -386,11 +386,47 @@ static void test_physical(void **st) {
       check_scene(f->fiber, physical(curtain_scene()), "physical, curtain"));
 }
 
+/* Curly clusters (satf_scene_density.curl: M_p over a cone of fibre
+ * tangents, maps_fiber.c mp_tilted) in the physical mode: the GPU's maps
+ * are the CPU's; and the curl changes the frame: the front-lit
+ * highlights of fibres along the trajectory spread over the cone
+ * (luminance ratio against the prototypes with no curl). */
+static void test_physical_curl(void **st) {
+  state *f = *st;
+  satf_scene *scene = physical(fixture_scene(FIXTURE_TWO_PROTOTYPES));
+  satf_scene *flat = physical(fixture_scene(FIXTURE_TWO_PROTOTYPES));
+  assert_true(scene->n_macro_clusters >= 2);
+  scene->macro_clusters[0].prototype.density.curl = 45.0f;
+  scene->macro_clusters[1].prototype.density.curl = 30.0f;
+  satf_image *img[2];
+  satf_scene *both[2] = {flat, scene};
+  for (int k = 0; k < 2; k++) {
+    satf_renderer *r = fixture_renderer(both[k], f->fiber, W, H, 2);
+    assert_non_null(r);
+    img[k] = fixture_render_image(r);
+    assert_non_null(img[k]);
+    satf_renderer_destroy(r);
+  }
+  compare_image a = fixture_compare_image(img[0], "no curl");
+  compare_image b = fixture_compare_image(img[1], "curl");
+  compare_result res;
+  satf_error err;
+  assert_int_equal(compare_measure(&a, &b, &res, &err), SATF_OK);
+  printf("curl 45 and 30 degrees against none: luminance x %.3f, IoU %.4f\n",
+         res.lum_ratio, res.iou);
+  assert_true(res.iou > 0.999); /* the coverage is the density's */
+  assert_true(fabs(res.lum_ratio - 1.0) > 0.03);
+  satf_image_destroy(img[0]);
+  satf_image_destroy(img[1]);
+  satf_scene_destroy(flat);
+  check_scene(f->fiber, scene, "physical, curly prototypes");
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_procedural), cmocka_unit_test(test_scene_change),
       cmocka_unit_test(test_samples),    cmocka_unit_test(test_imported),
-      cmocka_unit_test(test_physical),
+      cmocka_unit_test(test_physical),   cmocka_unit_test(test_physical_curl),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

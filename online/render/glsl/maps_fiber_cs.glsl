@@ -178,6 +178,24 @@ vec3 level_scale(int nb, bool nearest, float view, float light, vec4 mp,
   return one;
 }
 
+/* maps_fiber.c: mp_tilted, M_p over the cone of fibre tangents at `tilt`
+ * to the hair (u, v: the sector's axes across it; le, ve: unit directions
+ * to the light and the eye), each tangent weighted by its width seen from
+ * the eye */
+vec4 mp_tilted(vec3 le, vec3 ve, vec3 u, vec3 v, float tilt) {
+  vec4 sum = vec4(0.0);
+  float wsum = 0.0;
+  for (int k = 0; k < 8; k++) {
+    float psi = 6.2831853 * (float(k) + 0.5) / 8.0;
+    vec3 t = cos(tilt) * g_hair + sin(tilt) * (cos(psi) * u + sin(psi) * v);
+    float so = dot(ve, t);
+    float wo = sqrt(max(1.0 - so * so, 0.0));
+    sum += wo * mp_lookup(dot(le, t), so);
+    wsum += wo;
+  }
+  return wsum > 0.0 ? sum / wsum : sum;
+}
+
 /* The row's key light (g_key.rgb) or fill light (g_row) and the key's
  * alpha summed over the row's columns, each resampled to the view (bin:
  * column_bin), as lay_fiber_row lays them. */
@@ -205,9 +223,11 @@ void main() {
   g_q = in_.base.x + q0;
   int o = 12 * g_q;
   g_p = vec3(g_sector[o], g_sector[o + 1], g_sector[o + 2]);
-  g_hair = normalize(cross(vec3(g_sector[o + 3], g_sector[o + 4], g_sector[o + 5]),
-                           vec3(g_sector[o + 6], g_sector[o + 7], g_sector[o + 8])));
+  vec3 axis_u = vec3(g_sector[o + 3], g_sector[o + 4], g_sector[o + 5]);
+  vec3 axis_v = vec3(g_sector[o + 6], g_sector[o + 7], g_sector[o + 8]);
+  g_hair = normalize(cross(axis_u, axis_v));
   vec2 view = direction(in_.eye.xyz - g_p);
+  float tilt = in_.eye.w; /* the density's curl, radians (maps_gpu.c) */
   int nb = (in_.base.y + q0) * MAPS_K;
   int bin = column_bin(view.x);
   int lights = (u_first + int(gl_WorkGroupID.z)) * SATF_MAX_LIGHTS * 2;
@@ -220,7 +240,10 @@ void main() {
     if (L.w > 0.0) /* a point light's falloff */
       e *= 1.0 / max(dot(ld, ld), 1e-6);
     vec2 light = direction(ld);
-    vec4 mp = mp_lookup(light.y, view.y);
+    vec4 mp = tilt > 0.0
+                  ? mp_tilted(normalize(ld), normalize(in_.eye.xyz - g_p),
+                              normalize(axis_u), normalize(axis_v), tilt)
+                  : mp_lookup(light.y, view.y);
     if (u_trt == 0)
       mp.z = 0.0;
     ivec4 corner;

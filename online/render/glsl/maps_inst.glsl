@@ -1,6 +1,7 @@
 /* maps_inst.glsl - the instances a maps pass builds (maps_gpu.c:
  * gpu_inst), shared by the maps' compute shaders. Per instance built: eye
- * (xyz), key light (xyzw: w 0 direction, 1 position) in its frame; first
+ * (xyz) and the curl in radians (w), key light (xyzw: w 0 direction, 1
+ * position) in its frame; first
  * sector, first sector neighbours, first HSV neighbours, first texture
  * layer; su, st, layers, orientation_free. */
 struct MapsInst {
