@@ -11,20 +11,20 @@
 #include "satf/common.h"
 
 /* Samples along a strand, and the moving average's half-window in them:
- * 4 of 32 intervals either side, a quarter of the strand in all. Curls of
- * a quarter of the strand or shorter (2.5-4 turns along the strand, the
- * generated curls) are averaged to about their axis; a wave as long as
- * the strand is followed (its sagitta over the window is about 1/16 of
- * its own), so wavy straight hair has almost no curl. */
+ * 8 of 32 intervals either side, half the strand in all. A helix of 2.5-4
+ * turns along the strand (the generated curls) is averaged over 1.25-2
+ * turns, to about its axis, so the distance comes to about its radius
+ * (1.42 for a radius of 1.2 over 4 turns, test_strand_curl). */
 enum { CURL_SAMPLES = 33, CURL_HALF = 8 };
 
 /* A strand curls when its median tangent crosses its course (the moving
  * average's) at 20 degrees or more: the generated curls' helices cross at
  * 27-63 degrees (44 median), the shared ponytail's wavy strands at under
- * 16 (their clusters' p90). Below it the strand is wavy, not curly, and
- * its waves are its cluster's to follow: crediting them coarsened the
- * ponytail's clusters (253 -> 192) and lost SSIM4 0.785 -> 0.742 against
- * Cycles. */
+ * 16 (their clusters' p90). Below it the strand is wavy, not curly: its
+ * waves are its cluster's to follow, and their spread lies within the
+ * lobes' own width (the cone given to every cluster of the ponytail moved
+ * its SSIM4 against Cycles by under 0.001 and cost the maps 45 ms a
+ * frame, docs/import.md). */
 #define CURL_MIN_COS 0.93969262f /* cos 20 degrees */
 
 static void sort_floats(float *d, int n) {
@@ -116,7 +116,7 @@ float satf_import_members_curl(const float *curl, const int *members, int n) {
 
 typedef struct curl_ctx {
   const satf_strand_set *s;
-  const int *labels, *off, *idx;
+  const int *off, *idx;
   float *strand;
   satf_import_fit *fits;
 } curl_ctx;
@@ -139,7 +139,7 @@ static int cluster_job(void *vctx, size_t i, int thread) {
 int satf_import_fits_curl(const satf_strand_set *s, const int *labels,
                           satf_import_fit *fits, int n, int threads) {
   int ns = satf_strand_set_count(s);
-  curl_ctx c = {s, labels, NULL, NULL, NULL, fits};
+  curl_ctx c = {s, NULL, NULL, NULL, fits};
   int *off = calloc((size_t)n + 1, sizeof(int));
   int *idx = malloc((size_t)(ns > 0 ? ns : 1) * sizeof(int));
   int *at = malloc((size_t)(n > 0 ? n : 1) * sizeof(int));

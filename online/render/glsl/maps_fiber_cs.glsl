@@ -178,15 +178,16 @@ vec3 level_scale(int nb, bool nearest, float view, float light, vec4 mp,
   return one;
 }
 
-/* maps_fiber.c: mp_tilted, M_p over the cone of fibre tangents at `tilt`
- * to the hair (u, v: the sector's axes across it; le, ve: unit directions
- * to the light and the eye), each tangent weighted by its width seen from
- * the eye */
+/* maps_fiber.c: mp_tilted, M_p over TILT_TANGENTS fibre tangents on the
+ * cone at `tilt` to the hair (u, v: the sector's axes across it; le, ve:
+ * unit directions to the light and the eye), each tangent weighted by its
+ * width seen from the eye */
+const int TILT_TANGENTS = 8;
 vec4 mp_tilted(vec3 le, vec3 ve, vec3 u, vec3 v, float tilt) {
   vec4 sum = vec4(0.0);
   float wsum = 0.0;
-  for (int k = 0; k < 8; k++) {
-    float psi = 6.2831853 * (float(k) + 0.5) / 8.0;
+  for (int k = 0; k < TILT_TANGENTS; k++) {
+    float psi = 6.2831853 * (float(k) + 0.5) / float(TILT_TANGENTS);
     vec3 t = cos(tilt) * g_hair + sin(tilt) * (cos(psi) * u + sin(psi) * v);
     float so = dot(ve, t);
     float wo = sqrt(max(1.0 - so * so, 0.0));
