@@ -23,7 +23,7 @@ enum { CURL_SAMPLES = 33, CURL_HALF = 8 };
  * 16 (their clusters' p90). Below it the strand is wavy, not curly: its
  * waves are its cluster's to follow, and their spread lies within the
  * lobes' own width (the cone given to every cluster of the ponytail moved
- * its SSIM4 against Cycles by under 0.001 and cost the maps 45 ms a
+ * its SSIM4 against Cycles by under 0.001 and cost the maps 35 ms a
  * frame, docs/import.md). */
 #define CURL_MIN_COS 0.93969262f /* cos 20 degrees */
 
