@@ -27,16 +27,6 @@ enum { CURL_SAMPLES = 33, CURL_HALF = 8 };
  * frame, docs/import.md). */
 #define CURL_MIN_COS 0.93969262f /* cos 20 degrees */
 
-static void sort_floats(float *d, int n) {
-  for (int a = 1; a < n; a++) {
-    float x = d[a];
-    int b = a;
-    for (; b > 0 && d[b - 1] > x; b--)
-      d[b] = d[b - 1];
-    d[b] = x;
-  }
-}
-
 float satf_import_strand_curl(const satf_strand_set *s, int i) {
   float p[3 * CURL_SAMPLES], m[3 * CURL_SAMPLES], d[CURL_SAMPLES];
   satf_import_resample(s, i, CURL_SAMPLES, p);
@@ -70,53 +60,30 @@ float satf_import_strand_curl(const satf_strand_set *s, int i) {
     }
     cosines[k] = tt > 0.0 && uu > 0.0 ? (float)(tu / sqrt(tt * uu)) : 1.0f;
   }
-  sort_floats(cosines, CURL_SAMPLES - 1);
-  if (cosines[(CURL_SAMPLES - 1) / 2] > CURL_MIN_COS)
+  float pc[3];
+  satf_import_percentiles(cosines, CURL_SAMPLES - 1, pc);
+  if (pc[0] > CURL_MIN_COS)
     return 0.0f;
-  /* p90 over the samples, as the fit's measures */
-  sort_floats(d, CURL_SAMPLES);
-  return d[(9 * (CURL_SAMPLES - 1) + 5) / 10];
+  satf_import_percentiles(d, CURL_SAMPLES, pc); /* p90, as the fit's */
+  return pc[1];
 }
 
 float satf_import_members_curl(const float *curl, const int *members, int n) {
   if (n < 2)
     return 0.0f; /* one strand: its own trajectory follows its curl */
-  float *v = malloc((size_t)n * sizeof *v);
+  float *v = malloc((size_t)n * sizeof *v), pc[3] = {0.0f, 0.0f, 0.0f};
   if (!v)
     return 0.0f;
   for (int i = 0; i < n; i++)
     v[i] = curl[members[i]];
-  /* the median: nth element by a partial selection */
-  int lo = 0, hi = n - 1, k = n / 2;
-  while (lo < hi) {
-    float pivot = v[(lo + hi) / 2];
-    int a = lo, b = hi;
-    while (a <= b) {
-      while (v[a] < pivot)
-        a++;
-      while (v[b] > pivot)
-        b--;
-      if (a <= b) {
-        float t = v[a];
-        v[a++] = v[b];
-        v[b--] = t;
-      }
-    }
-    if (k <= b)
-      hi = b;
-    else if (k >= a)
-      lo = a;
-    else
-      break;
-  }
-  float m = v[k];
+  satf_import_percentiles(v, (size_t)n, pc);
   free(v);
-  return m;
+  return pc[0];
 }
 
 typedef struct curl_ctx {
   const satf_strand_set *s;
-  const int *off, *idx;
+  satf_import_groups g;
   float *strand;
   satf_import_fit *fits;
 } curl_ctx;
@@ -131,40 +98,24 @@ static int strand_job(void *vctx, size_t i, int thread) {
 static int cluster_job(void *vctx, size_t i, int thread) {
   (void)thread;
   curl_ctx *c = vctx;
-  c->fits[i].curl = satf_import_members_curl(c->strand, c->idx + c->off[i],
-                                             c->off[i + 1] - c->off[i]);
+  c->fits[i].curl = satf_import_members_curl(c->strand, c->g.idx + c->g.off[i],
+                                             c->g.off[i + 1] - c->g.off[i]);
   return 0;
 }
 
 int satf_import_fits_curl(const satf_strand_set *s, const int *labels,
                           satf_import_fit *fits, int n, int threads) {
   int ns = satf_strand_set_count(s);
-  curl_ctx c = {s, NULL, NULL, NULL, fits};
-  int *off = calloc((size_t)n + 1, sizeof(int));
-  int *idx = malloc((size_t)(ns > 0 ? ns : 1) * sizeof(int));
-  int *at = malloc((size_t)(n > 0 ? n : 1) * sizeof(int));
+  curl_ctx c = {s, {NULL, NULL}, NULL, fits};
   c.strand = malloc((size_t)(ns > 0 ? ns : 1) * sizeof(float));
   int rc = -1;
-  if (off && idx && at && c.strand) {
-    for (int i = 0; i < ns; i++)
-      off[labels[i] + 1]++;
-    for (int k = 0; k < n; k++)
-      off[k + 1] += off[k];
-    for (int k = 0; k < n; k++)
-      at[k] = off[k];
-    for (int i = 0; i < ns; i++)
-      idx[at[labels[i]]++] = i;
-    c.off = off;
-    c.idx = idx;
+  if (c.strand && satf_import_groups_build(labels, ns, n, &c.g) == 0)
     rc = satf_parallel_for((size_t)ns, threads, strand_job, &c, NULL, NULL) ||
                  satf_parallel_for((size_t)n, threads, cluster_job, &c, NULL,
                                    NULL)
              ? -1
              : 0;
-  }
-  free(off);
-  free(idx);
-  free(at);
+  satf_import_groups_free(&c.g);
   free(c.strand);
   return rc;
 }

@@ -662,8 +662,7 @@ static satf_status scale_envelope(const float *txy, size_t np,
   return SATF_OK;
 }
 
-/* p50, p90 and max of v[0..n) (sorted in place). */
-static void percentiles(float *v, size_t n, float out[3]) {
+void satf_import_percentiles(float *v, size_t n, float out[3]) {
   if (n == 0) {
     out[0] = out[1] = out[2] = 0.0f;
     return;
@@ -702,9 +701,9 @@ static satf_status fit_measures(const float *rot, const float *dist, size_t np,
     out[k] = (float)(r > edge ? r - edge : 0.0);
     tr[k] = dist[k];
   }
-  percentiles(surf, np, m->surface);
-  percentiles(out, np, m->outside);
-  percentiles(tr, np, m->trajectory);
+  satf_import_percentiles(surf, np, m->surface);
+  satf_import_percentiles(out, np, m->outside);
+  satf_import_percentiles(tr, np, m->trajectory);
   free(surf);
   free(out);
   free(tr);
@@ -743,7 +742,7 @@ static satf_status fit_direction(const satf_import_projection *raw,
     }
   out[0] = out[1] = out[2] = 0.0f;
   if (n > 0)
-    percentiles(angle, n, out);
+    satf_import_percentiles(angle, n, out);
   free(angle);
   return SATF_OK;
 }

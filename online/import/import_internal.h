@@ -252,6 +252,20 @@ satf_import_refine_params
 satf_import_refine_params_for(const satf_strand_set *s, satf_import_quality q,
                               double tolerance);
 
+/* p50, p90 and max of v[0..n) (sorted in place; import_fit.c), as the fit
+ * measures take them. */
+void satf_import_percentiles(float *v, size_t n, float out[3]);
+
+/* Strand indices grouped by cluster (labels: each of the n strands' of k
+ * clusters): cluster c's are idx[off[c]..off[c+1]). Returns 0, or -1 out
+ * of memory (free what was made with satf_import_groups_free). */
+typedef struct satf_import_groups {
+  int *off, *idx;
+} satf_import_groups;
+int satf_import_groups_build(const int *labels, int n, int k,
+                             satf_import_groups *g);
+void satf_import_groups_free(satf_import_groups *g);
+
 /* How far strand i curls about its own course (import_curl.c): the p90
  * distance of its points, 33 evenly along it, to their moving average over
  * a quarter of the strand; about a helix's radius, near 0 for straight or

@@ -66,12 +66,8 @@ float satf_import_fit_score(const satf_import_fit *fit,
 
 /* ---- Members of every cluster ------------------------------------------ */
 
-/* Strand indices grouped by cluster: cluster c's are idx[off[c]..off[c+1]). */
-typedef struct groups {
-  int *off, *idx;
-} groups;
-
-static int groups_build(const int *labels, int n, int k, groups *g) {
+int satf_import_groups_build(const int *labels, int n, int k,
+                             satf_import_groups *g) {
   g->off = calloc((size_t)k + 1, sizeof(int));
   g->idx = malloc((size_t)(n ? n : 1) * sizeof(int));
   if (!g->off || !g->idx)
@@ -90,7 +86,7 @@ static int groups_build(const int *labels, int n, int k, groups *g) {
   return 0;
 }
 
-static void groups_free(groups *g) {
+void satf_import_groups_free(satf_import_groups *g) {
   free(g->off);
   free(g->idx);
   g->off = g->idx = NULL;
@@ -218,7 +214,7 @@ typedef struct refine {
   float *score;            /* satf_import_fit_score of a fitted cluster */
   int *ctrl_tried;         /* more control points did not help */
   unsigned char *too_wide; /* strands_too_wide of a fitted cluster */
-  groups g;
+  satf_import_groups g;
   satf_error *errs;
   /* per round */
   int *batch;
@@ -368,8 +364,8 @@ static void sort_by_score(int *v, int n, float *score) {
  * control points or split them. Returns 1 when something changed. */
 static satf_status round_once(refine *r, int *changed, satf_error *err) {
   *changed = 0;
-  groups_free(&r->g);
-  if (groups_build(r->labels, r->n_strands, r->k, &r->g))
+  satf_import_groups_free(&r->g);
+  if (satf_import_groups_build(r->labels, r->n_strands, r->k, &r->g))
     return satf_error_set(err, SATF_ERR_NOMEM, "clustering: out of memory");
   r->n_batch = 0;
   for (int c = 0; c < r->k; c++)
@@ -463,7 +459,7 @@ static void refine_free(refine *r) {
   free(r->sides);
   free(r->split_ones);
   free(r->split_want);
-  groups_free(&r->g);
+  satf_import_groups_free(&r->g);
 }
 
 satf_status satf_import_refine(const satf_strand_set *s,
@@ -547,8 +543,8 @@ satf_status satf_import_refine(const satf_strand_set *s,
     }
   }
   if (st == SATF_OK) {
-    groups_free(&r.g);
-    if (groups_build(labels, n, r.k, &r.g))
+    satf_import_groups_free(&r.g);
+    if (satf_import_groups_build(labels, n, r.k, &r.g))
       st = satf_error_set(err, SATF_ERR_NOMEM, "clustering: out of memory");
   }
   if (st == SATF_OK)
