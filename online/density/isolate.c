@@ -11,9 +11,13 @@
  * and walks one grid serially (no TBB algorithm, whose workers do not exist
  * in the child; OpenVDB decompresses blosc with one thread), and glibc's
  * malloc and stdio locks are reset by glibc's own fork handlers. The one
- * remaining hazard, another thread of the caller inside OpenVDB's registry
- * at the instant of the fork, cannot corrupt anything: the child would
- * block, run into its time limit and be reported as such.
+ * remaining hazard, another thread of the caller holding a lock the child
+ * needs at the instant of the fork (OpenVDB's registry, a driver's lock
+ * taken by llvmpipe's threads in a renderer), cannot corrupt anything: the
+ * child blocks and runs into its time limit. Such a child has sent nothing,
+ * which a parser hanging on a damaged file may also do, so a child that ran
+ * out of time before its first record is started once more, from a fresh
+ * fork; a file that hangs the parser twice is reported as damaged.
  *
  * Why the child sends records instead of a verdict: a damaged file can
  * corrupt the heap without crashing (glibc notices only some overflows), so
@@ -207,9 +211,9 @@ static satf_status child_failed(int wstatus, const char *path, const char *kind,
  * framing) failed, with err set. */
 static int receive(reader *in, satf_isolated_recv_fn recv, void *ctx,
                    const char *path, const char *kind, satf_error *end,
-                   satf_error *err) {
+                   size_t *records, satf_error *err) {
   unsigned char buf[SATF_ISOLATED_MAX_RECORD];
-  for (;;) {
+  for (;; ++*records) {
     record_header h;
     if (read_all(in, &h, sizeof h) != sizeof h)
       return 0;
@@ -228,10 +232,13 @@ static int receive(reader *in, satf_isolated_recv_fn recv, void *ctx,
   }
 }
 
-satf_status satf_isolated_run(satf_isolated_fn child, void *child_ctx,
-                              satf_isolated_recv_fn recv, void *recv_ctx,
-                              const char *path, const char *kind,
-                              unsigned seconds, satf_error *err) {
+/* One child from fork to verdict; *stalled tells whether it ran out of
+ * time before sending a record. */
+static satf_status run_child(satf_isolated_fn child, void *child_ctx,
+                             satf_isolated_recv_fn recv, void *recv_ctx,
+                             const char *path, const char *kind,
+                             unsigned seconds, int *stalled, satf_error *err) {
+  *stalled = 0;
   int fds[2];
   if (pipe2(fds, O_CLOEXEC) != 0)
     return satf_error_set(err, SATF_ERR_IO,
@@ -258,10 +265,11 @@ satf_status satf_isolated_run(satf_isolated_fn child, void *child_ctx,
    * latest when its alarm fires). */
   reader *in = malloc(sizeof *in);
   int got = -1;
+  size_t records = 0;
   if (in) {
     in->fd = fds[0];
     in->pos = in->len = 0;
-    got = receive(in, recv, recv_ctx, path, kind, &end, &recv_err);
+    got = receive(in, recv, recv_ctx, path, kind, &end, &records, &recv_err);
     free(in);
   } else {
     satf_error_set(&recv_err, SATF_ERR_NOMEM, "%s: out of memory", path);
@@ -279,10 +287,27 @@ satf_status satf_isolated_run(satf_isolated_fn child, void *child_ctx,
    * end record says it finished. */
   const int exited = w == pid ? WIFEXITED(wstatus) && !WEXITSTATUS(wstatus)
                               : w < 0 && errno == ECHILD;
-  if (!got || !exited)
+  if (!got || !exited) {
+    *stalled = records == 0 && w == pid && WIFSIGNALED(wstatus) &&
+               WTERMSIG(wstatus) == SIGALRM;
     return child_failed(exited ? 0 : wstatus, path, kind, seconds, err);
+  }
   end.message[sizeof end.message - 1] = '\0';
   if (end.status == SATF_OK)
     return SATF_OK;
   return satf_error_set(err, end.status, "%s", end.message);
+}
+
+satf_status satf_isolated_run(satf_isolated_fn child, void *child_ctx,
+                              satf_isolated_recv_fn recv, void *recv_ctx,
+                              const char *path, const char *kind,
+                              unsigned seconds, satf_error *err) {
+  int stalled = 0;
+  const satf_status st = run_child(child, child_ctx, recv, recv_ctx, path, kind,
+                                   seconds, &stalled, err);
+  if (!stalled)
+    return st;
+  /* Nothing was received, so recv's context is as the caller gave it. */
+  return run_child(child, child_ctx, recv, recv_ctx, path, kind, seconds,
+                   &stalled, err);
 }

@@ -35,9 +35,10 @@ int satf_isolated_send(int fd, int tag, const void *data, size_t size);
  * recv's status and message when one of them failed; SATF_ERR_CORRUPT with
  * "PATH: damaged KIND: the reader crashed (SIGSEGV)" (or the signal or exit
  * status it died of, or the time limit it ran past) when the child did not
- * finish; SATF_ERR_IO when no child could be started. child must only run
- * code that is safe after fork() in a process that may have other threads
- * (see isolate.c). */
+ * finish (a child that ran out of time before its first record is started
+ * once more, see isolate.c); SATF_ERR_IO when no child could be started. child
+ * must only run code that is safe after fork() in a process that may have other
+ * threads (see isolate.c). */
 satf_status satf_isolated_run(satf_isolated_fn child, void *child_ctx,
                               satf_isolated_recv_fn recv, void *recv_ctx,
                               const char *path, const char *kind,
