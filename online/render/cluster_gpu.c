@@ -46,9 +46,10 @@ static void use_layer_program(const satf_renderer *r, GLuint prog,
 /* Draws instances first .. first + count - 1 of one prototype, which share
  * a map texture and a winding (cluster_vs.glsl takes each one's transform,
  * eye and lights from the instance buffers and its maps from its layers of
- * the texture): one draw call for all of them. */
+ * the texture): one draw call for all of them. *bound: the map texture
+ * bound, which is bound again only when it changes (NULL: always). */
 static void draw_run(const satf_renderer *r, int first, int count,
-                     const GLint loc[LOC_COUNT], int coarse) {
+                     const GLint loc[LOC_COUNT], int coarse, GLuint *bound) {
   const inst *in = &r->insts[first];
   const proto *p = &r->protos[in->proto];
   const satf_shell_params *sh = &in->geom.shell;
@@ -59,7 +60,10 @@ static void draw_run(const satf_renderer *r, int first, int count,
   glUniform1i(loc[LOC_FIRST], first);
   glUniform1i(loc[LOC_FIRST_LAYER], in->layer0);
   glUniform1i(loc[LOC_INST_LAYERS], sh->layers);
-  glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
+  if (!bound || *bound != in->tex)
+    glBindTexture(GL_TEXTURE_2D_ARRAY, in->tex);
+  if (bound)
+    *bound = in->tex;
   /* the proxy's outward faces wind counter-clockwise, clockwise once a
    * mirror has turned them (culling keeps the outward ones) */
   glFrontFace(in->mirrored ? GL_CW : GL_CCW);
@@ -75,26 +79,34 @@ static void draw_run(const satf_renderer *r, int first, int count,
  * shells behind it (glsl/shade_fs.glsl). Instances of a prototype in one
  * texture array and of one winding go in one draw (SATF's macro-clusters:
  * thousands of clusters, a handful of calls); with r->instanced 0 one draw
- * per instance, in list order. */
+ * per instance, in list order. The shading passes draw in the order of the
+ * map texture arrays (r->tex_order), so that each array is bound once
+ * (hierarchy.c: map_textures_create; their fragments are sorted by depth
+ * whatever order they come in); the deep opacity map's (coarse), whose
+ * blending sums in drawing order, in list order. */
 void cluster_gpu_draw(const satf_renderer *r, GLuint prog,
                       const float viewproj[16], int coarse) {
   GLint loc[LOC_COUNT];
   use_layer_program(r, prog, viewproj, loc);
-  for (int i = 0; i < r->ninsts;) {
+  const int *order = !coarse && r->instanced ? r->tex_order : NULL;
+  GLuint bound = 0;
+  for (int k = 0; k < r->ninsts;) {
+    const int i = order ? order[k] : k;
     const inst *in = &r->insts[i];
     int n = 1;
     if (r->protos[in->proto].sparse) { /* drawn as strands (sparse.c) */
-      i++;
+      k++;
       continue;
     }
-    while (r->instanced && i + n < r->ninsts &&
+    while (r->instanced && k + n < r->ninsts &&
+           (order ? order[k + n] : k + n) == i + n &&
            r->insts[i + n].proto == in->proto &&
            r->insts[i + n].tex == in->tex &&
            r->insts[i + n].mirrored == in->mirrored &&
            (coarse || r->insts[i + n].lod_proxy == in->lod_proxy))
       n++;
-    draw_run(r, i, n, loc, coarse);
-    i += n;
+    draw_run(r, i, n, loc, coarse, &bound);
+    k += n;
   }
   glBindVertexArray(0);
   glFrontFace(GL_CCW);
@@ -217,7 +229,7 @@ satf_status cluster_gpu_ordered(satf_renderer *r, satf_aov aov,
       continue;
     }
     glEnable(GL_CULL_FACE);
-    draw_run(r, order[q], 1, loc, 0);
+    draw_run(r, order[q], 1, loc, 0, NULL);
   }
   glBindVertexArray(0);
   glFrontFace(GL_CCW);

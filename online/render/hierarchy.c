@@ -325,8 +325,7 @@ static satf_status build_proto(satf_renderer *r, int index,
   return SATF_OK;
 }
 
-static satf_status create_map_textures(const satf_renderer *r, proto *p,
-                                       satf_error *err);
+static satf_status map_textures_create(satf_renderer *r, satf_error *err);
 
 /* What a prototype drawn as a cluster needs beyond its geometry: its
  * procedural or track strands and their features (once per prototype, SATF
@@ -366,10 +365,8 @@ static satf_status prepare_proto(satf_renderer *r, int index, satf_error *err) {
                             "cannot allocate %zu map texels", texels);
     cluster_cpu_forget_lookups(in);
   }
-  st = create_map_textures(r, p, err);
-  if (st == SATF_OK)
-    p->ready = 1;
-  return st;
+  p->ready = 1; /* its textures: map_textures_create, for all at once */
+  return SATF_OK;
 }
 
 satf_status hierarchy_prepare(satf_renderer *r, satf_error *err) {
@@ -377,7 +374,7 @@ satf_status hierarchy_prepare(satf_renderer *r, satf_error *err) {
   for (int m = 0; m < r->nprotos && st == SATF_OK; m++)
     if (!r->protos[m].ready && !r->protos[m].sparse)
       st = prepare_proto(r, m, err);
-  return st;
+  return st == SATF_OK ? map_textures_create(r, err) : st;
 }
 
 /* Everything of an instance that follows its prototype's geometry and its
@@ -435,46 +432,152 @@ static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
   return SATF_OK;
 }
 
-/* A prototype's map textures: each instance has one layer per shell, su * w
- * texels around and two rows per HSV (maps.h; half floats, half.h: RGBA16F,
- * or in the physical mode RGBA32UI holding a key and a fill quad of halfs,
- * maps_fiber.h, so one fetch reads both), in texture arrays shared by
- * up to chunk_insts instances, so one draw call shades them all (cluster_gpu.c;
- * the layer count of an array is capped by GL_MAX_ARRAY_TEXTURE_LAYERS). */
-static satf_status create_map_textures(const satf_renderer *r, proto *p,
-                                       satf_error *err) {
+/* Rows of a map texture for st HSVs along the cluster: two an HSV (maps.h),
+ * st taken up to a multiple of 4 so that prototypes of nearly equal length
+ * share texture arrays (the shaders address texels by the prototype's own
+ * st and width, so the rows past them go unread). */
+static int map_rows(int st) { return 2 * ((st + 3) / 4 * 4); }
+
+typedef struct map_need {
+  int proto, width, rows;
+} map_need;
+
+static int map_need_order(const void *pa, const void *pb) {
+  const map_need *a = pa, *b = pb;
+  if (a->width != b->width)
+    return a->width < b->width ? -1 : 1;
+  if (a->rows != b->rows)
+    return a->rows < b->rows ? -1 : 1;
+  return a->proto < b->proto ? -1 : a->proto > b->proto;
+}
+
+typedef struct tex_key {
+  GLuint tex;
+  int inst;
+} tex_key;
+
+static int tex_key_order(const void *pa, const void *pb) {
+  const tex_key *a = pa, *b = pb;
+  if (a->tex != b->tex)
+    return a->tex < b->tex ? -1 : 1;
+  return a->inst < b->inst ? -1 : a->inst > b->inst;
+}
+
+/* r->tex_order: every instance, by map texture array, then by index (so a
+ * prototype's instances in one array stay a run). */
+static satf_status order_by_texture(satf_renderer *r, satf_error *err) {
+  size_t n = (size_t)(r->ninsts > 0 ? r->ninsts : 1);
+  tex_key *keys = malloc(n * sizeof *keys);
+  int *order = realloc(r->tex_order, n * sizeof *order);
+  if (order)
+    r->tex_order = order;
+  if (!keys || !order) {
+    free(keys);
+    return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+  }
+  for (int i = 0; i < r->ninsts; i++)
+    keys[i] = (tex_key){r->insts[i].tex, i};
+  qsort(keys, (size_t)r->ninsts, sizeof *keys, tex_key_order);
+  for (int i = 0; i < r->ninsts; i++)
+    order[i] = keys[i].inst;
+  free(keys);
+  return SATF_OK;
+}
+
+/* Map textures for every prepared prototype that has none: each instance
+ * takes one layer per shell, su * w texels around and map_rows(st) rows
+ * (half floats, half.h: RGBA16F, or in the physical mode RGBA32UI holding
+ * a key and a fill quad of halfs, maps_fiber.h, so one fetch reads both),
+ * in texture arrays shared by all the prototypes of one size (at most
+ * GL_MAX_ARRAY_TEXTURE_LAYERS layers an array). Binding another texture
+ * between two draws into the fragment arrays cost llvmpipe about 0.4 ms
+ * (the shared ponytail: 242 shell clusters, 100 ms of its shading pass's
+ * 300 at 640x480, as much at 160x120); drawn in the arrays' order
+ * (cluster_gpu.c) the pass binds one per size. */
+static satf_status map_textures_create(satf_renderer *r, satf_error *err) {
   GLint most = 256;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &most);
-  int per_inst = p->layers; /* texture layers of an instance */
-  p->chunk_insts = most / per_inst > 0 ? most / per_inst : 1;
-  if (p->chunk_insts > p->ninsts)
-    p->chunk_insts = p->ninsts > 0 ? p->ninsts : 1;
-  p->nchunks = (p->ninsts + p->chunk_insts - 1) / p->chunk_insts;
-  p->map_tex =
-      calloc((size_t)(p->nchunks > 0 ? p->nchunks : 1), sizeof(GLuint));
-  if (!p->map_tex)
+  map_need *need =
+      malloc((size_t)(r->nprotos > 0 ? r->nprotos : 1) * sizeof *need);
+  if (!need)
     return satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
-  glGenTextures(p->nchunks, p->map_tex);
-  for (int c = 0; c < p->nchunks; c++) {
-    int n = p->ninsts - c * p->chunk_insts;
-    n = n < p->chunk_insts ? n : p->chunk_insts;
-    glBindTexture(GL_TEXTURE_2D_ARRAY, p->map_tex[c]);
-    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1,
-                   r->quads == 2 ? GL_RGBA32UI : GL_RGBA16F,
-                   p->geom.shell.su * r->w, 2 * p->geom.shell.st, n * per_inst);
-    /* the shaders read texels (texelFetch); an integer texture with a
-     * linear filter would be incomplete */
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  int n = 0;
+  for (int m = 0; m < r->nprotos; m++) {
+    const proto *p = &r->protos[m];
+    if (p->ready && !p->sparse && !p->textured && p->ninsts > 0)
+      need[n++] =
+          (map_need){m, p->geom.shell.su * r->w, map_rows(p->geom.shell.st)};
   }
-  for (int i = 0; i < p->ninsts; i++) {
-    inst *in = &r->insts[p->first_inst + i];
-    in->tex = p->map_tex[i / p->chunk_insts];
-    in->layer0 = (i % p->chunk_insts) * per_inst;
+  qsort(need, (size_t)n, sizeof *need, map_need_order);
+  satf_status st = SATF_OK;
+  for (int a = 0; a < n && st == SATF_OK;) {
+    int b = a; /* prototypes a .. b - 1 are of one size */
+    while (b < n && need[b].width == need[a].width &&
+           need[b].rows == need[a].rows)
+      b++;
+    /* their instances in order, in arrays of at most `most` layers: first
+     * how many arrays, then each made and its instances given it */
+    int arrays = 0, used = most;
+    for (int k = a; k < b; k++) {
+      const proto *p = &r->protos[need[k].proto];
+      for (int i = 0; i < p->ninsts; i++) {
+        if (used + p->layers > most)
+          arrays++, used = 0;
+        used += p->layers;
+      }
+    }
+    GLuint *grown = realloc(r->map_arrays, (size_t)(r->n_map_arrays + arrays) *
+                                               sizeof *r->map_arrays);
+    if (!grown) {
+      st = satf_error_set(err, SATF_ERR_NOMEM, "out of memory");
+      break;
+    }
+    r->map_arrays = grown;
+    GLuint *tex = r->map_arrays + r->n_map_arrays;
+    glGenTextures(arrays, tex);
+    r->n_map_arrays += arrays;
+    int at = -1;
+    used = most;
+    for (int k = a; k < b; k++) {
+      proto *p = &r->protos[need[k].proto];
+      for (int i = 0; i < p->ninsts; i++) {
+        if (used + p->layers > most)
+          at++, used = 0;
+        inst *in = &r->insts[p->first_inst + i];
+        in->tex = tex[at];
+        in->layer0 = used;
+        used += p->layers;
+      }
+      p->textured = 1;
+    }
+    /* each array as deep as its last instance's layers reach */
+    for (int j = 0; j < arrays; j++) {
+      int depth = 0;
+      for (int k = a; k < b; k++) {
+        const proto *p = &r->protos[need[k].proto];
+        for (int i = 0; i < p->ninsts; i++) {
+          const inst *in = &r->insts[p->first_inst + i];
+          if (in->tex == tex[j] && in->layer0 + p->layers > depth)
+            depth = in->layer0 + p->layers;
+        }
+      }
+      glBindTexture(GL_TEXTURE_2D_ARRAY, tex[j]);
+      glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1,
+                     r->quads == 2 ? GL_RGBA32UI : GL_RGBA16F, need[a].width,
+                     need[a].rows, depth);
+      /* the shaders read texels (texelFetch); an integer texture with a
+       * linear filter would be incomplete */
+      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
+      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    a = b;
   }
-  return satf_gl_check("map textures", err);
+  free(need);
+  if (st == SATF_OK)
+    st = order_by_texture(r, err);
+  return st == SATF_OK ? satf_gl_check("map textures", err) : st;
 }
 
 static satf_status build_inst(satf_renderer *r, inst *in, int pi,
@@ -531,7 +634,7 @@ satf_status hierarchy_build(satf_renderer *r, satf_progress_fn progress,
     if (progress) /* clusters built so far: the set-up's bulk */
       progress(progress_ctx, (size_t)ii, (size_t)r->ninsts);
   }
-  return st;
+  return st == SATF_OK ? map_textures_create(r, err) : st;
 }
 
 static int curve_equal(const satf_scene_curve *a, const satf_scene_curve *b) {
@@ -627,13 +730,14 @@ void hierarchy_release(satf_renderer *r) {
   for (int m = 0; r->protos && m < r->nprotos; m++) {
     proto *p = &r->protos[m];
     release_geometry(p);
-    if (p->map_tex)
-      glDeleteTextures(p->nchunks, p->map_tex);
-    free(p->map_tex);
     satf_shell_geom_destroy(&p->geom);
     satf_strands_destroy(p->strands);
     satf_vdb_grid_destroy(p->vdb);
   }
+  if (r->n_map_arrays > 0)
+    glDeleteTextures(r->n_map_arrays, r->map_arrays);
+  free(r->map_arrays);
+  free(r->tex_order);
   free(r->protos);
   free(r->insts);
 }

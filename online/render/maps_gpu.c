@@ -303,9 +303,10 @@ static void groups(size_t n, GLuint *x, GLuint *y) {
   *y = (GLuint)((g + *x - 1) / *x);
 }
 
-/* The bound program over the n instances moved[], one dispatch per
- * texture (a run of instances of one prototype: hierarchy.c gives each
- * prototype's instances their textures in order), work group z the
+/* The bound program over the n instances moved[], one dispatch per run
+ * of instances of one prototype in one texture array (hierarchy.c gives a
+ * prototype's instances their layers in order; prototypes of one map size
+ * share arrays), work group z the
  * instance's entry: an invocation per HSV (sums 0; per boundary sector,
  * one more row of them, in the physical mode) or per texel of a layer
  * (sums 1). */
@@ -316,7 +317,8 @@ static void dispatch(const satf_renderer *r, const maps_gpu *g,
     const inst *in = &r->insts[moved[m]];
     const satf_shell_params *sh = &in->geom.shell;
     int run = 1;
-    while (m + run < n && r->insts[moved[m + run]].tex == in->tex)
+    while (m + run < n && r->insts[moved[m + run]].tex == in->tex &&
+           r->insts[moved[m + run]].proto == in->proto)
       run++;
     glBindImageTexture(0, in->tex, 0, GL_TRUE, 0, access,
                        g->fiber ? GL_RGBA32UI : GL_RGBA16F);

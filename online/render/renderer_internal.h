@@ -54,11 +54,11 @@ typedef struct proto {
   GLsizei lod_first[LOD_PROXIES], lod_count[LOD_PROXIES];
   float lod_sphere[4], lod_width, lod_sag;
   /* its instances: r->insts[first_inst .. first_inst + ninsts), whose maps
-   * share texture arrays of chunk_insts instances each (one draw call
-   * covers a run of them: cluster_gpu.c) */
-  int first_inst, ninsts, chunk_insts, nchunks;
-  GLuint *map_tex;
-  int sparse; /* drawn as its strands (sparse.c), not as a cluster */
+   * lie in the renderer's shared texture arrays (r->map_arrays; one draw
+   * call covers a run of them: cluster_gpu.c) */
+  int first_inst, ninsts;
+  int textured; /* its instances have their layers in r->map_arrays */
+  int sparse;   /* drawn as its strands (sparse.c), not as a cluster */
   /* its density, features, neighbours, instance texels and map textures
    * are built (hierarchy.c: only for prototypes drawn as clusters) */
   int ready;
@@ -121,6 +121,12 @@ struct satf_renderer {
   int nprotos, ninsts;
   proto *protos;
   inst *insts;
+  /* the instances' map textures: texture arrays shared by every prototype
+   * of one map size, and the instances in the order of their arrays, which
+   * the shading passes draw them in (hierarchy.c: map_textures_create) */
+  GLuint *map_arrays;
+  int n_map_arrays;
+  int *tex_order;
   /* the database's maps (maps.h) and their width; the physical mode's maps
    * (maps_fiber.h), NULL in the paper's mode, and the RGBA half quads of a
    * map texel: 2 with them (key and fill, one GL_RGBA32UI texel), else 1

@@ -58,7 +58,8 @@ static int teardown(void **st) {
 
 /* Every texel of every drawn cluster's map textures (4 floats a quad,
  * r->quads quads a texel: the physical mode's 8 halfs unpacked, the
- * prototypes' texture arrays in order); *n values. */
+ * instances' layers of the shared arrays, prototype by prototype); *n
+ * values. */
 static float *read_maps(const satf_renderer *r, size_t *n) {
   size_t total = 0;
   for (int m = 0; m < r->nprotos; m++) {
@@ -75,20 +76,23 @@ static float *read_maps(const satf_renderer *r, size_t *n) {
     if (!p->ready || p->sparse)
       continue;
     size_t layer = satf_maps_layer_texels(&p->geom, r->w) * 4 * r->quads;
-    for (int c = 0; c < p->nchunks; c++) {
-      int insts = p->ninsts - c * p->chunk_insts;
-      insts = insts < p->chunk_insts ? insts : p->chunk_insts;
-      size_t values = layer * (size_t)p->layers * (size_t)insts;
-      glBindTexture(GL_TEXTURE_2D_ARRAY, p->map_tex[c]);
+    const satf_shell_params *sh = &p->geom.shell;
+    for (int i = 0; i < p->ninsts; i++) {
+      const inst *in = &r->insts[p->first_inst + i];
+      size_t values = layer * (size_t)p->layers;
+      /* its layers of the shared array, the texels its maps hold */
       if (r->quads == 2) { /* 4 words of two halfs, low half first */
         uint16_t *h = malloc(values * sizeof *h);
         assert_non_null(h);
-        glGetTexImage(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
-                      h);
+        glGetTextureSubImage(in->tex, 0, 0, 0, in->layer0, sh->su * r->w,
+                             2 * sh->st, p->layers, GL_RGBA_INTEGER,
+                             GL_UNSIGNED_INT, (GLsizei)(values * sizeof *h), h);
         half_unpack(h, at, values);
         free(h);
       } else {
-        glGetTexImage(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA, GL_FLOAT, at);
+        glGetTextureSubImage(in->tex, 0, 0, 0, in->layer0, sh->su * r->w,
+                             2 * sh->st, p->layers, GL_RGBA, GL_FLOAT,
+                             (GLsizei)(values * sizeof *at), at);
       }
       at += values;
     }
