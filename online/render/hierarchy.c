@@ -484,6 +484,21 @@ static satf_status order_by_texture(satf_renderer *r, satf_error *err) {
   return SATF_OK;
 }
 
+/* Texture array tex for maps of need's size, `layers` deep. */
+static void map_array_storage(const satf_renderer *r, GLuint tex,
+                              const map_need *need, int layers) {
+  glBindTexture(GL_TEXTURE_2D_ARRAY, tex);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1,
+                 r->quads == 2 ? GL_RGBA32UI : GL_RGBA16F, need->width,
+                 need->rows, layers);
+  /* the shaders read texels (texelFetch); an integer texture with a
+   * linear filter would be incomplete */
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
 /* Map textures for every prepared prototype that has none: each instance
  * takes one layer per shell, su * w texels around and map_rows(st) rows
  * (half floats, half.h: RGBA16F, or in the physical mode RGBA32UI holding
@@ -516,7 +531,8 @@ static satf_status map_textures_create(satf_renderer *r, satf_error *err) {
            need[b].rows == need[a].rows)
       b++;
     /* their instances in order, in arrays of at most `most` layers: first
-     * how many arrays, then each made and its instances given it */
+     * how many arrays, then their instances given them, each array made
+     * as deep as its instances' layers once it is full */
     int arrays = 0, used = most;
     for (int k = a; k < b; k++) {
       const proto *p = &r->protos[need[k].proto];
@@ -541,8 +557,11 @@ static satf_status map_textures_create(satf_renderer *r, satf_error *err) {
     for (int k = a; k < b; k++) {
       proto *p = &r->protos[need[k].proto];
       for (int i = 0; i < p->ninsts; i++) {
-        if (used + p->layers > most)
+        if (used + p->layers > most) { /* the array before is full */
+          if (at >= 0)
+            map_array_storage(r, tex[at], &need[a], used);
           at++, used = 0;
+        }
         inst *in = &r->insts[p->first_inst + i];
         in->tex = tex[at];
         in->layer0 = used;
@@ -550,28 +569,7 @@ static satf_status map_textures_create(satf_renderer *r, satf_error *err) {
       }
       p->textured = 1;
     }
-    /* each array as deep as its last instance's layers reach */
-    for (int j = 0; j < arrays; j++) {
-      int depth = 0;
-      for (int k = a; k < b; k++) {
-        const proto *p = &r->protos[need[k].proto];
-        for (int i = 0; i < p->ninsts; i++) {
-          const inst *in = &r->insts[p->first_inst + i];
-          if (in->tex == tex[j] && in->layer0 + p->layers > depth)
-            depth = in->layer0 + p->layers;
-        }
-      }
-      glBindTexture(GL_TEXTURE_2D_ARRAY, tex[j]);
-      glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1,
-                     r->quads == 2 ? GL_RGBA32UI : GL_RGBA16F, need[a].width,
-                     need[a].rows, depth);
-      /* the shaders read texels (texelFetch); an integer texture with a
-       * linear filter would be incomplete */
-      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
-      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    }
+    map_array_storage(r, tex[at], &need[a], used);
     a = b;
   }
   free(need);
