@@ -82,7 +82,7 @@ typedef struct inst {
    * halfs a texel) as half floats (half.h), what its texture holds */
   uint16_t *texels;
   float eye[3], light[4];
-  GLuint tex; /* its prototype's texture array holding its maps */
+  GLuint tex; /* the shared texture array holding its maps (r->map_arrays) */
   int layer0; /* its first layer there */
   /* what the next frame's maps must look up again (cluster_cpu.c): angles of
    * the last look-ups, and whether the texels are new since the last upload */
