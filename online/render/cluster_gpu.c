@@ -84,12 +84,13 @@ static void draw_run(const satf_renderer *r, int first, int count,
  * (hierarchy.c: map_textures_create; their fragments are sorted by depth
  * whatever order they come in); the deep opacity map's (coarse), whose
  * blending sums in drawing order, in list order. */
-void cluster_gpu_draw(const satf_renderer *r, GLuint prog,
-                      const float viewproj[16], int coarse) {
+int cluster_gpu_draw(const satf_renderer *r, GLuint prog,
+                     const float viewproj[16], int coarse) {
   GLint loc[LOC_COUNT];
   use_layer_program(r, prog, viewproj, loc);
   const int *order = !coarse && r->instanced ? r->tex_order : NULL;
   GLuint bound = 0;
+  int binds = 0;
   for (int k = 0; k < r->ninsts;) {
     const int i = order ? order[k] : k;
     const inst *in = &r->insts[i];
@@ -105,11 +106,13 @@ void cluster_gpu_draw(const satf_renderer *r, GLuint prog,
            r->insts[i + n].mirrored == in->mirrored &&
            (coarse || r->insts[i + n].lod_proxy == in->lod_proxy))
       n++;
+    binds += bound != in->tex;
     draw_run(r, i, n, loc, coarse, &bound);
     k += n;
   }
   glBindVertexArray(0);
   glFrontFace(GL_CCW);
+  return binds;
 }
 
 /* With pass timing on (satf_renderer_set_pass_timing): waits for the GPU
@@ -139,7 +142,7 @@ static void fill_lists(satf_renderer *r, satf_aov aov, const float viewproj[16],
   glCullFace(GL_BACK);
   double t0 = 0.0;
   pass_mark(r, -1, &t0);
-  cluster_gpu_draw(r, prog, viewproj, 0);
+  r->map_binds = cluster_gpu_draw(r, prog, viewproj, 0);
   pass_mark(r, 0, &t0);
   glDisable(GL_CULL_FACE);
   sparse_lists(r, aov, viewproj, mode); /* their strands, sorted with them */

@@ -127,6 +127,7 @@ struct satf_renderer {
   GLuint *map_arrays;
   int n_map_arrays;
   int *tex_order;
+  int map_binds; /* map textures the last shading pass bound (cluster_gpu.c) */
   /* the database's maps (maps.h) and their width; the physical mode's maps
    * (maps_fiber.h), NULL in the paper's mode, and the RGBA half quads of a
    * map texel: 2 with them (key and fill, one GL_RGBA32UI texel), else 1
@@ -307,9 +308,10 @@ float cluster_dom_hair_move(const satf_renderer *r);
 
 /* The outermost shells of every cluster drawn as a cluster with `prog`:
  * their depth or their alpha into the deep opacity map's bound target
- * (coarse: the light passes' proxy), else their shading. */
-void cluster_gpu_draw(const satf_renderer *r, GLuint prog,
-                      const float viewproj[16], int coarse);
+ * (coarse: the light passes' proxy), else their shading; returns the map
+ * textures it bound. */
+int cluster_gpu_draw(const satf_renderer *r, GLuint prog,
+                     const float viewproj[16], int coarse);
 /* The frame begun (meshes) and the per-pixel fragment arrays filled;
  * returns the largest number of fragments a pixel received and sets
  * *overflow to the pixels that received more than r->lists.slots. Without
