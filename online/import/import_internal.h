@@ -268,7 +268,7 @@ void satf_import_groups_free(satf_import_groups *g);
 
 /* How far strand i curls about its own course (import_curl.c): the p90
  * distance of its points, 33 evenly along it, to their moving average over
- * a quarter of the strand; about a helix's radius, near 0 for straight or
+ * half the strand; about a helix's radius, near 0 for straight or
  * wavy hair. */
 float satf_import_strand_curl(const satf_strand_set *s, int i);
 

@@ -64,7 +64,8 @@ typedef struct satf_map_options {
    * level shades round, lit on the light's side (samples/cluster_6a). */
   int orientation_free;
   /* the physical mode: the cluster's fibres cross its trajectory at this
-   * angle (radians; satf_scene_density.tilt), M_p averaged over the cone */
+   * angle (radians; from satf_scene_density.curl), M_p averaged over the
+   * cone */
   float tilt;
 } satf_map_options;
 
