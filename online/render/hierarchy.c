@@ -327,6 +327,28 @@ static satf_status build_proto(satf_renderer *r, int index,
 
 static satf_status map_textures_create(satf_renderer *r, satf_error *err);
 
+/* Where the strands of a prototype of imported hair (a "tracks" density)
+ * run in each of its sectors (satf_sector_hair_directions), for the
+ * physical maps' M_p (maps_fiber.c); other densities and the kk mode keep
+ * the trajectory's direction. Depends on the geometry: made again when an
+ * animation changes it (rebuild_proto). */
+static satf_status proto_hair(const satf_renderer *r, proto *p,
+                              const satf_scene_density *d, satf_error *err) {
+  if (!r->fiber || d->type != SATF_SCENE_DENSITY_TRACKS)
+    return SATF_OK;
+  size_t n = satf_shell_sector_count(&p->geom.shell);
+  float *dirs = malloc(n * 3 * sizeof *dirs);
+  if (!dirs)
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "cannot allocate the hair of %zu sectors", n);
+  satf_status st = satf_sector_hair_directions(p->cluster, &p->geom.shell, d,
+                                               r->threads, dirs, err);
+  if (st == SATF_OK)
+    st = satf_shell_geom_set_hair(&p->geom, dirs, err);
+  free(dirs);
+  return st;
+}
+
 /* What a prototype drawn as a cluster needs beyond its geometry: its
  * procedural or track strands and their features (once per prototype, SATF
  * sec. 3.1; a VDB's are per instance, place_inst), the database neighbours,
@@ -345,6 +367,8 @@ static satf_status prepare_proto(satf_renderer *r, int index, satf_error *err) {
     if (st == SATF_OK)
       st = satf_sector_features(p->cluster, &p->geom.shell, p->strands, NULL,
                                 NULL, r->threads, p->geom.features, &cerr);
+    if (st == SATF_OK)
+      st = proto_hair(r, p, &c->density, &cerr);
     if (st == SATF_OK)
       st = satf_maps_prepare(r->maps, &p->geom, &r->map_opt, &cerr);
     if (st != SATF_OK)
@@ -687,6 +711,13 @@ static satf_status rebuild_proto(satf_renderer *r, int m,
     p->geom.neighbors = nb;
   else
     satf_neighbor_cache_free(nb);
+  if (st == SATF_OK && p->ready && !p->vdb) {
+    satf_error cerr;
+    st = proto_hair(r, p, &c->density, &cerr);
+    if (st != SATF_OK)
+      st = satf_error_set(err, st, "%s: macro_clusters[%d].prototype: %s",
+                          scene_name(r->scene), m, cerr.message);
+  }
   return st;
 }
 

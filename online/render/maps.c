@@ -88,9 +88,47 @@ void satf_neighbor_cache_free(satf_neighbor_cache *c) {
 void satf_shell_geom_destroy(satf_shell_geom *g) {
   free(g->frames);
   free(g->features);
+  free(g->hair);
   satf_neighbor_cache_free(g->neighbors);
-  g->frames = g->features = NULL;
+  g->frames = g->features = g->hair = NULL;
   g->neighbors = NULL;
+}
+
+void maps_sector_hair(const satf_shell_geom *g, size_t q, float hair[3]) {
+  if (g->hair) {
+    memcpy(hair, g->hair + 3 * q, 3 * sizeof(float));
+    return;
+  }
+  const float *fr = g->frames + 9 * q;
+  satf_cross3f(fr + 3, fr + 6, hair);
+  satf_normalize3f(hair);
+}
+
+satf_status satf_shell_geom_set_hair(satf_shell_geom *g, const float *dirs,
+                                     satf_error *err) {
+  size_t n = satf_shell_sector_count(&g->shell);
+  float *hair = malloc(n * 3 * sizeof(float));
+  if (!hair)
+    return satf_error_set(err, SATF_ERR_NOMEM,
+                          "cannot allocate the hair of %zu sectors", n);
+  for (size_t q = 0; q < n; q++) {
+    const float *fr = g->frames + 9 * q, *d = dirs + 3 * q;
+    float *h = hair + 3 * q, dn = satf_dot3f(d, fr + 3);
+    for (int c = 0; c < 3; c++)
+      h[c] = d[c] - dn * fr[3 + c];
+    float len = sqrtf(satf_dot3f(h, h));
+    if (len > 1e-3f) /* at least 0.06 degrees off N */
+      for (int c = 0; c < 3; c++)
+        h[c] /= len;
+    else {
+      satf_cross3f(fr + 3, fr + 6, h);
+      satf_normalize3f(h);
+    }
+  }
+  free(g->hair);
+  g->hair = hair;
+  g->serial = ++next_serial;
+  return SATF_OK;
 }
 
 struct satf_maps {

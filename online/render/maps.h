@@ -31,6 +31,10 @@ typedef struct satf_shell_geom {
    * HSV's averaged features (satf_maps_prepare): they change only with the
    * density, so frames only blend azimuths. NULL: searched per look-up. */
   satf_neighbor_cache *neighbors;
+  /* per sector: the unit direction its fibres run in, N x T turned
+   * towards the strands' own course within the sector's surface
+   * (satf_shell_geom_set_hair); NULL: N x T, the trajectory's */
+  float *hair;
   /* new with every new frames or neighbours (satf_shell_geom_create,
    * satf_maps_prepare): copies of the geometry that other memory holds
    * (the GPU's, maps_gpu.c) are current while it stays */
@@ -40,8 +44,18 @@ typedef struct satf_shell_geom {
 satf_status satf_shell_geom_create(const satf_cluster *cluster,
                                    const satf_shell_params *shell,
                                    satf_shell_geom *out, satf_error *err);
-/* Frees frames, features and the neighbour cache. */
+/* Frees frames, features, hair and the neighbour cache. */
 void satf_shell_geom_destroy(satf_shell_geom *g);
+/* Sets g->hair from dirs (satf_sector_hair_directions: 3 floats a sector,
+ * zero where no strand passes): each direction less its part along the
+ * sector's outward normal N, normalised; N x T where dirs is zero or runs
+ * along N. The shells draw fibres lying in their layers: a strand's
+ * course across the layers, which the records cannot show, is left out
+ * (docs/shading.md, "Where the strands run"). Bumps g->serial. */
+satf_status satf_shell_geom_set_hair(satf_shell_geom *g, const float *dirs,
+                                     satf_error *err);
+/* Sector q's fibre direction: g->hair's, or N x T of its frame. */
+void maps_sector_hair(const satf_shell_geom *g, size_t q, float hair[3]);
 size_t satf_shell_sector_count(const satf_shell_params *shell);
 
 typedef struct satf_maps satf_maps;

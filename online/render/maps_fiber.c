@@ -258,17 +258,18 @@ static direction sector_direction(const float *frame, const float hair[3],
 
 /* What boundary sector i of a column sees of the lights, for every layer
  * of the column: a directional light's direction and inclination depend
- * only on the sector's axes (frame + 3, frame + 6), which in a generalized
- * cylinder are those of its (i, j) in every layer (satf_shell_geom_create:
- * the section's normal plane at u). Kept with the axes they were found at
- * and used again only for bit-identical axes, so the sector's own
+ * only on the sector's axes (frame + 3, frame + 6) and fibre direction,
+ * which in a generalized cylinder are those of its (i, j) in every layer
+ * (satf_shell_geom_create: the section's normal plane at u;
+ * satf_sector_hair_directions). Kept with the axes and direction they were
+ * found at and used again only for bit-identical ones, so the sector's own
  * computation would give the same values; they cost two atan2s and a
  * square root a light and sector (with the view's, about 9% of the CPU
  * samples of hair_7c's physical frames, perf). */
 typedef struct column_entry {
   float axes[6];
   int ready;     /* axes, hair and light are set */
-  float hair[3]; /* N x T: along t, root to tip */
+  float hair[3]; /* maps_sector_hair: along t, root to tip */
   direction light[SATF_SCENE_MAX_LIGHTS];
 } column_entry;
 
@@ -356,10 +357,13 @@ static void look_at(const satf_maps_fiber *f, const satf_shell_geom *g,
                     column_entry *c, sector_look *s) {
   const float *fr = g->frames + 9 * q;
   s->q = q;
-  if (!c->ready || memcmp(c->axes, fr + 3, sizeof c->axes)) {
+  /* the fibres' own course where the strands gave it (g->hair, the same
+   * in every layer of a column, so the entry still serves them all) */
+  const float *own = g->hair ? g->hair + 3 * q : NULL;
+  if (!c->ready || memcmp(c->axes, fr + 3, sizeof c->axes) ||
+      (own && memcmp(c->hair, own, sizeof c->hair))) {
     memcpy(c->axes, fr + 3, sizeof c->axes);
-    satf_cross3f(fr + 3, fr + 6, c->hair);
-    satf_normalize3f(c->hair);
+    maps_sector_hair(g, q, c->hair);
     for (int l = 0; l < n_lights; l++) {
       float fall;
       if (lights[l].local[3] == 0.0f)

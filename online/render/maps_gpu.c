@@ -105,8 +105,8 @@ satf_status maps_gpu_create(const satf_renderer *r, maps_gpu **out,
   char defines[400];
   snprintf(defines, sizeof defines,
            "#define MAPS_W %d\n#define MAPS_BINS %d\n#define MAPS_K %d\n"
-           "#define PHYSICAL %d\n",
-           r->w, MAPS_AZIMUTH_BINS, g->k, g->fiber);
+           "#define PHYSICAL %d\n#define MAPS_SECTOR_FLOATS %d\n",
+           r->w, MAPS_AZIMUTH_BINS, g->k, g->fiber, MAPS_GPU_SECTOR_FLOATS);
   if (g->fiber)
     maps_gpu_fiber_defines(r, defines, sizeof defines);
   satf_status st =
@@ -265,6 +265,11 @@ static satf_status upload_geometry(const satf_renderer *r, maps_gpu *g,
              9 * sizeof(float));
       memcpy(sec + (s0 + q) * MAPS_GPU_SECTOR_FLOATS + 9,
              geom->features + 3 * q, 3 * sizeof(float));
+      float *hair = sec + (s0 + q) * MAPS_GPU_SECTOR_FLOATS + 12;
+      if (geom->hair)
+        memcpy(hair, geom->hair + 3 * q, 3 * sizeof(float));
+      else
+        hair[0] = hair[1] = hair[2] = 0.0f;
       put_neighbors(maps_sector_neighbors(geom, q, g->k), g->k,
                     nb + (e0 + q) * 2 * (size_t)g->k);
     }

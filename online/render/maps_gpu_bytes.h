@@ -10,8 +10,9 @@
 #include "maps.h"
 #include "maps_fiber.h"
 
-/* floats of a sector in the sectors' buffer: frame (9), features (3) */
-#define MAPS_GPU_SECTOR_FLOATS 12
+/* floats of a sector in the sectors' buffer: frame (9), features (3),
+ * fibre direction (3: satf_shell_geom.hair, zero where it has none) */
+#define MAPS_GPU_SECTOR_FLOATS 15
 
 /* Neighbours per entry the GPU's maps read: opt's k_nearest in 1 to
  * SATF_DB_KMAX. */

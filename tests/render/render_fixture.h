@@ -121,6 +121,25 @@ static inline void fixture_gl_free(fixture_gl *f) {
     return 0;                                                                  \
   }
 
+/* The same for the physical mode's tests: file-scope `gl` (a w x h
+ * fixture_gl) and `fiber_db` (fixture_fiber_db), made by `setup` and
+ * freed by `teardown`. */
+#define FIXTURE_FIBER_GROUP(w, h)                                              \
+  static fixture_gl *gl;                                                       \
+  static satf_db *fiber_db;                                                    \
+  static int setup(void **state) {                                             \
+    (void)state;                                                               \
+    if (!(gl = fixture_gl_create(w, h)))                                       \
+      return -1;                                                               \
+    return (fiber_db = fixture_fiber_db()) ? 0 : -1;                           \
+  }                                                                            \
+  static int teardown(void **state) {                                          \
+    (void)state;                                                               \
+    satf_db_destroy(fiber_db);                                                 \
+    fixture_gl_free(gl);                                                       \
+    return 0;                                                                  \
+  }
+
 /* Renders a beauty frame; returns its look-ups, -1 on failure. */
 static inline long fixture_render_lookups(satf_renderer *r) {
   satf_frame_timing t;

@@ -5,10 +5,11 @@
  * texel), and the frames alike (luminance SSIM >= 0.999), for procedural
  * clusters (several prototypes, instances and layers; the samples of Fig.
  * 6a and 7a) and for an imported curtain, whose records take the
- * orientation-free level; again after the eye and the light move in the
- * GPU mode (its instances built again), and after an instance moves and a
- * prototype bends. The physical mode's run on a small fibre database,
- * under a directional key light and a coloured point light. */
+ * orientation-free level and whose physical maps the directions of its
+ * wavy strands (satf_shell_geom.hair); again after the eye and the light move
+ * in the GPU mode (its instances built again), and after an instance moves and
+ * a prototype bends. The physical mode's run on a small fibre database, under a
+ * directional key light and a coloured point light. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>

@@ -26,22 +26,7 @@
 #define W 120
 #define H 120
 
-static fixture_gl *gl;
-static satf_db *fiber_db;
-
-static int setup(void **state) {
-  (void)state;
-  if (!(gl = fixture_gl_create(W, H)))
-    return -1;
-  return (fiber_db = fixture_fiber_db()) ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  satf_db_destroy(fiber_db);
-  fixture_gl_free(gl);
-  return 0;
-}
+FIXTURE_FIBER_GROUP(W, H)
 
 /* One straight vertical cluster seen from +z, under `lights` (JSON), with
  * the material's fibre `material` (JSON keys); shadows 1: cluster shadows

@@ -40,7 +40,7 @@ uniform int u_trt;      /* 0: no TRT lobe (Fig. 4b's switch) */
 
 const ivec3 LEVEL_OF = FIBER_LEVEL_OF;
 
-/* the sector's frame and its hair direction (N x T) */
+/* the sector's frame and its fibre direction (maps.h: hair) */
 vec3 g_p, g_hair;
 int g_q;
 
@@ -222,11 +222,13 @@ void main() {
     return;
   int j = q0 % su, k = q0 / su % layers, i = q0 / (su * layers);
   g_q = in_.base.x + q0;
-  int o = 12 * g_q;
+  int o = MAPS_SECTOR_FLOATS * g_q;
   g_p = vec3(g_sector[o], g_sector[o + 1], g_sector[o + 2]);
   vec3 axis_u = vec3(g_sector[o + 3], g_sector[o + 4], g_sector[o + 5]);
   vec3 axis_v = vec3(g_sector[o + 6], g_sector[o + 7], g_sector[o + 8]);
-  g_hair = normalize(cross(axis_u, axis_v));
+  /* the fibres' own course where the strands gave it (maps.h: hair) */
+  vec3 own = vec3(g_sector[o + 12], g_sector[o + 13], g_sector[o + 14]);
+  g_hair = dot(own, own) > 0.0 ? own : normalize(cross(axis_u, axis_v));
   vec2 view = direction(in_.eye.xyz - g_p);
   float tilt = in_.eye.w; /* the density's curl, radians (maps_gpu.c) */
   int nb = (in_.base.y + q0) * MAPS_K;

@@ -33,7 +33,7 @@ struct Params {
 };
 
 Params sector_params(int q, vec3 eye, vec4 light) {
-  int o = 12 * q;
+  int o = MAPS_SECTOR_FLOATS * q;
   vec3 p = vec3(g_sector[o], g_sector[o + 1], g_sector[o + 2]);
   Params s;
   s.f = vec3(g_sector[o + 9], g_sector[o + 10], g_sector[o + 11]);

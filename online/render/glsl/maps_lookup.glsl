@@ -1,13 +1,14 @@
 /* maps_lookup.glsl - what the maps' compute shaders share of a
  * database look-up (maps_kk_cs.glsl, maps_fiber_cs.glsl): the sectors,
  * their cached neighbours, maps.c's resampling table, a sector's azimuth
- * and the database's angle cell. The renderer defines MAPS_W, MAPS_BINS
- * and MAPS_K. */
+ * and the database's angle cell. The renderer defines MAPS_W, MAPS_BINS,
+ * MAPS_K and MAPS_SECTOR_FLOATS. */
 /* maps.c's resampling table: (record sample left of the column, weight of
  * the next) for MAPS_BINS view azimuths x MAPS_W columns */
 layout(std430, binding = 1) readonly buffer maps_columns { vec2 g_col[]; };
-/* per sector: frame (centre P, outward N, phase direction T) and its 3
- * density features, 12 floats */
+/* per sector: frame (centre P, outward N, phase direction T), its 3
+ * density features and its fibre direction (zero: N x T), MAPS_SECTOR_FLOATS
+ * floats */
 layout(std430, binding = 3) readonly buffer maps_sectors { float g_sector[]; };
 /* MAPS_K neighbours per entry (sector or HSV): (sample, weight bits),
  * weight 0 past the ones found */
@@ -17,7 +18,7 @@ const float PI = 3.14159265358979323846;
 
 /* maps.c: maps_azimuth */
 float azimuth(int q, vec3 d) {
-  int o = 12 * q;
+  int o = MAPS_SECTOR_FLOATS * q;
   vec3 n = vec3(g_sector[o + 3], g_sector[o + 4], g_sector[o + 5]);
   vec3 t = vec3(g_sector[o + 6], g_sector[o + 7], g_sector[o + 8]);
   float a = atan(dot(d, t), dot(d, n));
