@@ -2,7 +2,8 @@
  * strands' own course (satf_sector_hair_directions, satf_shell_geom_set_hair,
  * maps_fiber.c): a twisted rope of strands crossing its trajectory is lit
  * as the same strands drawn as strands, and not as fibres along the
- * trajectory would be; the directions lie in the sectors' surfaces. Whole
+ * trajectory would be; the directions lie in the sectors' surfaces and
+ * follow the rope when an animation bends it. Whole
  * frames on llvmpipe through EGL, on a small fibre database. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
@@ -188,10 +189,46 @@ static void test_hair_in_surface(void **state) {
   satf_cluster_destroy(cl);
 }
 
+/* A rope that bends (an animation's next scene, satf_renderer_set_scene)
+ * gets the directions of its new course: bit for bit those a renderer
+ * made for the bent scene finds, and not the straight rope's. */
+static void test_bent_rope_follows(void **state) {
+  (void)state;
+  char *json = rope_json();
+  satf_scene *s = fixture_scene(json), *bent = fixture_scene(json);
+  free(json);
+  assert_true(s && bent);
+  satf_scene_cluster *c = &bent->macro_clusters[0].prototype;
+  c->trajectory[3 * (c->n_points - 1)] += 1.5f; /* the tip swings in x */
+  satf_renderer *r = fixture_renderer(s, fiber_db, W, H, 2);
+  satf_renderer *fresh = fixture_renderer(bent, fiber_db, W, H, 2);
+  assert_true(r && fresh);
+  size_t n = satf_shell_sector_count(&r->protos[0].geom.shell);
+  float *before = malloc(n * 3 * sizeof *before);
+  assert_non_null(before);
+  memcpy(before, r->protos[0].geom.hair, n * 3 * sizeof *before);
+  satf_error err;
+  int rebuilt = 0;
+  assert_int_equal(satf_renderer_set_scene(r, bent, &rebuilt, &err), SATF_OK);
+  assert_int_equal(rebuilt, 1);
+  const satf_shell_geom *g = &r->protos[0].geom, *want = &fresh->protos[0].geom;
+  assert_non_null(g->hair);
+  assert_memory_equal(g->hair, want->hair, n * 3 * sizeof(float));
+  assert_memory_not_equal(g->hair, before, n * 3 * sizeof(float));
+  /* the instances' copies of the geometry take the new directions */
+  assert_ptr_equal(r->insts[r->protos[0].first_inst].geom.hair, g->hair);
+  free(before);
+  satf_renderer_destroy(r);
+  satf_renderer_destroy(fresh);
+  satf_scene_destroy(bent);
+  satf_scene_destroy(s);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_rope_lit_as_its_strands),
       cmocka_unit_test(test_hair_in_surface),
+      cmocka_unit_test(test_bent_rope_follows),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
