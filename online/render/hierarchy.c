@@ -711,7 +711,7 @@ static satf_status rebuild_proto(satf_renderer *r, int m,
     p->geom.neighbors = nb;
   else
     satf_neighbor_cache_free(nb);
-  if (st == SATF_OK && p->ready && !p->vdb) {
+  if (st == SATF_OK && p->ready) { /* drawn as a cluster: its new course */
     satf_error cerr;
     st = proto_hair(r, p, &c->density, &cerr);
     if (st != SATF_OK)

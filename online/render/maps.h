@@ -35,9 +35,9 @@ typedef struct satf_shell_geom {
    * towards the strands' own course within the sector's surface
    * (satf_shell_geom_set_hair); NULL: N x T, the trajectory's */
   float *hair;
-  /* new with every new frames or neighbours (satf_shell_geom_create,
-   * satf_maps_prepare): copies of the geometry that other memory holds
-   * (the GPU's, maps_gpu.c) are current while it stays */
+  /* new with every new frames, neighbours or hair (satf_shell_geom_create,
+   * satf_maps_prepare, satf_shell_geom_set_hair): copies of the geometry that
+   * other memory holds (the GPU's, maps_gpu.c) are current while it stays */
   unsigned long serial;
 } satf_shell_geom;
 
