@@ -111,9 +111,13 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
   fe->budget = budget > 0.0 ? budget : default_budget();
   long w = *width ? *width : st == SATF_OK ? fe->scene->image.width : 0;
   long h = *width ? *height : st == SATF_OK ? fe->scene->image.height : 0;
-  /* before the database is read: a lower bound (the database not counted),
-   * which satf_frontend_check_memory completes */
-  satf_render_memory_options opt = {w, h, NULL, SATF_MAPS_CPU};
+  /* before the database is read: a lower bound (the database not counted,
+   * and as many clusters drawn as strands as the renderer allows), which
+   * satf_frontend_check_memory completes */
+  satf_render_memory_options opt = satf_render_memory_options_default();
+  opt.width = w;
+  opt.height = h;
+  opt.sparse_strands = SATF_SPARSE_STRANDS_MAX;
   satf_render_memory need;
   if (st == SATF_OK)
     st = over_budget(fe->scene, scene_path, &opt, fe->budget, &need, &err);
@@ -154,7 +158,13 @@ satf_status satf_frontend_check_memory(const char *prog, satf_frontend *fe,
                                        satf_maps_mode maps) {
   satf_error err;
   satf_error_clear(&err);
-  satf_render_memory_options opt = {width, height, fe->db, maps};
+  satf_render_memory_options opt = satf_render_memory_options_default();
+  opt.width = width;
+  opt.height = height;
+  opt.db = fe->db;
+  opt.maps = maps;
+  if (fe->sparse_strands >= 0)
+    opt.sparse_strands = fe->sparse_strands;
   satf_render_memory need;
   satf_status st =
       over_budget(fe->scene, fe->scene_path, &opt, fe->budget, &need, &err);

@@ -237,7 +237,14 @@ typedef struct satf_render_memory_options {
    * bound, for a refusal before the database is read) */
   const satf_db *db;
   satf_maps_mode maps; /* satf_renderer_set_maps */
+  /* satf_renderer_set_sparse_strands' setting: which clusters are drawn as
+   * their strands, with no maps (0: none) */
+  int sparse_strands;
 } satf_render_memory_options;
+
+/* 640x480, no database, the CPU's maps, SATF_SPARSE_STRANDS_DEFAULT: the
+ * renderer's own defaults, to change what differs. */
+satf_render_memory_options satf_render_memory_options_default(void);
 
 /* Fills *parts (when not NULL) and returns parts->total. */
 double satf_render_memory_estimate(const satf_scene *scene,

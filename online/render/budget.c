@@ -69,15 +69,14 @@ static double vdb_bytes(const satf_scene *scene) {
   return sum;
 }
 
-/* Every instance's HSVs, those of clusters drawn as strands at their
- * own rate. */
-static double hsv_bytes(const satf_scene *scene) {
+/* Every instance's HSVs, those of clusters drawn as strands (at the
+ * sparse-strands setting `sparse`) at their own rate. */
+static double hsv_bytes(const satf_scene *scene, int sparse) {
   double sum = 0.0;
   for (int m = 0; m < scene->n_macro_clusters; m++) {
     const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
-    double per = hierarchy_sparse(&mc->prototype, SATF_SPARSE_STRANDS_DEFAULT)
-                     ? BYTES_PER_SPARSE_HSV
-                     : BYTES_PER_HSV;
+    double per = hierarchy_sparse(&mc->prototype, sparse) ? BYTES_PER_SPARSE_HSV
+                                                          : BYTES_PER_HSV;
     sum += per * (double)mc->n_instances *
            (double)satf_scene_cluster_hsv_count(&mc->prototype);
   }
@@ -119,7 +118,8 @@ static double database_bytes(const satf_scene *scene, const satf_db *db) {
  * instance with VDB density, which gives each its own), the compute
  * programs; less the CPU's copy of every instance's maps (hierarchy.c:
  * inst.texels, 4 halfs a texel and quad), calloc'ed but never written. */
-static double gpu_maps_bytes(const satf_scene *scene, const satf_db *db) {
+static double gpu_maps_bytes(const satf_scene *scene, const satf_db *db,
+                             int sparse) {
   maps_fiber_shape f;
   int fiber = physical(scene, db, &f);
   maps_gpu_table_bytes t;
@@ -131,7 +131,7 @@ static double gpu_maps_bytes(const satf_scene *scene, const satf_db *db) {
   double sum = (double)(t.records + t.tables) + BYTES_GPU_PROGRAMS;
   for (int m = 0; m < scene->n_macro_clusters; m++) {
     const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
-    if (hierarchy_sparse(&mc->prototype, SATF_SPARSE_STRANDS_DEFAULT))
+    if (hierarchy_sparse(&mc->prototype, sparse))
       continue; /* drawn as strands: no maps */
     const satf_scene_shell *sh = &mc->prototype.shell;
     satf_shell_params shell = {sh->layers, sh->st, sh->su, sh->core};
@@ -147,20 +147,31 @@ static double gpu_maps_bytes(const satf_scene *scene, const satf_db *db) {
   return sum;
 }
 
+satf_render_memory_options satf_render_memory_options_default(void) {
+  satf_render_memory_options o = {640, 480, NULL, SATF_MAPS_CPU,
+                                  SATF_SPARSE_STRANDS_DEFAULT};
+  return o;
+}
+
 double satf_render_memory_estimate(const satf_scene *scene,
                                    const satf_render_memory_options *opt,
                                    satf_render_memory *parts) {
   satf_render_memory m;
   memset(&m, 0, sizeof m);
   if (scene && opt) {
-    m.hsvs = hsv_bytes(scene);
+    /* satf_renderer_set_sparse_strands' range */
+    int sparse = opt->sparse_strands < 0 ? 0
+                 : opt->sparse_strands > SATF_SPARSE_STRANDS_MAX
+                     ? SATF_SPARSE_STRANDS_MAX
+                     : opt->sparse_strands;
+    m.hsvs = hsv_bytes(scene, sparse);
     m.strands = BYTES_PER_STRAND * (double)satf_scene_strand_count(scene);
     m.pixels = BYTES_PER_PIXEL * (double)opt->width * (double)opt->height;
     m.vdb = vdb_bytes(scene);
     if (opt->db) {
       m.database = database_bytes(scene, opt->db);
       if (opt->maps == SATF_MAPS_GPU)
-        m.gpu_maps = gpu_maps_bytes(scene, opt->db);
+        m.gpu_maps = gpu_maps_bytes(scene, opt->db, sparse);
     }
     m.fixed = BYTES_FIXED;
     m.total = m.hsvs + m.strands + m.pixels + m.vdb + m.database + m.gpu_maps +

@@ -3,7 +3,8 @@
  * dimensions as the public satf_db API gives them: the GPU's estimate
  * exceeds the CPU's by at least the records as halfs, and by exactly their
  * growth when the database grows; the physical shading counts the
- * re-levelled copy at the hair's absorption levels. No GL. */
+ * re-levelled copy at the hair's absorption levels; the sparse-strands
+ * setting decides which clusters count as shells. No GL. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -62,7 +63,11 @@ static double records(const satf_db *db) {
 
 static void estimate(const satf_scene *scene, const satf_db *db,
                      satf_maps_mode maps, satf_render_memory *m) {
-  satf_render_memory_options opt = {320, 240, db, maps};
+  satf_render_memory_options opt = satf_render_memory_options_default();
+  opt.width = 320;
+  opt.height = 240;
+  opt.db = db;
+  opt.maps = maps;
   double total = satf_render_memory_estimate(scene, &opt, m);
   assert_true(total == m->total);
   assert_true(m->total > 0.0);
@@ -101,7 +106,10 @@ static void test_kk(void **st) {
   assert_true(fabs(grown - (halfs_big - halfs_small + 64 * sizeof(float))) <
               1.0);
   /* without the database neither it nor the GPU's maps are counted */
-  satf_render_memory_options none = {320, 240, NULL, SATF_MAPS_GPU};
+  satf_render_memory_options none = satf_render_memory_options_default();
+  none.width = 320;
+  none.height = 240;
+  none.maps = SATF_MAPS_GPU;
   satf_render_memory without;
   satf_render_memory_estimate(scene, &none, &without);
   assert_true(without.database == 0.0 && without.gpu_maps == 0.0);
@@ -148,10 +156,86 @@ static void test_physical(void **st) {
   satf_scene_destroy(brown);
 }
 
+/* A procedural prototype and a cluster of `strands` strands of its own
+ * (tracks, st rows), drawn as strands at the default sparse-strands
+ * setting when it holds at most 8 of them. */
+static satf_scene *sparse_scene(int strands, int st) {
+  char json[4096], tracks[2048] = "";
+  size_t at = 0;
+  for (int k = 0; k < strands; k++)
+    at += (size_t)snprintf(tracks + at, sizeof tracks - at,
+                           "%s[0, %g, 0, %g, 0, %g, 0]", k ? ", " : "", 0.1 * k,
+                           0.1 * k, 0.1 * k);
+  snprintf(json, sizeof json,
+           "{\"macro_clusters\": ["
+           " {\"prototype\": {\"trajectory\": [[0, -2, 0], [0, 2, 0]],"
+           "   \"a\": 0.5, \"shell\": {\"layers\": 3, \"st\": 6, \"su\": 6},"
+           "   \"density\": {\"strands\": 80, \"seed\": 3}}},"
+           " {\"prototype\": {\"trajectory\": [[2, -2, 0], [2, 2, 0]],"
+           "   \"a\": 0.5, \"shell\": {\"layers\": 3, \"st\": %d, \"su\": 8},"
+           "   \"density\": {\"type\": \"tracks\", \"slices\": 3,"
+           "     \"strand_width\": 0.1, \"tracks\": [%s]}}}]}",
+           st, tracks);
+  satf_scene *s = fixture_scene(json);
+  assert_non_null(s);
+  return s;
+}
+
+/* The HSVs' and the GPU's maps' parts at sparse-strands setting `sparse`. */
+static satf_render_memory at_setting(const satf_scene *scene, const satf_db *db,
+                                     int sparse) {
+  satf_render_memory_options o = satf_render_memory_options_default();
+  o.db = db;
+  o.maps = SATF_MAPS_GPU;
+  o.sparse_strands = sparse;
+  satf_render_memory m;
+  satf_render_memory_estimate(scene, &o, &m);
+  return m;
+}
+
+/* The sparse-strands setting moves the estimate as it moves the
+ * renderer: a cluster of 3 strands, drawn as strands by default and at
+ * the largest setting, takes maps and the full rate of its HSVs at 0
+ * (every cluster drawn as shells), in proportion to its HSVs; settings
+ * past the range count as its ends. */
+static void test_sparse_setting(void **st) {
+  (void)st;
+  satf_db *db = empty_db(0, 32, 8, 16);
+  satf_scene *a = sparse_scene(3, 4), *b = sparse_scene(3, 12);
+  satf_render_memory a_def = at_setting(a, db, SATF_SPARSE_STRANDS_DEFAULT);
+  satf_render_memory a_max = at_setting(a, db, SATF_SPARSE_STRANDS_MAX);
+  satf_render_memory a_all = at_setting(a, db, 0);
+  satf_render_memory b_def = at_setting(b, db, SATF_SPARSE_STRANDS_DEFAULT);
+  satf_render_memory b_all = at_setting(b, db, 0);
+  assert_true(a_def.total == a_max.total);
+  /* its maps: the GPU's sectors and neighbours, less the CPU's copy of
+   * them that the HSVs' rate holds */
+  assert_true(a_all.hsvs > a_def.hsvs && a_all.gpu_maps != a_def.gpu_maps &&
+              a_all.total > a_def.total);
+  assert_true(at_setting(a, db, -5).total == a_all.total);
+  assert_true(at_setting(a, db, 1 << 20).total == a_max.total);
+  /* the cluster's HSVs (3 layers x su 8 x st) are all that changes */
+  double per_a = (a_all.hsvs - a_def.hsvs) / (3.0 * 8 * 4);
+  double per_b = (b_all.hsvs - b_def.hsvs) / (3.0 * 8 * 12);
+  printf("a cluster drawn as shells instead of strands: %.0f bytes more "
+         "per HSV (st 4), %.0f (st 12)\n",
+         per_a, per_b);
+  assert_true(per_a > 0.0 && fabs(per_a - per_b) < 1e-6 * per_a);
+  /* the default import's 8: more strands, drawn as shells at either */
+  satf_scene *c = sparse_scene(9, 4);
+  assert_true(at_setting(c, db, SATF_SPARSE_STRANDS_DEFAULT).total ==
+              at_setting(c, db, 0).total);
+  satf_scene_destroy(a);
+  satf_scene_destroy(b);
+  satf_scene_destroy(c);
+  satf_db_destroy(db);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_kk),
       cmocka_unit_test(test_physical),
+      cmocka_unit_test(test_sparse_setting),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
