@@ -175,10 +175,11 @@ satf_status satf_sector_features_grid(const satf_cluster *cluster,
 
 /* Where a cluster's own strands run at each boundary sector of its shells,
  * in satf_sector_features' order (3 floats a sector, in the cluster's
- * frame): the mean of the unit chords of the strands' track segments
- * (between two slices) that span the sector's t and pass through its phase
- * column or the two beside it, in any layer (so every layer of a column
- * gets the same direction); zero where no strand passes. Strands that
+ * frame): the unit direction of the sum of the unit chords of the strands'
+ * track segments (between two slices) that span the sector's t and pass
+ * through its phase column or the two beside it, in any layer (so every
+ * layer of a column gets the same direction); zero where no strand passes
+ * or their chords cancel. Strands that
  * cross their cluster's trajectory, as a crown's do where they gather
  * towards a ponytail's tie, are shaded along their own course
  * (maps_fiber.c). Needs a "tracks" density (SATF_ERR_ARGUMENT otherwise);

@@ -229,7 +229,9 @@ typedef struct satf_render_memory {
   double total;
 } satf_render_memory;
 
-/* What the estimate takes beyond the scene. */
+/* What the estimate takes beyond the scene. Start from
+ * satf_render_memory_options_default() and change what differs: a
+ * zeroed struct means sparse_strands 0, every cluster drawn as shells. */
 typedef struct satf_render_memory_options {
   long width, height; /* the image */
   /* the database the renderer is made with (for the physical shading the

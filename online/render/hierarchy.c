@@ -711,12 +711,13 @@ static satf_status rebuild_proto(satf_renderer *r, int m,
     p->geom.neighbors = nb;
   else
     satf_neighbor_cache_free(nb);
-  if (st == SATF_OK && p->ready) { /* drawn as a cluster: its new course */
+  /* drawn as a cluster: the directions of its new course. They refine
+   * the shading only; one that cannot be made (out of memory) leaves the
+   * trajectory's, and the geometry the instances are about to be placed
+   * on stays whole (an error here would leave them on the freed one) */
+  if (st == SATF_OK && p->ready) {
     satf_error cerr;
-    st = proto_hair(r, p, &c->density, &cerr);
-    if (st != SATF_OK)
-      st = satf_error_set(err, st, "%s: macro_clusters[%d].prototype: %s",
-                          scene_name(r->scene), m, cerr.message);
+    (void)proto_hair(r, p, &c->density, &cerr);
   }
   return st;
 }

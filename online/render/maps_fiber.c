@@ -273,13 +273,6 @@ typedef struct column_entry {
   direction light[SATF_SCENE_MAX_LIGHTS];
 } column_entry;
 
-/* Fibre tangents around a tilted cluster's cone. 32 changed the generated
- * curls' frame (--quality draft, 640x480) by SSIM 0.992 (SSIM4 0.994,
- * luminance 0.2%) and its SSIM4 against Cycles not at all (0.410), for
- * four times the M_p look-ups (8 cost those curls' maps C 30-39 -> 50-54
- * ms a frame, the tangents found once a sector: cone_at). */
-#define TILT_TANGENTS 8
-
 /* cos and sin of the tangents' azimuths about the hair, 2 pi (k + 1/2) / 8 */
 static const float TILT_CS[TILT_TANGENTS][2] = {
     {0.92387953f, 0.38268343f},   {0.38268343f, 0.92387953f},
@@ -322,24 +315,36 @@ static void light_vector(const float *fr, const satf_fiber_light *l,
   satf_normalize3f(out);
 }
 
-/* A tilted sector's cone (sector_look.tangent on): its tangents at `tilt`
- * about the hair (s->hair), across it along the frame's axes fr + 3 and
- * fr + 6, each one's sin theta to the eye (vd: towards it) and width seen
- * from there, once for every light (mp_tilted). */
-static void cone_at(sector_look *s, const float *fr, const float vd[3],
-                    const satf_fiber_light *lights, int n_lights, float tilt) {
-  float u[3], v[3], e[3], ct = cosf(tilt), st = sinf(tilt), sum = 0.0f;
-  memcpy(u, fr + 3, sizeof u);
-  memcpy(v, fr + 6, sizeof v);
-  memcpy(e, vd, sizeof e);
+void maps_cone_tangents(const float hair[3], const float *frame, int own,
+                        float tilt, float tangent[TILT_TANGENTS][3]) {
+  float u[3], v[3], ct = cosf(tilt), st = sinf(tilt);
+  memcpy(u, frame + 3, sizeof u);
+  if (own) /* the strands turned the hair within the surface: T no longer
+              lies across it */
+    satf_cross3f(hair, frame + 3, v);
+  else
+    memcpy(v, frame + 6, sizeof v);
   satf_normalize3f(u);
   satf_normalize3f(v);
-  satf_normalize3f(e);
   for (int k = 0; k < TILT_TANGENTS; k++) {
     float cu = st * TILT_CS[k][0], cv = st * TILT_CS[k][1];
-    float *t = s->tangent[k];
     for (int c = 0; c < 3; c++)
-      t[c] = ct * s->hair[c] + cu * u[c] + cv * v[c];
+      tangent[k][c] = ct * hair[c] + cu * u[c] + cv * v[c];
+  }
+}
+
+/* A tilted sector's cone (sector_look.tangent on): its tangents
+ * (maps_cone_tangents; `own`: the sector's hair is its strands'), each
+ * one's sin theta to the eye (vd: towards it) and width seen from there,
+ * once for every light (mp_tilted). */
+static void cone_at(sector_look *s, const float *fr, int own, const float vd[3],
+                    const satf_fiber_light *lights, int n_lights, float tilt) {
+  float e[3], sum = 0.0f;
+  maps_cone_tangents(s->hair, fr, own, tilt, s->tangent);
+  memcpy(e, vd, sizeof e);
+  satf_normalize3f(e);
+  for (int k = 0; k < TILT_TANGENTS; k++) {
+    const float *t = s->tangent[k];
     float so = satf_dot3f(e, t);
     s->sin_eye[k] = so;
     s->width[k] = sqrtf(fmaxf(1.0f - so * so, 0.0f));
@@ -382,7 +387,7 @@ static void look_at(const satf_maps_fiber *f, const satf_shell_geom *g,
   }
   satf_db_cell_find(f->db, s->view.azimuth, s->light[0].azimuth, &s->key);
   if (tilt > 0.0f)
-    cone_at(s, fr, vd, lights, n_lights, tilt);
+    cone_at(s, fr, own != NULL, vd, lights, n_lights, tilt);
 }
 
 /* The four lobes' M_p of a sector whose fibres cross the hair direction

@@ -131,7 +131,10 @@ static inline void fixture_gl_free(fixture_gl *f) {
     (void)state;                                                               \
     if (!(gl = fixture_gl_create(w, h)))                                       \
       return -1;                                                               \
-    return (fiber_db = fixture_fiber_db()) ? 0 : -1;                           \
+    if ((fiber_db = fixture_fiber_db()))                                       \
+      return 0;                                                                \
+    fixture_gl_free(gl); /* teardown does not run after a failed setup */      \
+    return -1;                                                                 \
   }                                                                            \
   static int teardown(void **state) {                                          \
     (void)state;                                                               \

@@ -3,7 +3,8 @@
  * maps_fiber.c): a twisted rope of strands crossing its trajectory is lit
  * as the same strands drawn as strands, and not as fibres along the
  * trajectory would be; the directions lie in the sectors' surfaces and
- * follow the rope when an animation bends it. Whole
+ * follow the rope when an animation bends it; a curly cluster's cone
+ * stays about them. Whole
  * frames on llvmpipe through EGL, on a small fibre database. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
@@ -18,6 +19,7 @@
 #include <string.h>
 
 #include "maps.h"
+#include "maps_fiber.h"
 #include "metrics.h"
 #include "render_fixture.h"
 #include "renderer_internal.h"
@@ -224,11 +226,70 @@ static void test_bent_rope_follows(void **state) {
   satf_scene_destroy(s);
 }
 
+/* A curly cluster's cone (maps_cone_tangents) about a hair the strands
+ * turned within the surface: every tangent a unit vector at the curl's
+ * angle to that hair, around it evenly (their mean along it). Built on
+ * the sector's phase direction T as for the hair N x T, the tangents of
+ * a hair turned 0.6 radians are not (lengths 0.8-1.2). */
+static void test_cone_about_own_hair(void **state) {
+  (void)state;
+  const float traj[6] = {0, -2, 0, 0, 2, 0}, one = 1.0f, zero = 0.0f;
+  satf_cluster_desc d = {2, traj, 1, &one, &one, &zero};
+  satf_cluster *cl = NULL;
+  satf_error err;
+  assert_int_equal(satf_cluster_create(&d, &cl, &err), SATF_OK);
+  satf_shell_params sh = {2, 3, 6, 0.2f};
+  satf_shell_geom g;
+  assert_int_equal(satf_shell_geom_create(cl, &sh, &g, &err), SATF_OK);
+  size_t n = satf_shell_sector_count(&sh);
+  float *dirs = malloc(n * 3 * sizeof *dirs);
+  assert_non_null(dirs);
+  for (size_t q = 0; q < n; q++) {
+    const float *T = g.frames + 9 * q + 6;
+    float h[3];
+    maps_sector_hair(&g, q, h);
+    for (int c = 0; c < 3; c++)
+      dirs[3 * q + c] = cosf(0.6f) * h[c] + sinf(0.6f) * T[c];
+  }
+  assert_int_equal(satf_shell_geom_set_hair(&g, dirs, &err), SATF_OK);
+  const float tilt = 0.5f;
+  double worst_old = 0.0;
+  for (size_t q = 0; q < n; q++) {
+    float h[3], t[TILT_TANGENTS][3], old[TILT_TANGENTS][3];
+    maps_sector_hair(&g, q, h);
+    maps_cone_tangents(h, g.frames + 9 * q, 1, tilt, t);
+    maps_cone_tangents(h, g.frames + 9 * q, 0, tilt, old);
+    float mean[3] = {0, 0, 0};
+    for (int k = 0; k < TILT_TANGENTS; k++) {
+      float len =
+          sqrtf(t[k][0] * t[k][0] + t[k][1] * t[k][1] + t[k][2] * t[k][2]);
+      assert_true(fabsf(len - 1.0f) < 1e-5f);
+      assert_true(fabsf(t[k][0] * h[0] + t[k][1] * h[1] + t[k][2] * h[2] -
+                        cosf(tilt)) < 1e-5f);
+      for (int c = 0; c < 3; c++)
+        mean[c] += t[k][c] / TILT_TANGENTS;
+      double lo = sqrt(old[k][0] * old[k][0] + old[k][1] * old[k][1] +
+                       old[k][2] * old[k][2]);
+      worst_old = fmax(worst_old, fabs(lo - 1.0));
+    }
+    for (int c = 0; c < 3; c++)
+      assert_true(fabsf(mean[c] - cosf(tilt) * h[c]) < 1e-5f);
+  }
+  printf("cone on T about a hair turned 0.6 rad: tangent lengths off by up "
+         "to %.3f\n",
+         worst_old);
+  assert_true(worst_old > 0.05);
+  free(dirs);
+  satf_shell_geom_destroy(&g);
+  satf_cluster_destroy(cl);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_rope_lit_as_its_strands),
       cmocka_unit_test(test_hair_in_surface),
       cmocka_unit_test(test_bent_rope_follows),
+      cmocka_unit_test(test_cone_about_own_hair),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

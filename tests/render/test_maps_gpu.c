@@ -6,10 +6,11 @@
  * clusters (several prototypes, instances and layers; the samples of Fig.
  * 6a and 7a) and for an imported curtain, whose records take the
  * orientation-free level and whose physical maps the directions of its
- * wavy strands (satf_shell_geom.hair); again after the eye and the light move
- * in the GPU mode (its instances built again), and after an instance moves and
- * a prototype bends. The physical mode's run on a small fibre database, under a
- * directional key light and a coloured point light. */
+ * wavy strands (satf_shell_geom.hair), straight and curly; again after the
+ * eye and the light move in the GPU mode (its instances built again), and
+ * after an instance moves and a prototype bends. The physical mode's run on
+ * a small fibre database, under a directional key light and a coloured
+ * point light. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -425,6 +426,12 @@ static void test_physical_curl(void **st) {
   satf_image_destroy(img[1]);
   satf_scene_destroy(flat);
   check_scene(f->fiber, scene, "physical, curly prototypes");
+  /* curly clusters of imported strands: the cone about each sector's own
+   * direction (maps_cone_tangents), the GPU's as the CPU's */
+  satf_scene *curtain = physical(curtain_scene());
+  for (int m = 0; m < curtain->n_macro_clusters; m++)
+    curtain->macro_clusters[m].prototype.density.curl = 40.0f;
+  assert_true(check_scene(f->fiber, curtain, "physical, curly curtain"));
 }
 
 int main(void) {

@@ -179,7 +179,8 @@ vec3 level_scale(int nb, bool nearest, float view, float light, vec4 mp,
 }
 
 /* maps_fiber.c: mp_tilted, M_p over TILT_TANGENTS fibre tangents on the
- * cone at `tilt` to the hair (u, v: the sector's axes across it; le, ve:
+ * cone at `tilt` to the hair (u, v: unit axes across it, maps_fiber.c
+ * cone_at; le, ve:
  * unit directions to the light and the eye), each tangent weighted by its
  * width seen from the eye */
 const int TILT_TANGENTS = 8;
@@ -229,6 +230,10 @@ void main() {
   /* the fibres' own course where the strands gave it (maps.h: hair) */
   vec3 own = vec3(g_sector[o + 12], g_sector[o + 13], g_sector[o + 14]);
   g_hair = dot(own, own) > 0.0 ? own : normalize(cross(axis_u, axis_v));
+  /* across the hair within the surface: T, or hair x N where the strands
+   * turned the hair (maps_fiber.c: cone_at) */
+  vec3 across =
+      dot(own, own) > 0.0 ? normalize(cross(g_hair, axis_u)) : normalize(axis_v);
   vec2 view = direction(in_.eye.xyz - g_p);
   float tilt = in_.eye.w; /* the density's curl, radians (maps_gpu.c) */
   int nb = (in_.base.y + q0) * MAPS_K;
@@ -245,7 +250,7 @@ void main() {
     vec2 light = direction(ld);
     vec4 mp = tilt > 0.0
                   ? mp_tilted(normalize(ld), normalize(in_.eye.xyz - g_p),
-                              normalize(axis_u), normalize(axis_v), tilt)
+                              normalize(axis_u), across, tilt)
                   : mp_lookup(light.y, view.y);
     if (u_trt == 0)
       mp.z = 0.0;
