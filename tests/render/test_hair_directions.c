@@ -138,20 +138,29 @@ static void test_rope_lit_as_its_strands(void **state) {
   satf_image_destroy(along);
 }
 
+/* A straight cluster along y (4 long, radius 1) and the sector geometry
+ * of shells sh on it, into *g; the cluster, to destroy after g. */
+static satf_cluster *straight_shells(const satf_shell_params *sh,
+                                     satf_shell_geom *g) {
+  const float traj[6] = {0, -2, 0, 0, 2, 0}, one = 1.0f, zero = 0.0f;
+  satf_cluster_desc d = {2, traj, 1, &one, &one, &zero};
+  satf_cluster *cl = NULL;
+  satf_error err;
+  assert_int_equal(satf_cluster_create(&d, &cl, &err), SATF_OK);
+  assert_int_equal(satf_shell_geom_create(cl, sh, g, &err), SATF_OK);
+  return cl;
+}
+
 /* satf_shell_geom_set_hair keeps what lies in each sector's surface: a
  * direction tilted towards the outward normal N loses that part (turned
  * towards the phase direction T, it stays turned), one along N or none at
  * all leaves N x T, bit for bit the direction without hair. */
 static void test_hair_in_surface(void **state) {
   (void)state;
-  const float traj[6] = {0, -2, 0, 0, 2, 0}, one = 1.0f, zero = 0.0f;
-  satf_cluster_desc d = {2, traj, 1, &one, &one, &zero};
-  satf_cluster *cl = NULL;
-  satf_error err;
-  assert_int_equal(satf_cluster_create(&d, &cl, &err), SATF_OK);
   satf_shell_params sh = {3, 4, 8, 0.2f};
   satf_shell_geom g;
-  assert_int_equal(satf_shell_geom_create(cl, &sh, &g, &err), SATF_OK);
+  satf_cluster *cl = straight_shells(&sh, &g);
+  satf_error err;
   size_t n = satf_shell_sector_count(&sh);
   float *dirs = calloc(n * 3, sizeof *dirs), *plain = malloc(n * 3 * 4);
   assert_true(dirs && plain);
@@ -233,14 +242,10 @@ static void test_bent_rope_follows(void **state) {
  * a hair turned 0.6 radians are not (lengths 0.8-1.2). */
 static void test_cone_about_own_hair(void **state) {
   (void)state;
-  const float traj[6] = {0, -2, 0, 0, 2, 0}, one = 1.0f, zero = 0.0f;
-  satf_cluster_desc d = {2, traj, 1, &one, &one, &zero};
-  satf_cluster *cl = NULL;
-  satf_error err;
-  assert_int_equal(satf_cluster_create(&d, &cl, &err), SATF_OK);
   satf_shell_params sh = {2, 3, 6, 0.2f};
   satf_shell_geom g;
-  assert_int_equal(satf_shell_geom_create(cl, &sh, &g, &err), SATF_OK);
+  satf_cluster *cl = straight_shells(&sh, &g);
+  satf_error err;
   size_t n = satf_shell_sector_count(&sh);
   float *dirs = malloc(n * 3 * sizeof *dirs);
   assert_non_null(dirs);
