@@ -17,12 +17,13 @@ typedef struct directions_job {
   float *sums;                      /* (st + 1) x su x 3, unnormalised */
 } directions_job;
 
-/* Point (x, y) of the normalised cross-section of section sec: SATF eq. 1
- * at v = |(x, y)|, u = its angle. */
+/* Point (x, y) = v (cos u, sin u) of the normalised cross-section of
+ * section sec: SATF eq. 1, C + A x n1 + B y n2 on the turned axes. */
 static void section_xy(const satf_cluster_section *sec, const float xy[2],
                        float p[3]) {
-  float v = sqrtf(xy[0] * xy[0] + xy[1] * xy[1]);
-  satf_cluster_section_point(sec, v, atan2f(xy[1], xy[0]), p);
+  for (int c = 0; c < 3; c++)
+    p[c] = sec->center[c] + sec->a * xy[0] * sec->n1[c] +
+           sec->b * xy[1] * sec->n2[c];
 }
 
 /* Boundary i: every track present over the slice interval that holds t_i

@@ -162,7 +162,8 @@ static void test_hair_in_surface(void **state) {
   satf_cluster *cl = straight_shells(&sh, &g);
   satf_error err;
   size_t n = satf_shell_sector_count(&sh);
-  float *dirs = calloc(n * 3, sizeof *dirs), *plain = malloc(n * 3 * 4);
+  float *dirs = calloc(n * 3, sizeof *dirs),
+        *plain = malloc(n * 3 * sizeof *plain);
   assert_true(dirs && plain);
   for (size_t q = 0; q < n; q++) {
     maps_sector_hair(&g, q, plain + 3 * q);
