@@ -811,7 +811,11 @@ float hierarchy_shell_radius(const satf_renderer *r, int *shells) {
     }
   if (shells)
     *shells = n;
-  return n > 0 ? sum / (float)n : dom_cluster_radius(r->scene, r->nprotos);
+  if (n == 0)
+    return dom_cluster_radius(r->scene, r->nprotos);
+  float c[3], floor_r = SHELL_RADIUS_FLOOR * view_radius(&r->view, c);
+  float mean = sum / (float)n;
+  return mean > floor_r ? mean : floor_r;
 }
 
 typedef struct depth_key {

@@ -647,6 +647,35 @@ static void kmeans_chooses_count(void **state) {
   satf_strand_set_destroy(s);
 }
 
+/* The sectors around follow the strands: the aspect sets 16, 24 or 32,
+ * but a ring of su x layers sectors gets at least two strands each, in
+ * steps of 4, down to half the aspect's count: 40 strands in 3 layers ->
+ * 8, 100 in 4 -> 12, 400 in 4 keep the aspect's 16; a flat cluster
+ * (aspect 4) of 250 in 4 layers 32 -> 28, of 40 in 3 -> 16. */
+static void shell_sectors_follow_strands(void **state) {
+  (void)state;
+  float a1[1] = {1.0f}, b1[1] = {1.0f}, a4[1] = {4.0f};
+  satf_import_fit fit;
+  memset(&fit, 0, sizeof fit);
+  fit.n_radius = 1;
+  fit.a = a1;
+  fit.b = b1;
+  fit.radius = 1.0f;
+  fit.length = 20.0f;
+  fit.core = 0.1f;
+  const int strands[5] = {40, 100, 400, 250, 40};
+  const int layers[5] = {3, 4, 4, 4, 3}, su[5] = {8, 12, 16, 28, 16};
+  for (int k = 0; k < 5; k++) {
+    fit.strands = strands[k];
+    fit.points = (size_t)strands[k] * 20;
+    fit.a = k >= 3 ? a4 : a1;
+    satf_scene_shell sh = satf_import_choose_shell(&fit);
+    printf("%d strands: %d layers, su %d\n", strands[k], sh.layers, sh.su);
+    assert_int_equal(sh.layers, layers[k]);
+    assert_int_equal(sh.su, su[k]);
+  }
+}
+
 static void scene_file_with_vdb(void **state) {
   (void)state;
   enum { N = 200, M = 20 };
@@ -976,6 +1005,7 @@ int main(void) {
       cmocka_unit_test(similarity_recovered),
       cmocka_unit_test(macro_clusters_from_copies),
       cmocka_unit_test(kmeans_chooses_count),
+      cmocka_unit_test(shell_sectors_follow_strands),
       cmocka_unit_test(scene_file_with_vdb),
       cmocka_unit_test(lone_strand_grows_to_its_width),
       cmocka_unit_test(widths_from_spacing),

@@ -458,6 +458,58 @@ static void test_dom_slab_of_shell_clusters(void **state) {
   satf_scene_destroy(s);
 }
 
+/* Two dense clusters of radius `a`, 40 units apart: hair whose clusters
+ * are thin against its size. */
+static satf_scene *thin_pair(float a) {
+  char buf[1024];
+  snprintf(buf, sizeof buf,
+           "{\"macro_clusters\": ["
+           "{\"prototype\": {\"trajectory\": [[-20, -3, 0], [-20, 3, 0]],"
+           " \"a\": %g, \"shell\": {\"layers\": 3, \"st\": 4, \"su\": 8},"
+           " \"density\": {\"strands\": 400}}},"
+           "{\"prototype\": {\"trajectory\": [[20, -3, 0], [20, 3, 0]],"
+           " \"a\": %g, \"shell\": {\"layers\": 3, \"st\": 4, \"su\": 8},"
+           " \"density\": {\"strands\": 400}}}],"
+           " \"camera\": {\"position\": [0, 0, 90], \"target\": [0, 0, 0],"
+           "              \"fov_y\": 40},"
+           " \"lights\": [{\"direction\": [-1, 0, -1]}],"
+           " \"background\": [0, 0, 0]}",
+           (double)a, (double)a);
+  return fixture_scene(buf);
+}
+
+/* Hair cut into thinner clusters is the same hair, and the light falls
+ * off through it over the same depth: the slab's scale stops at
+ * SHELL_RADIUS_FLOOR of the hair's bounding radius, so clusters of radius
+ * 0.2 and 0.4 (both under it) get the same slab, where their mean radii
+ * would have made the one half the other; clusters above it keep their
+ * own (test_dom_slab_of_shell_clusters). */
+static void test_dom_slab_floor(void **state) {
+  fixture_gl *f = *state;
+  float slab[2], scale[2], floor_r[2];
+  for (int k = 0; k < 2; k++) {
+    satf_scene *s = thin_pair(k ? 0.4f : 0.2f);
+    assert_non_null(s);
+    satf_renderer *r = fixture_renderer(s, f->db, W, H, 0);
+    assert_non_null(r);
+    int shells = 0;
+    float c[3];
+    scale[k] = hierarchy_shell_radius(r, &shells);
+    floor_r[k] = SHELL_RADIUS_FLOOR * view_radius(&r->view, c);
+    assert_int_equal(shells, 2);
+    slab[k] = frame_slab(r);
+    satf_renderer_destroy(r);
+    satf_scene_destroy(s);
+  }
+  printf("floor %.4f %.4f: scale %.4f %.4f, slab %.5f %.5f\n",
+         (double)floor_r[0], (double)floor_r[1], (double)scale[0],
+         (double)scale[1], (double)slab[0], (double)slab[1]);
+  assert_true(floor_r[0] > 0.4f && floor_r[1] > 0.4f);
+  assert_float_equal(scale[0], floor_r[0], 1e-6f);
+  assert_float_equal(scale[1], floor_r[1], 1e-6f);
+  assert_float_equal(slab[0], slab[1], 0.02f * slab[0]);
+}
+
 /* In a scene without shell clusters the cluster path draws the same
  * strands as the strand path, with the same slabs (strands.c): here a
  * sparse cluster of radius 3, whose slab (a third of it) is deeper than
@@ -558,6 +610,7 @@ int main(void) {
       cmocka_unit_test(test_pass_timing),
       cmocka_unit_test(test_auto_filter_of_sparse_clusters),
       cmocka_unit_test(test_dom_slab_of_shell_clusters),
+      cmocka_unit_test(test_dom_slab_floor),
       cmocka_unit_test(test_dom_slab_without_shells),
       cmocka_unit_test(test_dom_hair_behind_casts_no_shadow),
   };
