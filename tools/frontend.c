@@ -80,7 +80,10 @@ static satf_status over_budget(const satf_scene *scene, const char *scene_path,
   if (!(need->total > budget))
     return SATF_OK;
   /* the database's parts once it is known (satf_frontend_check_memory) */
-  char known[128] = "";
+  char known[128] = "", path[96] = "";
+  if (opt->strand_points > 0)
+    snprintf(path, sizeof path, ", %.2f GB for the %zu points of --strands",
+             need->strand_path / 1e9, opt->strand_points);
   if (opt->db)
     snprintf(known, sizeof known,
              ", %.2f GB for the database, %.2f GB for the GPU's maps",
@@ -89,14 +92,14 @@ static satf_status over_budget(const satf_scene *scene, const char *scene_path,
       err, SATF_ERR_ARGUMENT,
       "%s: rendering it would take about %.2f GB, over the memory budget "
       "of %.2f GB; the most is %s (%.2f GB for %llu HSVs, %.2f GB for %llu "
-      "strands, %.2f GB for %ldx%ld pixels, %.2f GB of VDB density%s): use "
-      "fewer clusters, layers, st or su, fewer strands, a smaller --size, a "
-      "coarser VDB%s, or raise the budget with --memory-budget GB",
+      "strands, %.2f GB for %ldx%ld pixels, %.2f GB of VDB density%s%s): "
+      "use fewer clusters, layers, st or su, fewer strands, a smaller "
+      "--size, a coarser VDB%s, or raise the budget with --memory-budget GB",
       scene_path, need->total / 1e9, budget / 1e9,
       satf_render_memory_largest(need), need->hsvs / 1e9,
       (unsigned long long)satf_scene_hsv_count(scene), need->strands / 1e9,
       (unsigned long long)satf_scene_strand_count(scene), need->pixels / 1e9,
-      opt->width, opt->height, need->vdb / 1e9, known,
+      opt->width, opt->height, need->vdb / 1e9, known, path,
       need->gpu_maps > 0.0 ? " or the CPU's maps (--maps cpu)" : "");
 }
 
@@ -165,6 +168,8 @@ satf_status satf_frontend_check_memory(const char *prog, satf_frontend *fe,
   opt.maps = maps;
   if (fe->sparse_strands >= 0)
     opt.sparse_strands = fe->sparse_strands;
+  if (fe->strands)
+    opt.strand_points = satf_strand_set_point_count(fe->strands);
   satf_render_memory need;
   satf_status st =
       over_budget(fe->scene, fe->scene_path, &opt, fe->budget, &need, &err);

@@ -225,6 +225,11 @@ typedef struct satf_render_memory {
    * neighbours the GPU's maps keep and their compute programs, less the
    * CPU's copy of the maps that they never fill; 0 with the CPU's maps */
   double gpu_maps;
+  /* the source strands drawn instead of the clusters
+   * (satf_renderer_set_strands, satf-render --strands): their ribbons and
+   * light per point, and the strand pass's programs and buffers where no
+   * cluster is drawn as its strands already; 0 without them */
+  double strand_path;
   double fixed; /* GL driver, shaders, the program */
   double total;
 } satf_render_memory;
@@ -242,18 +247,23 @@ typedef struct satf_render_memory_options {
   /* satf_renderer_set_sparse_strands' setting: which clusters are drawn as
    * their strands, with no maps (0: none) */
   int sparse_strands;
+  /* the points of the source strands satf_renderer_set_strands draws
+   * instead of the clusters (0: the clusters are drawn); the clusters'
+   * maps are then never filled */
+  size_t strand_points;
 } satf_render_memory_options;
 
-/* 640x480, no database, the CPU's maps, SATF_SPARSE_STRANDS_DEFAULT: the
- * renderer's own defaults, to change what differs. */
+/* 640x480, no database, the CPU's maps, SATF_SPARSE_STRANDS_DEFAULT, the
+ * clusters drawn: the renderer's own defaults, to change what differs. */
 satf_render_memory_options satf_render_memory_options_default(void);
 
 /* Fills *parts (when not NULL) and returns parts->total. */
 double satf_render_memory_estimate(const satf_scene *scene,
                                    const satf_render_memory_options *opt,
                                    satf_render_memory *parts);
-/* "HSVs", "strands", "pixels", "VDB density", "the database" or "the GPU's
- * maps": the largest part that the scene or the options change. */
+/* "HSVs", "strands", "pixels", "VDB density", "the database", "the GPU's
+ * maps" or "the strand path": the largest part that the scene or the
+ * options change. */
 const char *satf_render_memory_largest(const satf_render_memory *m);
 
 /* Builds clusters, shells, meshes, density features and GL resources.

@@ -42,6 +42,18 @@
  * the programs cached, 89 MB, less the 15 MB the CPU's maps' run adds
  * the same way (its draw programs, in every mode). */
 #define BYTES_GPU_PROGRAMS 75e6
+/* The strand path (satf_renderer_set_strands) over the clusters' frame,
+ * from satf-render --strands against the same scene's clusters (peak RSS,
+ * 640x480 and 320x240, physical): straight hair of 10K x 32, 20K x 16,
+ * 20K x 32, 20K x 64 and 40K x 32 points, all in shells, took 460, 470,
+ * 710, 1,140 and 1,290 MB over the clusters' estimate with every HSV at
+ * BYTES_PER_SPARSE_HSV (the strand path never fills the clusters' maps,
+ * whose calloc'ed pages stay untouched): per point its two ribbon
+ * vertices, its light and what llvmpipe bins of its segments' triangles,
+ * and once the strand pass's programs and buffers, which a scene with
+ * clusters drawn as strands (the imported ponytail, fur) has already. */
+#define BYTES_PER_STRAND_POINT 780.0
+#define BYTES_STRAND_PATH 210e6
 
 /* What VDB density adds: the grids of the distinct files the clusters name
  * (the renderer reads each once however many clusters name it) and the
@@ -70,13 +82,15 @@ static double vdb_bytes(const satf_scene *scene) {
 }
 
 /* Every instance's HSVs, those of clusters drawn as strands (at the
- * sparse-strands setting `sparse`) at their own rate. */
-static double hsv_bytes(const satf_scene *scene, int sparse) {
+ * sparse-strands setting `sparse`), or all with the strand path
+ * (`strand_path`: no maps filled), at their own rate. */
+static double hsv_bytes(const satf_scene *scene, int sparse, int strand_path) {
   double sum = 0.0;
   for (int m = 0; m < scene->n_macro_clusters; m++) {
     const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
-    double per = hierarchy_sparse(&mc->prototype, sparse) ? BYTES_PER_SPARSE_HSV
-                                                          : BYTES_PER_HSV;
+    double per = strand_path || hierarchy_sparse(&mc->prototype, sparse)
+                     ? BYTES_PER_SPARSE_HSV
+                     : BYTES_PER_HSV;
     sum += per * (double)mc->n_instances *
            (double)satf_scene_cluster_hsv_count(&mc->prototype);
   }
@@ -147,9 +161,22 @@ static double gpu_maps_bytes(const satf_scene *scene, const satf_db *db,
   return sum;
 }
 
+/* What drawing `points` source strand points instead of the clusters
+ * adds (BYTES_PER_STRAND_POINT). */
+static double strand_path_bytes(const satf_scene *scene, int sparse,
+                                size_t points) {
+  if (points == 0)
+    return 0.0;
+  int drawn = 0; /* a cluster drawn as its strands: the pass is there */
+  for (int m = 0; m < scene->n_macro_clusters && !drawn; m++)
+    drawn = hierarchy_sparse(&scene->macro_clusters[m].prototype, sparse);
+  return BYTES_PER_STRAND_POINT * (double)points +
+         (drawn ? 0.0 : BYTES_STRAND_PATH);
+}
+
 satf_render_memory_options satf_render_memory_options_default(void) {
-  satf_render_memory_options o = {640, 480, NULL, SATF_MAPS_CPU,
-                                  SATF_SPARSE_STRANDS_DEFAULT};
+  satf_render_memory_options o = {
+      640, 480, NULL, SATF_MAPS_CPU, SATF_SPARSE_STRANDS_DEFAULT, 0};
   return o;
 }
 
@@ -164,7 +191,8 @@ double satf_render_memory_estimate(const satf_scene *scene,
                  : opt->sparse_strands > SATF_SPARSE_STRANDS_MAX
                      ? SATF_SPARSE_STRANDS_MAX
                      : opt->sparse_strands;
-    m.hsvs = hsv_bytes(scene, sparse);
+    m.hsvs = hsv_bytes(scene, sparse, opt->strand_points > 0);
+    m.strand_path = strand_path_bytes(scene, sparse, opt->strand_points);
     m.strands = BYTES_PER_STRAND * (double)satf_scene_strand_count(scene);
     m.pixels = BYTES_PER_PIXEL * (double)opt->width * (double)opt->height;
     m.vdb = vdb_bytes(scene);
@@ -175,7 +203,7 @@ double satf_render_memory_estimate(const satf_scene *scene,
     }
     m.fixed = BYTES_FIXED;
     m.total = m.hsvs + m.strands + m.pixels + m.vdb + m.database + m.gpu_maps +
-              m.fixed;
+              m.strand_path + m.fixed;
   }
   if (parts)
     *parts = m;
@@ -195,6 +223,8 @@ const char *satf_render_memory_largest(const satf_render_memory *m) {
   if (m->database > most)
     most = m->database, name = "the database";
   if (m->gpu_maps > most)
-    name = "the GPU's maps";
+    most = m->gpu_maps, name = "the GPU's maps";
+  if (m->strand_path > most)
+    name = "the strand path";
   return name;
 }

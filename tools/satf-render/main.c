@@ -517,7 +517,9 @@ static int render_job(options *o) {
     return 1;
   fe.strand_width = o->strand_width;
   fe.sparse_strands = o->sparse_strands;
+  /* the source strands before the memory check, which counts them */
   if (satf_frontend_set_shading(PROG, &fe, o->shading) != SATF_OK ||
+      (o->strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) ||
       satf_frontend_check_memory(PROG, &fe, o->w, o->h, o->maps) != SATF_OK) {
     satf_frontend_free(&fe);
     return 1;
@@ -525,10 +527,6 @@ static int render_job(options *o) {
   o->estimate = fe.memory_estimate;
   if (o->samples > 0)
     fe.scene->image.samples = (int)o->samples;
-  if (o->strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) {
-    satf_frontend_free(&fe);
-    return 1;
-  }
   satf_error err;
   satf_error_clear(&err);
   int rc = 0;

@@ -142,7 +142,9 @@ int main(int argc, char **argv) {
   fe.strand_width = o.strand_width;
   fe.sparse_strands = o.sparse_strands;
   /* the viewer's maps are the CPU's (satf_renderer_set_maps not called) */
+  /* the source strands before the memory check, which counts them */
   if (satf_frontend_set_shading(PROG, &fe, o.shading) != SATF_OK ||
+      (o.strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) ||
       satf_frontend_check_memory(PROG, &fe, o.w, o.h, SATF_MAPS_CPU) !=
           SATF_OK) {
     satf_frontend_free(&fe);
@@ -150,10 +152,6 @@ int main(int argc, char **argv) {
   }
   if (o.samples > 0)
     fe.scene->image.samples = (int)o.samples;
-  if (o.strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) {
-    satf_frontend_free(&fe);
-    return 1;
-  }
   const char *base = strrchr(o.scene_path, '/');
   o.view.name = base ? base + 1 : o.scene_path;
   o.view.width = (int)o.w;
