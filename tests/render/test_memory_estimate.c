@@ -182,16 +182,26 @@ static satf_scene *sparse_scene(int strands, int st) {
   return s;
 }
 
-/* The HSVs' and the GPU's maps' parts at sparse-strands setting `sparse`. */
-static satf_render_memory at_setting(const satf_scene *scene, const satf_db *db,
-                                     int sparse) {
+/* The estimate at sparse-strands setting `sparse` with `points` source
+ * strand points drawn (--strands; 0: the clusters), with the GPU's maps
+ * where db is given. */
+static satf_render_memory estimate_at(const satf_scene *scene,
+                                      const satf_db *db, int sparse,
+                                      size_t points) {
   satf_render_memory_options o = satf_render_memory_options_default();
   o.db = db;
-  o.maps = SATF_MAPS_GPU;
+  o.maps = db ? SATF_MAPS_GPU : SATF_MAPS_CPU;
   o.sparse_strands = sparse;
+  o.strand_points = points;
   satf_render_memory m;
   satf_render_memory_estimate(scene, &o, &m);
   return m;
+}
+
+/* The HSVs' and the GPU's maps' parts at sparse-strands setting `sparse`. */
+static satf_render_memory at_setting(const satf_scene *scene, const satf_db *db,
+                                     int sparse) {
+  return estimate_at(scene, db, sparse, 0);
 }
 
 /* The sparse-strands setting moves the estimate as it moves the
@@ -234,11 +244,7 @@ static void test_sparse_setting(void **st) {
 
 /* The estimate with `points` source strand points drawn (--strands). */
 static satf_render_memory with_strands(const satf_scene *scene, size_t points) {
-  satf_render_memory_options o = satf_render_memory_options_default();
-  o.strand_points = points;
-  satf_render_memory m;
-  satf_render_memory_estimate(scene, &o, &m);
-  return m;
+  return estimate_at(scene, NULL, SATF_SPARSE_STRANDS_DEFAULT, points);
 }
 
 /* The strand path (satf_renderer_set_strands) counts its points, and the
