@@ -248,8 +248,7 @@ typedef struct satf_render_memory_options {
    * their strands, with no maps (0: none) */
   int sparse_strands;
   /* the points of the source strands satf_renderer_set_strands draws
-   * instead of the clusters (0: the clusters are drawn); the clusters'
-   * maps are then never filled */
+   * instead of the clusters (0: none) */
   size_t strand_points;
 } satf_render_memory_options;
 

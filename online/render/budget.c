@@ -45,15 +45,15 @@
 /* The strand path (satf_renderer_set_strands) over the clusters' frame,
  * from satf-render --strands against the same scene's clusters (peak RSS,
  * 640x480 and 320x240, physical): straight hair of 10K x 32, 20K x 16,
- * 20K x 32, 20K x 64 and 40K x 32 points, all in shells, took 460, 470,
- * 710, 1,140 and 1,290 MB over the clusters' estimate with every HSV at
- * BYTES_PER_SPARSE_HSV (the strand path never fills the clusters' maps,
- * whose calloc'ed pages stay untouched): per point its two ribbon
- * vertices, its light and what llvmpipe bins of its segments' triangles,
- * and once the strand pass's programs and buffers, which a scene with
- * clusters drawn as strands (the imported ponytail, fur) has already. */
-#define BYTES_PER_STRAND_POINT 780.0
-#define BYTES_STRAND_PATH 210e6
+ * 20K x 32, 20K x 64 and 40K x 32 points, all in shells, took 325, 310,
+ * 505, 930 and 1,060 MB over the clusters' estimate: per point its two
+ * ribbon vertices, its light and what llvmpipe bins of its segments'
+ * triangles, and once the strand pass's programs and buffers, which a
+ * scene with clusters drawn as strands (the imported ponytail, fur) has
+ * already. The clusters' maps, which the strand path never fills, stay
+ * counted: satf-view switches between the two (T). */
+#define BYTES_PER_STRAND_POINT 710.0
+#define BYTES_STRAND_PATH 90e6
 
 /* What VDB density adds: the grids of the distinct files the clusters name
  * (the renderer reads each once however many clusters name it) and the
@@ -82,15 +82,13 @@ static double vdb_bytes(const satf_scene *scene) {
 }
 
 /* Every instance's HSVs, those of clusters drawn as strands (at the
- * sparse-strands setting `sparse`), or all with the strand path
- * (`strand_path`: no maps filled), at their own rate. */
-static double hsv_bytes(const satf_scene *scene, int sparse, int strand_path) {
+ * sparse-strands setting `sparse`) at their own rate. */
+static double hsv_bytes(const satf_scene *scene, int sparse) {
   double sum = 0.0;
   for (int m = 0; m < scene->n_macro_clusters; m++) {
     const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
-    double per = strand_path || hierarchy_sparse(&mc->prototype, sparse)
-                     ? BYTES_PER_SPARSE_HSV
-                     : BYTES_PER_HSV;
+    double per = hierarchy_sparse(&mc->prototype, sparse) ? BYTES_PER_SPARSE_HSV
+                                                          : BYTES_PER_HSV;
     sum += per * (double)mc->n_instances *
            (double)satf_scene_cluster_hsv_count(&mc->prototype);
   }
@@ -191,7 +189,7 @@ double satf_render_memory_estimate(const satf_scene *scene,
                  : opt->sparse_strands > SATF_SPARSE_STRANDS_MAX
                      ? SATF_SPARSE_STRANDS_MAX
                      : opt->sparse_strands;
-    m.hsvs = hsv_bytes(scene, sparse, opt->strand_points > 0);
+    m.hsvs = hsv_bytes(scene, sparse);
     m.strand_path = strand_path_bytes(scene, sparse, opt->strand_points);
     m.strands = BYTES_PER_STRAND * (double)satf_scene_strand_count(scene);
     m.pixels = BYTES_PER_PIXEL * (double)opt->width * (double)opt->height;
