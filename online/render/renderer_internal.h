@@ -244,13 +244,14 @@ float hierarchy_hair_width(const satf_renderer *r);
 /* The same hair cut into finer clusters is the same hair: the light
  * falls off through it over the same depth, but the mean shell radius
  * shrinks with the clusters and took the slabs with it. The shared
- * ponytail imported at --tolerance 1.5% and 1.25% (558 and 733 shell
- * clusters, mean radius 2.05 and 1.66 against the default's 3.13 in 242)
- * came out at luminance 0.77 and 0.89 of Cycles' where the default comes
- * to 0.91. So the scale is at least this share of the hair's bounding
- * radius: the default imports' smallest ratio (the ponytail's 0.0296; a
- * straight curtain's 0.035, Table 1's samples 0.044-0.18), so their frames
- * stay as they were. */
+ * ponytail imported at --tolerance 1.5% and 1.25% with its narrow
+ * clusters kept as shells (SATF_IMPORT_SHELL_STRAND_WIDTH at 0.16: 558
+ * and 733 shell clusters, mean radius 2.05 and 1.66 against the
+ * default's 3.13 in 242) came out at luminance 0.77 and 0.89 of Cycles'
+ * where the default comes to 0.91. So the scale is at least this share
+ * of the hair's bounding radius: the default imports' smallest ratio (the
+ * ponytail's 0.0296; a straight curtain's 0.035, Table 1's samples
+ * 0.044-0.18), so their frames stay as they were. */
 #define SHELL_RADIUS_FLOOR 0.029f
 /* The mean root radius of the clusters drawn with shells (not as their
  * strands, hierarchy_sparse), at least SHELL_RADIUS_FLOOR of the hair's
