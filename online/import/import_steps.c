@@ -9,6 +9,7 @@
 #include "import_internal.h"
 #include "import_prepare.h"
 #include "satf/common.h"
+#include "strands_formats.h"
 
 satf_import_options satf_import_options_default(void) {
   satf_import_options o;
@@ -198,10 +199,9 @@ satf_status satf_import_read_strands_followed(const char *path,
                         path, satf_strands_format_name(is),
                         satf_strands_format_name(named), extension_of(is));
   else if (is == SATF_STRANDS_UNKNOWN && named == SATF_STRANDS_UNKNOWN)
-    st = satf_error_set(err, SATF_ERR_FORMAT,
-                        "%s: unrecognised format; satf reads .hair, .tfx "
-                        "3.x/4.x, .ply, .obj, .data",
-                        path);
+    st = satf_error_set(
+        err, SATF_ERR_FORMAT,
+        "%s: unrecognised format; satf reads " STRANDS_FORMATS_READ, path);
   else
     st = parse_as(is != SATF_STRANDS_UNKNOWN ? is : named, data, size, path, o,
                   out, followers, err);

@@ -10,6 +10,7 @@
 
 #include "le_bytes.h"
 #include "satf/import.h"
+#include "strands_formats.h"
 
 /* The .data records walked by their counts end exactly at the end. */
 static int usc_plausible(const unsigned char *b, size_t size) {
@@ -67,8 +68,7 @@ satf_strands_format satf_strands_detect(const void *data, size_t size) {
     return SATF_STRANDS_PLY;
   /* TressFX 3.x and 4.x headers are 296 and 160 bytes */
   if (size >= 160) {
-    float version = lef32(b);
-    if (version >= 1.0f && version < 6.0f)
+    if (strands_tfx_version_plausible(lef32(b)))
       return SATF_STRANDS_TFX;
   }
   if (usc_plausible(b, size))

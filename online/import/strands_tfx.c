@@ -21,6 +21,7 @@
 #include "satf/common.h"
 #include "satf/import.h"
 #include "satf/math.h"
+#include "strands_formats.h"
 
 enum { TFX3_HEADER = 296, TFX3_OFFSETS = 144, TFX4_HEADER = 160 };
 #define TFX_MAX_VERTICES 4096
@@ -196,6 +197,12 @@ satf_status satf_tfx_parse(const void *data, size_t size, const char *name,
     memset(info, 0, sizeof *info);
     info->version = version;
   }
+  if (!strands_tfx_version_plausible(version))
+    return satf_error_set(
+        err, SATF_ERR_FORMAT,
+        "%s: unrecognised format; satf reads " STRANDS_FORMATS_READ
+        " (it does not begin with a TressFX version)",
+        name);
   if (isfinite(version) && version >= 1.0f && version < 3.5f)
     return parse_v3(b, size, name, info, out, err);
   if (isfinite(version) && version >= 4.0f && version < 5.0f)

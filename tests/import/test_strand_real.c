@@ -167,6 +167,27 @@ static void unknown_format(void **state) {
   assert_non_null(strstr(err.message,
                          "real-junk.bin: unrecognised format; satf reads "
                          ".hair, .tfx 3.x/4.x, .ply, .obj, .data"));
+  /* the same bytes named .tfx: no TressFX version at their start, so not
+   * "TressFX version 7.6e31"; a TressFX 5.0 header is named by its version */
+  test_write_file(test_path(path, sizeof path, "real-junk.tfx"), junk,
+                  sizeof junk);
+  assert_int_equal(satf_import_read_strands(path, &o, &s, &err),
+                   SATF_ERR_FORMAT);
+  assert_null(s);
+  assert_non_null(strstr(err.message,
+                         "real-junk.tfx: unrecognised format; satf reads "
+                         ".hair, .tfx 3.x/4.x, .ply, .obj, .data"));
+  assert_null(strstr(err.message, "version 7"));
+  memset(junk, 0, sizeof junk);
+  junk[2] = 0xa0;
+  junk[3] = 0x40; /* 5.0f */
+  test_write_file(test_path(path, sizeof path, "real-v5.tfx"), junk,
+                  sizeof junk);
+  assert_int_equal(satf_import_read_strands(path, &o, &s, &err),
+                   SATF_ERR_VERSION);
+  assert_null(s);
+  assert_non_null(strstr(err.message, "real-v5.tfx: TressFX version 5 is not"
+                                      " supported (3.x or 4.x expected)"));
   test_write_file(test_path(path, sizeof path, "real-hair.obj"), OBJ_EDGES,
                   strlen(OBJ_EDGES));
   assert_int_equal(satf_import_read_strands(path, &o, &s, &err), SATF_OK);

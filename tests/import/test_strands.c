@@ -288,8 +288,10 @@ static void tfx_malformed(void **state) {
   memcpy(c, b, size);                                                          \
   stmt;                                                                        \
   expect_tfx_error(c, size, status, msg)
-  MUTATE(putf(c, 2.0e9f), SATF_ERR_VERSION, "version 2e+09 is not supported");
-  MUTATE(putf(c, NAN), SATF_ERR_VERSION, "not supported");
+  /* a first float no TressFX file has: not TressFX, never "version 2e+09" */
+  MUTATE(putf(c, 2.0e9f), SATF_ERR_FORMAT, "unrecognised format; satf reads");
+  MUTATE(putf(c, NAN), SATF_ERR_FORMAT, "unrecognised format; satf reads");
+  MUTATE(putf(c, 0.5f), SATF_ERR_FORMAT, "unrecognised format; satf reads");
   MUTATE(putf(c, 3.7f), SATF_ERR_VERSION, "not supported");
   MUTATE(put32(c + 4, 0), SATF_ERR_CORRUPT, "holds no strands");
   MUTATE(put32(c + 4, 2000000000u), SATF_ERR_CORRUPT, "absurd strand count");
