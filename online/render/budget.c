@@ -9,20 +9,25 @@
 #include <sys/stat.h>
 
 /* Per item, from what the renderer measurably takes (llvmpipe, peak RSS of
- * satf-render under /usr/bin/time -v over the samples, imported hair and
- * generated fur and curls): per HSV the sector features, neighbours,
- * angles, maps and their textures; per procedural or track strand its
- * base, wobble and bucket entries; per pixel the fragment arrays of exact
- * compositing (64 slots of 16 bytes, their counters and depth keys, the
- * pool past them: 20 bytes, lists.h) and the frame targets. */
-#define BYTES_PER_HSV 2000.0
+ * satf-render with Mesa's shader cache off, fitted over the samples,
+ * imported hair and generated fur and a curtain, both shadings:
+ * docs/performance.md, "Memory"). A cluster drawn as shells: per HSV of
+ * its prototype the sector features, neighbours, shell geometry and
+ * proxies (an instance shares them), and per instance its maps as laid
+ * out (maps_bytes). */
+#define BYTES_PER_PROTO_HSV 850.0
 /* Per HSV of a cluster drawn as its strands (hierarchy_sparse at the
  * renderer's default SATF_SPARSE_STRANDS_DEFAULT): its shell geometry and
- * proxies only, no features' neighbours or maps (the shared ponytail's
- * 1.8M such HSVs: about 1.1 to 1.3 GB). A lower --sparse-strands draws more of
- * them as clusters, at BYTES_PER_HSV. */
-#define BYTES_PER_SPARSE_HSV 700.0
+ * proxies only, no features' neighbours or maps; and per point of its
+ * strands (tracks), rebuilt, their ribbons, light and what llvmpipe bins
+ * of their segments. A lower --sparse-strands draws more of them as
+ * clusters. */
+#define BYTES_PER_SPARSE_HSV 400.0
+#define BYTES_PER_SPARSE_POINT 900.0
 #define BYTES_PER_STRAND 36.0
+/* per pixel the fragment arrays of exact compositing at the START_SLOTS
+ * they keep while the pool past them holds the rest (lists.h), their
+ * counters, the pool, and the frame targets */
 #define BYTES_PER_PIXEL 320.0
 /* A VDB grid in memory over its file's size: the file stores leaves
  * compressed and the tree adds its internal nodes. */
@@ -32,9 +37,10 @@
  * cache (hierarchy.c). */
 #define BYTES_PER_VDB_HSV 1000.0
 /* What any renderer takes whatever the scene and database: the GL
- * driver, shaders and the program itself (the 270 MB measured with the
- * default database, less its 67 MB of records, now counted apart). */
-#define BYTES_FIXED 203e6
+ * driver, shaders and the program itself; and what the physical mode's
+ * programs and tables add. */
+#define BYTES_FIXED 180e6
+#define BYTES_FIXED_PHYSICAL 20e6
 /* What compiling the GPU's maps' two compute programs adds to the peak
  * (llvmpipe's LLVM, without Mesa's shader cache: a new database width or
  * hair colour changes their defines, so a scene's first run compiles):
@@ -81,16 +87,52 @@ static double vdb_bytes(const satf_scene *scene) {
   return sum;
 }
 
-/* Every instance's HSVs, those of clusters drawn as strands (at the
- * sparse-strands setting `sparse`) at their own rate. */
-static double hsv_bytes(const satf_scene *scene, int sparse) {
+/* The points of a cluster's strands (its tracks). */
+static double track_points(const satf_scene_cluster *c) {
+  const satf_scene_density *d = &c->density;
+  double n = 0.0;
+  for (int k = 0; d->type == SATF_SCENE_DENSITY_TRACKS && d->track_count &&
+                  k < d->n_tracks;
+       k++)
+    n += d->track_count[k];
+  return n;
+}
+
+/* An instance's maps of cluster c, with records `width` samples wide in
+ * `quads` RGBA half quads a texel: the CPU's copy (maps.h) and the GL
+ * texture's layers (hierarchy.c, rows for st up to a multiple of 4). */
+static double maps_bytes(const satf_scene_cluster *c, int width, int quads) {
+  const satf_scene_shell *sh = &c->shell;
+  double hsvs = (double)satf_scene_cluster_hsv_count(c);
+  double quad = 4.0 * sizeof(uint16_t);
+  double cpu = hsvs * (double)maps_hsv_texels(width) * quads * quad;
+  double gl = (double)sh->layers * sh->su * width * hierarchy_map_rows(sh->st) *
+              quads * quad;
+  return cpu + gl;
+}
+
+/* Every HSV, those of clusters drawn as strands (at the sparse-strands
+ * setting `sparse`) at their own rate; the maps with records `width`
+ * samples wide in `quads` quads a texel. Width 0, the database not known:
+ * a lower bound, the maps not counted and a cluster that may be drawn as
+ * its strands at the cheaper of its two ways. */
+static double hsv_bytes(const satf_scene *scene, int sparse, int width,
+                        int quads) {
   double sum = 0.0;
   for (int m = 0; m < scene->n_macro_clusters; m++) {
     const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
-    double per = hierarchy_sparse(&mc->prototype, sparse) ? BYTES_PER_SPARSE_HSV
-                                                          : BYTES_PER_HSV;
-    sum += per * (double)mc->n_instances *
-           (double)satf_scene_cluster_hsv_count(&mc->prototype);
+    double hsvs = (double)satf_scene_cluster_hsv_count(&mc->prototype);
+    double inst = (double)mc->n_instances;
+    double shells =
+        BYTES_PER_PROTO_HSV * hsvs +
+        (width > 0 ? inst * maps_bytes(&mc->prototype, width, quads) : 0.0);
+    if (hierarchy_sparse(&mc->prototype, sparse)) {
+      double strands =
+          inst * (BYTES_PER_SPARSE_HSV * hsvs +
+                  BYTES_PER_SPARSE_POINT * track_points(&mc->prototype));
+      sum += width > 0 || strands < shells ? strands : shells;
+    } else
+      sum += shells;
   }
   return sum;
 }
@@ -113,13 +155,16 @@ static double record_bytes(const satf_build_params *p, int channels) {
 }
 
 /* The database as read, and the physical mode's re-levelled copy with
- * M_p's table and the orientation-free levels (maps_fiber.c). */
+ * M_p's table and the orientation-free levels (maps_fiber.c); each with
+ * its records as halfs beside the floats, which the look-ups blend
+ * (satf_db_index). */
 static double database_bytes(const satf_scene *scene, const satf_db *db) {
   const satf_build_params *p = satf_db_params(db);
-  double sum = record_bytes(p, satf_db_channels(db));
+  double halfs = 1.0 + (double)sizeof(uint16_t) / sizeof(float);
+  double sum = halfs * record_bytes(p, satf_db_channels(db));
   maps_fiber_shape f;
   if (physical(scene, db, &f))
-    sum += record_bytes(p, f.channels) +
+    sum += halfs * record_bytes(p, f.channels) +
            (double)(maps_gpu_mp_floats(&f) + maps_gpu_rel_floats(p, &f)) *
                sizeof(float);
   return sum;
@@ -189,7 +234,10 @@ double satf_render_memory_estimate(const satf_scene *scene,
                  : opt->sparse_strands > SATF_SPARSE_STRANDS_MAX
                      ? SATF_SPARSE_STRANDS_MAX
                      : opt->sparse_strands;
-    m.hsvs = hsv_bytes(scene, sparse);
+    maps_fiber_shape f;
+    int fiber = opt->db && physical(scene, opt->db, &f);
+    m.hsvs = hsv_bytes(scene, sparse, opt->db ? satf_db_width(opt->db) : 0,
+                       fiber ? 2 : 1);
     m.strand_path = strand_path_bytes(scene, sparse, opt->strand_points);
     m.strands = BYTES_PER_STRAND * (double)satf_scene_strand_count(scene);
     m.pixels = BYTES_PER_PIXEL * (double)opt->width * (double)opt->height;
@@ -199,7 +247,7 @@ double satf_render_memory_estimate(const satf_scene *scene,
       if (opt->maps == SATF_MAPS_GPU)
         m.gpu_maps = gpu_maps_bytes(scene, opt->db, sparse);
     }
-    m.fixed = BYTES_FIXED;
+    m.fixed = BYTES_FIXED + (fiber ? BYTES_FIXED_PHYSICAL : 0.0);
     m.total = m.hsvs + m.strands + m.pixels + m.vdb + m.database + m.gpu_maps +
               m.strand_path + m.fixed;
   }

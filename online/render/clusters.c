@@ -33,7 +33,10 @@ static satf_status composite(satf_renderer *r, satf_aov aov,
   long over = 0, ignore = 0;
   GLuint most = cluster_gpu_lists(r, aov, viewproj, 0, count, &over);
   int grown = 0;
-  satf_status st = lists_grow(&r->lists, most, &grown, err);
+  /* the colour's resolve reads the pool; the depth's keeps the arrays */
+  satf_status st = lists_grow(
+      &r->lists, aov == SATF_AOV_DEPTH ? (int)most + 4 : r->lists.pool_slots,
+      &grown, err);
   if (st != SATF_OK)
     return st;
   if (grown)
@@ -46,7 +49,9 @@ static satf_status composite(satf_renderer *r, satf_aov aov,
     cluster_gpu_lists(r, aov, viewproj, 1, count, &ignore);
   if (st == SATF_OK)
     cluster_gpu_resolve(r, aov, viewproj, pool);
-  r->stats.overflow_pixels = over;
+  /* the pixels that kept their nearest: past the pool's resolve's
+   * SATF_MAX_FRAGMENTS, or the nearest passes' slots */
+  r->stats.overflow_pixels = pool ? r->lists.deepest_pixels : over;
   return st;
 }
 

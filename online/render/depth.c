@@ -30,7 +30,7 @@ satf_status depth_lists(satf_renderer *r, const float viewproj[16],
   fill_pass(r, viewproj, fill, ctx, 0);
   GLuint most = lists_count(&r->lists, 0, &count, &over);
   int grown = 0;
-  satf_status st = lists_grow(&r->lists, most, &grown, err);
+  satf_status st = lists_grow(&r->lists, (int)most + 4, &grown, err);
   if (st != SATF_OK)
     return st;
   if (grown) {

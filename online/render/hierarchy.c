@@ -456,11 +456,10 @@ static satf_status place_inst(satf_renderer *r, inst *in, satf_error *err) {
   return SATF_OK;
 }
 
-/* Rows of a map texture for st HSVs along the cluster: two an HSV (maps.h),
- * st taken up to a multiple of 4 so that prototypes of nearly equal length
+/* St taken up to a multiple of 4 so that prototypes of nearly equal length
  * share texture arrays (the shaders address texels by the prototype's own
  * st and width, so the rows past them go unread). */
-static int map_rows(int st) { return 2 * ((st + 3) / 4 * 4); }
+int hierarchy_map_rows(int st) { return 2 * ((st + 3) / 4 * 4); }
 
 typedef struct map_need {
   int proto, width, rows;
@@ -524,8 +523,8 @@ static void map_array_storage(const satf_renderer *r, GLuint tex,
 }
 
 /* Map textures for every prepared prototype that has none: each instance
- * takes one layer per shell, su * w texels around and map_rows(st) rows
- * (half floats, half.h: RGBA16F, or in the physical mode RGBA32UI holding
+ * takes one layer per shell, su * w texels around and hierarchy_map_rows(st)
+ * rows (half floats, half.h: RGBA16F, or in the physical mode RGBA32UI holding
  * a key and a fill quad of halfs, maps_fiber.h, so one fetch reads both),
  * in texture arrays shared by all the prototypes of one size (at most
  * GL_MAX_ARRAY_TEXTURE_LAYERS layers an array). Binding another texture
@@ -544,8 +543,8 @@ static satf_status map_textures_create(satf_renderer *r, satf_error *err) {
   for (int m = 0; m < r->nprotos; m++) {
     const proto *p = &r->protos[m];
     if (p->ready && !p->sparse && !p->textured && p->ninsts > 0)
-      need[n++] =
-          (map_need){m, p->geom.shell.su * r->w, map_rows(p->geom.shell.st)};
+      need[n++] = (map_need){m, p->geom.shell.su * r->w,
+                             hierarchy_map_rows(p->geom.shell.st)};
   }
   qsort(need, (size_t)n, sizeof *need, map_need_order);
   satf_status st = SATF_OK;

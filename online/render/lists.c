@@ -152,12 +152,10 @@ void lists_release(frag_lists *l) {
   l->mask = l->mask_fbo = l->mask_vao = l->mask_prog = 0;
 }
 
-satf_status lists_grow(frag_lists *l, GLuint most, int *grown,
-                       satf_error *err) {
+satf_status lists_grow(frag_lists *l, int slots, int *grown, satf_error *err) {
   *grown = 0;
-  if ((int)most <= l->slots || l->slots >= SATF_MAX_FRAGMENTS)
+  if (slots <= l->slots || l->slots >= SATF_MAX_FRAGMENTS)
     return SATF_OK;
-  int slots = (int)most + 4;
   satf_status st = lists_alloc(
       l, slots < SATF_MAX_FRAGMENTS ? slots : SATF_MAX_FRAGMENTS, err);
   *grown = st == SATF_OK;
@@ -198,11 +196,38 @@ void lists_mask_overflow(const frag_lists *l) {
   glDisable(GL_DEPTH_TEST);
 }
 
+/* From the top down: `deeper` pixels of more than s fragments, `sum` their
+ * fragments, so sum - s deeper past s slots. */
+int lists_slots_within(const GLuint *counts, size_t n, long room) {
+  enum { TOP = SATF_MAX_FRAGMENTS };
+  long hist[TOP + 2] = {0}, over_n = 0, over_sum = 0;
+  for (size_t i = 0; i < n; i++) {
+    GLuint c = counts[i];
+    if (c > TOP) { /* all past any slot count: counted whole */
+      over_n++;
+      over_sum += (long)c;
+    } else
+      hist[c]++;
+  }
+  long deeper = over_n, sum = over_sum;
+  int best = TOP;
+  for (int s = TOP; s >= START_SLOTS; s--) {
+    /* deeper, sum: the pixels of more than s fragments */
+    if (sum - (long)s * deeper > room)
+      break;
+    best = s;
+    deeper += hist[s];
+    sum += (long)s * hist[s];
+  }
+  return best;
+}
+
 GLuint lists_count(frag_lists *l, int nearest, long *fragments,
                    long *overflow) {
   /* the deepest pixel decides whether the arrays were large enough */
   size_t n = (size_t)l->width * (size_t)l->height;
   GLuint *counts = malloc(n * sizeof(GLuint)), most = 0;
+  long past = 0; /* fragments past the slots */
   *fragments = 0;
   *overflow = 0;
   int box[4] = {0, 0, l->width, l->height}; /* x0, y0, x1, y1 */
@@ -216,14 +241,28 @@ GLuint lists_count(frag_lists *l, int nearest, long *fragments,
       *fragments += counts[i] < (GLuint)l->slots ? counts[i] : (GLuint)l->slots;
       if (counts[i] <= (GLuint)l->slots)
         continue;
+      past += (long)(counts[i] - (GLuint)l->slots);
       ++*overflow;
       int x = (int)(i % (size_t)l->width), y = (int)(i / (size_t)l->width);
       box[0] = x < box[0] ? x : box[0], box[1] = y < box[1] ? y : box[1];
       box[2] = x + 1 > box[2] ? x + 1 : box[2];
       box[3] = y + 1 > box[3] ? y + 1 : box[3];
     }
+    /* Arrays deep enough for the deepest pixel cost every pixel of the
+     * frame as many slots (the shared ponytail's 100 fragments in a few
+     * of its pixels: 64 slots, 315 MB at 640x480); the pool takes the
+     * fragments past them in any pixel. Half of it left free for a
+     * camera that moves on. */
+    if (!nearest) {
+      l->pool_slots = lists_slots_within(counts, n, (long)l->pool / 2);
+      l->deepest_pixels = 0;
+      for (size_t i = 0; i < n; i++)
+        l->deepest_pixels += counts[i] > SATF_MAX_FRAGMENTS;
+    }
     free(counts);
   }
+  if (!nearest) /* the pool held them, or the nearest passes keep slots */
+    *fragments += past <= (long)l->pool ? past : 0;
   /* its fragments past the slots went there (counts unread: maybe) */
   if (!nearest && (*overflow > 0 || !read))
     l->pool_dirty = 1;

@@ -42,6 +42,11 @@ typedef struct frag_lists {
    * empty vertex array that draw it; made with the keys */
   GLuint mask_fbo, mask, mask_prog, mask_vao;
   int slots; /* fragments kept per pixel */
+  /* the fewest slots (START_SLOTS .. SATF_MAX_FRAGMENTS) past which the
+   * last plain pass's fragments fill at most half the pool: lists_count */
+  int pool_slots;
+  /* the pixels of the last plain pass deeper than SATF_MAX_FRAGMENTS */
+  long deepest_pixels;
   int width, height;
   /* x, y, width, height of the pixels the last plain pass overflowed (the
    * nearest passes draw only there) */
@@ -55,11 +60,11 @@ satf_status lists_attach(frag_lists *l, int width, int height, GLuint depth,
                          satf_error *err);
 /* Arrays of `slots` fragments per pixel (the keys dropped). */
 satf_status lists_alloc(frag_lists *l, int slots, satf_error *err);
-/* After a plain pass whose deepest pixel received `most` fragments: the
- * arrays grown to hold them (and 4 more; at most SATF_MAX_FRAGMENTS) when
- * they held fewer and can grow; *grown says whether they did, and so
- * whether the pass must be drawn again. */
-satf_status lists_grow(frag_lists *l, GLuint most, int *grown, satf_error *err);
+/* After a plain pass: the arrays grown to `slots` a pixel (at most
+ * SATF_MAX_FRAGMENTS) when they hold fewer; *grown says whether they did,
+ * and so whether the pass must be drawn again. The colour's composite asks
+ * for pool_slots, the depth's for the deepest pixel's count and 4 more. */
+satf_status lists_grow(frag_lists *l, int slots, int *grown, satf_error *err);
 /* `slots` layers of depth keys and one more, the counter of the second
  * nearest pass's stores (glsl/list_write.glsl), and the overflow mask at
  * the arrays' size, unless they exist. */
@@ -78,9 +83,14 @@ void lists_bind(const frag_lists *l, int mode);
  * pixels lie in a box of 150 x 170 at the tie). Leaves the depth test
  * off and depth writes on. */
 void lists_mask_overflow(const frag_lists *l);
+/* The fewest slots a pixel, START_SLOTS .. SATF_MAX_FRAGMENTS, past which
+ * the n pixels' fragment counts leave at most `room` fragments
+ * (SATF_MAX_FRAGMENTS where none does). */
+int lists_slots_within(const GLuint *counts, size_t n, long room);
 /* After a fill: the largest number of fragments a pixel received, the
- * fragments kept (*fragments) and the pixels that received more than
- * `slots` (*overflow); a plain pass (nearest 0) also records their box. */
+ * fragments kept (*fragments: those in the slots, and those past them the
+ * pool holds) and the pixels that received more than `slots` (*overflow);
+ * a plain pass (nearest 0) also records their box and pool_slots. */
 GLuint lists_count(frag_lists *l, int nearest, long *fragments, long *overflow);
 /* Before a plain pass: the pool emptied, where a pass wrote to it since
  * (one that overflowed a pixel's slots). */

@@ -220,6 +220,9 @@ satf_status hierarchy_build(satf_renderer *r, satf_progress_fn progress,
 /* Whether a scene cluster of "tracks" density holds 1 .. max strands and
  * is drawn as them (sparse.c) rather than as a cluster. */
 int hierarchy_sparse(const satf_scene_cluster *c, int max);
+/* Rows of an instance's map texture for st HSVs along the cluster: two an
+ * HSV (maps.h) */
+int hierarchy_map_rows(int st);
 /* Gives every prototype now drawn as a cluster (proto.sparse 0) what
  * hierarchy_build left out for those drawn as strands: after
  * satf_renderer_set_sparse_strands lowers the threshold. */

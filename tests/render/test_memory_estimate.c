@@ -92,10 +92,18 @@ static void test_kk(void **st) {
   (void)st;
   satf_scene *scene = scene_with("{\"model\": \"kk\"}");
   satf_db *small = empty_db(0, 64, 16, 32), *big = empty_db(0, 128, 16, 32);
-  /* the database as read: reflectance and alpha, floats */
+  /* the database as read: reflectance and alpha, floats and halfs */
   satf_render_memory m;
   estimate(scene, small, SATF_MAPS_CPU, &m);
-  assert_true(m.database == records(small) * 2 * 32 * sizeof(float));
+  assert_true(m.database == records(small) * 2 * 32 * 1.5 * sizeof(float));
+  /* 850 bytes per HSV of a prototype (108 of 3 x 6 x 6, 64 of 2 x 4 x 8)
+   * and each instance's maps: records 32 samples wide, a quad of halfs (8
+   * bytes) a texel, 2 x 32 texels an HSV in the CPU's copy and su x 32
+   * around by 2 x st rows (st up to a multiple of 4) a layer in GL: the
+   * first's (108 x 64 + 3 x 6 x 32 x 16) x 8 = 129,024 twice, the
+   * second's (64 x 64 + 2 x 8 x 32 x 8) x 8 = 65,536 */
+  double maps = 2 * 129024.0 + 65536.0;
+  assert_true(fabs(m.hsvs - (850.0 * (108 + 64) + maps)) < 1.0);
   /* the GPU keeps every record's reflectance and alpha as halfs */
   double halfs_small = records(small) * 2 * 32 * 2;
   double extra_small = gpu_extra(scene, small);
@@ -106,7 +114,8 @@ static void test_kk(void **st) {
   double grown = gpu_extra(scene, big) - extra_small;
   assert_true(fabs(grown - (halfs_big - halfs_small + 64 * sizeof(float))) <
               1.0);
-  /* without the database neither it nor the GPU's maps are counted */
+  /* without the database neither it, the maps nor the GPU's maps are
+   * counted */
   satf_render_memory_options none = satf_render_memory_options_default();
   none.width = 320;
   none.height = 240;
@@ -114,7 +123,7 @@ static void test_kk(void **st) {
   satf_render_memory without;
   satf_render_memory_estimate(scene, &none, &without);
   assert_true(without.database == 0.0 && without.gpu_maps == 0.0);
-  assert_true(fabs(m.total - m.database - without.total) < 1.0);
+  assert_true(fabs(m.total - m.database - maps - without.total) < 1.0);
   satf_db_destroy(small);
   satf_db_destroy(big);
   satf_scene_destroy(scene);
@@ -137,11 +146,12 @@ static void test_physical(void **st) {
   estimate(grey, db, SATF_MAPS_CPU, &g);
   estimate(brown, db, SATF_MAPS_CPU, &b);
   double floats = records(db) * 16 * sizeof(float); /* a channel's */
-  /* the copy's 6 more channels, and 6 more floats per sample and view
-   * azimuth in its orientation-free levels (maps_fiber.c: rel_levels) */
+  /* the copy's 6 more channels (floats and halfs), and 6 more floats per
+   * sample and view azimuth in its orientation-free levels (maps_fiber.c:
+   * rel_levels) */
   assert_true(g.database >= floats * (channels + 6));
   assert_true(fabs(b.database - g.database -
-                   (floats * 6 + 32.0 * 12 * 6 * sizeof(float))) < 1.0);
+                   (floats * 6 * 1.5 + 32.0 * 12 * 6 * sizeof(float))) < 1.0);
   double halfs = records(db) * 16 * 2; /* a channel's */
   double grey_extra = gpu_extra(grey, db);
   assert_true(grey_extra >= halfs * 6);
@@ -150,7 +160,7 @@ static void test_physical(void **st) {
   /* a Phong database cannot be shaded physically: only its records */
   satf_db *phong = empty_db(0, 32, 12, 16);
   estimate(grey, phong, SATF_MAPS_CPU, &g);
-  assert_true(g.database == records(phong) * 2 * 16 * sizeof(float));
+  assert_true(g.database == records(phong) * 2 * 16 * 1.5 * sizeof(float));
   satf_db_destroy(phong);
   satf_db_destroy(db);
   satf_scene_destroy(grey);
@@ -225,13 +235,19 @@ static void test_sparse_setting(void **st) {
               a_all.total > a_def.total);
   assert_true(at_setting(a, db, -5).total == a_all.total);
   assert_true(at_setting(a, db, 1 << 20).total == a_max.total);
-  /* the cluster's HSVs (3 layers x su 8 x st) are all that changes */
-  double per_a = (a_all.hsvs - a_def.hsvs) / (3.0 * 8 * 4);
-  double per_b = (b_all.hsvs - b_def.hsvs) / (3.0 * 8 * 12);
+  /* the cluster's HSVs (3 layers x su 8 x st) and its strands' 9 points
+   * (900 bytes each drawn as strands) are all that changes: as shells 850
+   * bytes an HSV and its maps, records 16 samples wide, 2 x 16 texels of 8
+   * bytes in the CPU's copy and as many in GL (st a multiple of 4), where
+   * drawn as strands 400 */
+  double points = 9 * 900.0;
+  double per_a = (a_all.hsvs - a_def.hsvs + points) / (3.0 * 8 * 4);
+  double per_b = (b_all.hsvs - b_def.hsvs + points) / (3.0 * 8 * 12);
   printf("a cluster drawn as shells instead of strands: %.0f bytes more "
          "per HSV (st 4), %.0f (st 12)\n",
          per_a, per_b);
-  assert_true(per_a > 0.0 && fabs(per_a - per_b) < 1e-6 * per_a);
+  assert_true(fabs(per_a - (850.0 + 2 * 256 - 400)) < 1e-6 * per_a);
+  assert_true(fabs(per_b - per_a) < 1e-6 * per_a);
   /* the default import's 8: more strands, drawn as shells at either */
   satf_scene *c = sparse_scene(9, 4);
   assert_true(at_setting(c, db, SATF_SPARSE_STRANDS_DEFAULT).total ==

@@ -16,9 +16,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lists.h"
 #include "render_fixture.h"
 #include "satf/gl.h"
 #include "satf/render.h"
+#include "shaders.h"
 #include "test_util.h"
 
 #define W 64
@@ -189,6 +191,27 @@ static void test_nearest_kept_pool_full(void **state) {
   nearest_kept(*state, FAR_FULL);
 }
 
+/* The arrays' depth for the pool: the fewest slots past which the
+ * fragments fit the room given, counted from the pixels' counts. */
+static void test_pool_slots(void **state) {
+  (void)state;
+  enum { N = 10100 };
+  GLuint *counts = malloc(N * sizeof *counts);
+  assert_non_null(counts);
+  for (int i = 0; i < N; i++) /* 10,000 pixels of 3, 100 of 100 */
+    counts[i] = i < 10000 ? 3u : 100u;
+  /* past s slots: 100 (100 - s) fragments */
+  assert_int_equal(lists_slots_within(counts, N, 5000), 50);
+  assert_int_equal(lists_slots_within(counts, N, 4999), 51);
+  assert_int_equal(lists_slots_within(counts, N, 8400), START_SLOTS);
+  assert_int_equal(lists_slots_within(counts, N, 3600), SATF_MAX_FRAGMENTS);
+  assert_int_equal(lists_slots_within(counts, N, 3599), SATF_MAX_FRAGMENTS);
+  for (int i = 0; i < N; i++) /* none deeper than the first slots */
+    counts[i] = (GLuint)(i % (START_SLOTS + 1));
+  assert_int_equal(lists_slots_within(counts, N, 0), START_SLOTS);
+  free(counts);
+}
+
 /* The same for sparse clusters drawn as their strands (sparse.c), whose
  * first nearest pass writes only depth keys (glsl/strand_fs.glsl): the
  * frame does not depend on the order the strands arrive in. */
@@ -217,6 +240,7 @@ static void test_nearest_strands_kept(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_pool_slots),
       cmocka_unit_test(test_nearest_fragments_kept),
       cmocka_unit_test(test_nearest_kept_pool_full),
       cmocka_unit_test(test_nearest_strands_kept),

@@ -42,8 +42,14 @@ bool farther(uvec4 a, uvec4 b) {
 void main() {
   uvec4 f[MAXF];
   ivec2 px = ivec2(gl_FragCoord.xy);
-  int total = int(imageLoad(u_counts, px).r), keep = min(u_slots, MAXF);
-  int n = min(total, keep);
+  int total = int(imageLoad(u_counts, px).r);
+#if POOL
+  /* the arrays' slots and the pool's chain: the MAXF nearest of both, as
+   * arrays of MAXF slots would keep (lists.h: pool_slots) */
+  int keep = MAXF, n = min(total, min(u_slots, MAXF));
+#else
+  int keep = min(u_slots, MAXF), n = min(total, keep);
+#endif
   for (int k = 0; k < n; k++) f[k] = imageLoad(u_frags, ivec3(px, k));
   for (int a = 1; a < n; a++) {
     uvec4 x = f[a];
