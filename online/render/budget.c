@@ -15,15 +15,18 @@
  * its prototype the sector features, neighbours, shell geometry and
  * proxies (an instance shares them), and per instance its maps as laid
  * out (maps_bytes). */
-#define BYTES_PER_PROTO_HSV 850.0
+#define BYTES_PER_PROTO_HSV 700.0
+/* Per instance of a cluster, drawn either way: its proxy's and strands'
+ * GL buffers and its instance data */
+#define BYTES_PER_INSTANCE 60e3
 /* Per HSV of a cluster drawn as its strands (hierarchy_sparse at the
  * renderer's default SATF_SPARSE_STRANDS_DEFAULT): its shell geometry and
  * proxies only, no features' neighbours or maps; and per point of its
  * strands (tracks), rebuilt, their ribbons, light and what llvmpipe bins
  * of their segments. A lower --sparse-strands draws more of them as
  * clusters. */
-#define BYTES_PER_SPARSE_HSV 400.0
-#define BYTES_PER_SPARSE_POINT 900.0
+#define BYTES_PER_SPARSE_HSV 320.0
+#define BYTES_PER_SPARSE_POINT 650.0
 #define BYTES_PER_STRAND 36.0
 /* per pixel the fragment arrays of exact compositing at the START_SLOTS
  * they keep while the pool past them holds the rest (lists.h), their
@@ -32,15 +35,11 @@
 /* A VDB grid in memory over its file's size: the file stores leaves
  * compressed and the tree adds its internal nodes. */
 #define VDB_MEMORY_PER_FILE_BYTE 3.0
-/* Per HSV of a cluster with VDB density, on top of BYTES_PER_HSV: world-
- * space density gives every instance its own features and neighbour
- * cache (hierarchy.c). */
-#define BYTES_PER_VDB_HSV 1000.0
 /* What any renderer takes whatever the scene and database: the GL
  * driver, shaders and the program itself; and what the physical mode's
  * programs and tables add. */
-#define BYTES_FIXED 180e6
-#define BYTES_FIXED_PHYSICAL 20e6
+#define BYTES_FIXED 175e6
+#define BYTES_FIXED_PHYSICAL 30e6
 /* What compiling the GPU's maps' two compute programs adds to the peak
  * (llvmpipe's LLVM, without Mesa's shader cache: a new database width or
  * hair colour changes their defines, so a scene's first run compiles):
@@ -62,8 +61,7 @@
 #define BYTES_STRAND_PATH 90e6
 
 /* What VDB density adds: the grids of the distinct files the clusters name
- * (the renderer reads each once however many clusters name it) and the
- * per-instance features of its clusters. */
+ * (the renderer reads each once however many clusters name it). */
 static double vdb_bytes(const satf_scene *scene) {
   double sum = 0.0;
   for (int m = 0; m < scene->n_macro_clusters; m++) {
@@ -80,9 +78,6 @@ static double vdb_bytes(const satf_scene *scene) {
     struct stat st;
     if (!seen && stat(d->vdb_file, &st) == 0)
       sum += VDB_MEMORY_PER_FILE_BYTE * (double)st.st_size;
-    sum += BYTES_PER_VDB_HSV * (double)scene->macro_clusters[m].n_instances *
-           (double)satf_scene_cluster_hsv_count(
-               &scene->macro_clusters[m].prototype);
   }
   return sum;
 }
@@ -123,8 +118,12 @@ static double hsv_bytes(const satf_scene *scene, int sparse, int width,
     const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];
     double hsvs = (double)satf_scene_cluster_hsv_count(&mc->prototype);
     double inst = (double)mc->n_instances;
+    /* world-space density gives every instance its own features and
+     * neighbours (hierarchy.c) */
+    double own =
+        mc->prototype.density.type == SATF_SCENE_DENSITY_VDB ? inst : 1.0;
     double shells =
-        BYTES_PER_PROTO_HSV * hsvs +
+        BYTES_PER_PROTO_HSV * own * hsvs +
         (width > 0 ? inst * maps_bytes(&mc->prototype, width, quads) : 0.0);
     if (hierarchy_sparse(&mc->prototype, sparse)) {
       double strands =
@@ -133,6 +132,7 @@ static double hsv_bytes(const satf_scene *scene, int sparse, int width,
       sum += width > 0 || strands < shells ? strands : shells;
     } else
       sum += shells;
+    sum += BYTES_PER_INSTANCE * inst;
   }
   return sum;
 }

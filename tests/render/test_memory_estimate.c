@@ -96,14 +96,14 @@ static void test_kk(void **st) {
   satf_render_memory m;
   estimate(scene, small, SATF_MAPS_CPU, &m);
   assert_true(m.database == records(small) * 2 * 32 * 1.5 * sizeof(float));
-  /* 850 bytes per HSV of a prototype (108 of 3 x 6 x 6, 64 of 2 x 4 x 8)
-   * and each instance's maps: records 32 samples wide, a quad of halfs (8
-   * bytes) a texel, 2 x 32 texels an HSV in the CPU's copy and su x 32
-   * around by 2 x st rows (st up to a multiple of 4) a layer in GL: the
-   * first's (108 x 64 + 3 x 6 x 32 x 16) x 8 = 129,024 twice, the
-   * second's (64 x 64 + 2 x 8 x 32 x 8) x 8 = 65,536 */
+  /* 700 bytes per HSV of a prototype (108 of 3 x 6 x 6, 64 of 2 x 4 x 8),
+   * 60,000 per instance (3) and each instance's maps: records 32 samples wide,
+   * a quad of halfs (8 bytes) a texel, 2 x 32 texels an HSV in the CPU's copy
+   * and su x 32 around by 2 x st rows (st up to a multiple of 4) a layer in GL:
+   * the first's (108 x 64 + 3 x 6 x 32 x 16) x 8 = 129,024 twice, the second's
+   * (64 x 64 + 2 x 8 x 32 x 8) x 8 = 65,536 */
   double maps = 2 * 129024.0 + 65536.0;
-  assert_true(fabs(m.hsvs - (850.0 * (108 + 64) + maps)) < 1.0);
+  assert_true(fabs(m.hsvs - (700.0 * (108 + 64) + 3 * 60e3 + maps)) < 1.0);
   /* the GPU keeps every record's reflectance and alpha as halfs */
   double halfs_small = records(small) * 2 * 32 * 2;
   double extra_small = gpu_extra(scene, small);
@@ -236,17 +236,17 @@ static void test_sparse_setting(void **st) {
   assert_true(at_setting(a, db, -5).total == a_all.total);
   assert_true(at_setting(a, db, 1 << 20).total == a_max.total);
   /* the cluster's HSVs (3 layers x su 8 x st) and its strands' 9 points
-   * (900 bytes each drawn as strands) are all that changes: as shells 850
+   * (650 bytes each drawn as strands) are all that changes: as shells 700
    * bytes an HSV and its maps, records 16 samples wide, 2 x 16 texels of 8
    * bytes in the CPU's copy and as many in GL (st a multiple of 4), where
-   * drawn as strands 400 */
-  double points = 9 * 900.0;
+   * drawn as strands 320 */
+  double points = 9 * 650.0;
   double per_a = (a_all.hsvs - a_def.hsvs + points) / (3.0 * 8 * 4);
   double per_b = (b_all.hsvs - b_def.hsvs + points) / (3.0 * 8 * 12);
   printf("a cluster drawn as shells instead of strands: %.0f bytes more "
          "per HSV (st 4), %.0f (st 12)\n",
          per_a, per_b);
-  assert_true(fabs(per_a - (850.0 + 2 * 256 - 400)) < 1e-6 * per_a);
+  assert_true(fabs(per_a - (700.0 + 2 * 256 - 320)) < 1e-6 * per_a);
   assert_true(fabs(per_b - per_a) < 1e-6 * per_a);
   /* the default import's 8: more strands, drawn as shells at either */
   satf_scene *c = sparse_scene(9, 4);
