@@ -4,8 +4,8 @@
  * averaged, a box filter one pixel wide. Per-pixel fragment arrays and
  * image-store compositing (shade_fs.glsl) cannot use GL multisampling, and
  * rendering at a multiple of the resolution would multiply the arrays'
- * memory (64 slots of 16 bytes per pixel); accumulating samples costs time
- * only. The maps and the deep opacity map are made once per frame. */
+ * memory (16 to 64 slots of 16 bytes per pixel); accumulating samples costs
+ * time only. The maps and the deep opacity map are made once per frame. */
 #include "samples.h"
 
 #include <math.h>
