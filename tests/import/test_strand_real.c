@@ -147,47 +147,46 @@ static void obj_colours(void **state) {
   satf_strand_set_destroy(s);
 }
 
+/* The import of `size` bytes written as file `name` fails with `status`
+ * and a message holding `message` (the file's path first). */
+static void expect_refused(const char *name, const unsigned char *bytes,
+                           size_t size, satf_status status,
+                           const char *message) {
+  char path[512], want[256];
+  satf_import_options o = satf_import_options_default();
+  satf_strand_set *s = NULL;
+  satf_error err;
+  test_write_file(test_path(path, sizeof path, name), bytes, size);
+  assert_int_equal(satf_import_read_strands(path, &o, &s, &err), status);
+  assert_null(s);
+  snprintf(want, sizeof want, "%s: %s", name, message);
+  if (!strstr(err.message, want))
+    fail_msg("expected \"%s\" in \"%s\"", want, err.message);
+}
+
 /* Unrecognised bytes are called so, never a TressFX file of some version;
  * a .obj read by the importer. */
 static void unknown_format(void **state) {
   (void)state;
-  char path[512];
-  satf_import_options o = satf_import_options_default();
-  satf_strand_set *s = NULL;
-  satf_error err;
+  static const char *const unknown =
+      "unrecognised format; satf reads .hair, .tfx 3.x/4.x, .ply, .obj, .data";
   unsigned char junk[400];
   for (size_t k = 0; k < sizeof junk; k++)
     junk[k] = (unsigned char)(k * 37 + 11);
   junk[3] = 0x74; /* a first float of 7.6e31 */
-  test_write_file(test_path(path, sizeof path, "real-junk.bin"), junk,
-                  sizeof junk);
-  assert_int_equal(satf_import_read_strands(path, &o, &s, &err),
-                   SATF_ERR_FORMAT);
-  assert_null(s);
-  assert_non_null(strstr(err.message,
-                         "real-junk.bin: unrecognised format; satf reads "
-                         ".hair, .tfx 3.x/4.x, .ply, .obj, .data"));
+  expect_refused("real-junk.bin", junk, sizeof junk, SATF_ERR_FORMAT, unknown);
   /* the same bytes named .tfx: no TressFX version at their start, so not
    * "TressFX version 7.6e31"; a TressFX 5.0 header is named by its version */
-  test_write_file(test_path(path, sizeof path, "real-junk.tfx"), junk,
-                  sizeof junk);
-  assert_int_equal(satf_import_read_strands(path, &o, &s, &err),
-                   SATF_ERR_FORMAT);
-  assert_null(s);
-  assert_non_null(strstr(err.message,
-                         "real-junk.tfx: unrecognised format; satf reads "
-                         ".hair, .tfx 3.x/4.x, .ply, .obj, .data"));
-  assert_null(strstr(err.message, "version 7"));
+  expect_refused("real-junk.tfx", junk, sizeof junk, SATF_ERR_FORMAT, unknown);
   memset(junk, 0, sizeof junk);
   junk[2] = 0xa0;
   junk[3] = 0x40; /* 5.0f */
-  test_write_file(test_path(path, sizeof path, "real-v5.tfx"), junk,
-                  sizeof junk);
-  assert_int_equal(satf_import_read_strands(path, &o, &s, &err),
-                   SATF_ERR_VERSION);
-  assert_null(s);
-  assert_non_null(strstr(err.message, "real-v5.tfx: TressFX version 5 is not"
-                                      " supported (3.x or 4.x expected)"));
+  expect_refused("real-v5.tfx", junk, sizeof junk, SATF_ERR_VERSION,
+                 "TressFX version 5 is not supported (3.x or 4.x expected)");
+  char path[512];
+  satf_import_options o = satf_import_options_default();
+  satf_strand_set *s = NULL;
+  satf_error err;
   test_write_file(test_path(path, sizeof path, "real-hair.obj"), OBJ_EDGES,
                   strlen(OBJ_EDGES));
   assert_int_equal(satf_import_read_strands(path, &o, &s, &err), SATF_OK);
