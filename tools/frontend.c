@@ -114,9 +114,10 @@ satf_status satf_frontend_load(const char *prog, const char *scene_path,
   fe->budget = budget > 0.0 ? budget : default_budget();
   long w = *width ? *width : st == SATF_OK ? fe->scene->image.width : 0;
   long h = *width ? *height : st == SATF_OK ? fe->scene->image.height : 0;
-  /* before the database is read: a lower bound (the database not counted,
-   * and as many clusters drawn as strands as the renderer allows), which
-   * satf_frontend_check_memory completes */
+  /* before the database is read: a lower bound (neither the database nor
+   * the maps counted, and every cluster the renderer may draw as strands
+   * at the cheaper of its two ways), which satf_frontend_check_memory
+   * completes */
   satf_render_memory_options opt = satf_render_memory_options_default();
   opt.width = w;
   opt.height = h;

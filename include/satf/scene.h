@@ -375,6 +375,10 @@ int satf_scene_tracks_as_strands(int slices, int n_tracks,
 /* HSVs of one cluster: layers * st * su (SATF eq. 3). */
 uint64_t satf_scene_cluster_hsv_count(const satf_scene_cluster *cluster);
 
+/* The points of a "tracks" density's strands (its track_count summed); 0
+ * for any other density. */
+size_t satf_scene_track_points(const satf_scene_density *density);
+
 /* The control-value count a, b and twist share once constants are repeated
  * (validation ensures each is a single value or has this count). */
 int satf_scene_cluster_curve_count(const satf_scene_cluster *cluster);

@@ -82,28 +82,21 @@ static double vdb_bytes(const satf_scene *scene) {
   return sum;
 }
 
-/* The points of a cluster's strands (its tracks). */
-static double track_points(const satf_scene_cluster *c) {
-  const satf_scene_density *d = &c->density;
-  double n = 0.0;
-  for (int k = 0; d->type == SATF_SCENE_DENSITY_TRACKS && d->track_count &&
-                  k < d->n_tracks;
-       k++)
-    n += d->track_count[k];
-  return n;
-}
-
 /* An instance's maps of cluster c, with records `width` samples wide in
  * `quads` RGBA half quads a texel: the CPU's copy (maps.h) and the GL
  * texture's layers (hierarchy.c, rows for st up to a multiple of 4). */
+/* An HSV's texels in the CPU's copy of the maps (hierarchy.c: inst.texels),
+ * `quads` RGBA half quads a texel. */
+static double hsv_copy_bytes(int width, int quads) {
+  return (double)maps_hsv_texels(width) * quads * 4.0 * sizeof(uint16_t);
+}
+
 static double maps_bytes(const satf_scene_cluster *c, int width, int quads) {
   const satf_scene_shell *sh = &c->shell;
   double hsvs = (double)satf_scene_cluster_hsv_count(c);
-  double quad = 4.0 * sizeof(uint16_t);
-  double cpu = hsvs * (double)maps_hsv_texels(width) * quads * quad;
   double gl = (double)sh->layers * sh->su * width * hierarchy_map_rows(sh->st) *
-              quads * quad;
-  return cpu + gl;
+              quads * 4.0 * sizeof(uint16_t);
+  return hsvs * hsv_copy_bytes(width, quads) + gl;
 }
 
 /* Every HSV, those of clusters drawn as strands (at the sparse-strands
@@ -128,7 +121,8 @@ static double hsv_bytes(const satf_scene *scene, int sparse, int width,
     if (hierarchy_sparse(&mc->prototype, sparse)) {
       double strands =
           inst * (BYTES_PER_SPARSE_HSV * hsvs +
-                  BYTES_PER_SPARSE_POINT * track_points(&mc->prototype));
+                  BYTES_PER_SPARSE_POINT *
+                      (double)satf_scene_track_points(&mc->prototype.density));
       sum += width > 0 || strands < shells ? strands : shells;
     } else
       sum += shells;
@@ -183,8 +177,7 @@ static double gpu_maps_bytes(const satf_scene *scene, const satf_db *db,
   maps_gpu_tables_bytes(db, fiber ? &f : NULL, &t);
   satf_map_options opt = satf_map_options_default();
   int k = maps_gpu_k(&opt);
-  double per_hsv_copy = (double)maps_hsv_texels(satf_db_width(db)) * 4.0 *
-                        (fiber ? 2.0 : 1.0) * 2.0;
+  double per_hsv_copy = hsv_copy_bytes(satf_db_width(db), fiber ? 2 : 1);
   double sum = (double)(t.records + t.tables) + BYTES_GPU_PROGRAMS;
   for (int m = 0; m < scene->n_macro_clusters; m++) {
     const satf_scene_macro_cluster *mc = &scene->macro_clusters[m];

@@ -227,7 +227,7 @@ GLuint lists_count(frag_lists *l, int nearest, long *fragments,
   /* the deepest pixel decides whether the arrays were large enough */
   size_t n = (size_t)l->width * (size_t)l->height;
   GLuint *counts = malloc(n * sizeof(GLuint)), most = 0;
-  long past = 0; /* fragments past the slots */
+  long past = 0, deepest = 0; /* fragments past the slots; pixels past 64 */
   *fragments = 0;
   *overflow = 0;
   int box[4] = {0, 0, l->width, l->height}; /* x0, y0, x1, y1 */
@@ -242,6 +242,7 @@ GLuint lists_count(frag_lists *l, int nearest, long *fragments,
       if (counts[i] <= (GLuint)l->slots)
         continue;
       past += (long)(counts[i] - (GLuint)l->slots);
+      deepest += counts[i] > SATF_MAX_FRAGMENTS;
       ++*overflow;
       int x = (int)(i % (size_t)l->width), y = (int)(i / (size_t)l->width);
       box[0] = x < box[0] ? x : box[0], box[1] = y < box[1] ? y : box[1];
@@ -255,9 +256,7 @@ GLuint lists_count(frag_lists *l, int nearest, long *fragments,
      * camera that moves on. */
     if (!nearest) {
       l->pool_slots = lists_slots_within(counts, n, (long)l->pool / 2);
-      l->deepest_pixels = 0;
-      for (size_t i = 0; i < n; i++)
-        l->deepest_pixels += counts[i] > SATF_MAX_FRAGMENTS;
+      l->deepest_pixels = deepest;
     }
     free(counts);
   }

@@ -109,6 +109,15 @@ uint64_t satf_scene_layer_count(const satf_scene *scene) {
   return n;
 }
 
+size_t satf_scene_track_points(const satf_scene_density *density) {
+  size_t n = 0;
+  for (int k = 0; density->type == SATF_SCENE_DENSITY_TRACKS &&
+                  density->track_count && k < density->n_tracks;
+       k++)
+    n += (size_t)density->track_count[k];
+  return n;
+}
+
 int satf_scene_tracks_as_strands(int slices, int n_tracks,
                                  const int *track_count, int max_strands) {
   if (max_strands <= 0 || n_tracks <= 0 || slices < 2)

@@ -59,9 +59,8 @@ static void copy_macro_cluster(const satf_scene_macro_cluster *from,
   tc->density = fc->density;
   tc->density.vdb_file = copy_string(fc->density.vdb_file, failed);
   tc->density.vdb_grid = copy_string(fc->density.vdb_grid, failed);
-  size_t nt = (size_t)fc->density.n_tracks, np = 0;
-  for (size_t k = 0; k < nt && fc->density.track_count; k++)
-    np += (size_t)fc->density.track_count[k];
+  size_t nt = (size_t)fc->density.n_tracks,
+         np = satf_scene_track_points(&fc->density);
   tc->density.track_first =
       copy_bytes(fc->density.track_first, nt * sizeof(int), failed);
   tc->density.track_count =

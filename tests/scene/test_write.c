@@ -368,6 +368,7 @@ static void test_track_widths_round_trip(void **state) {
   if (parse_tracked(", \"widths\": [0.25, 1.75]", &scene, &err) != SATF_OK)
     fail_msg("%s", err.message);
   const satf_scene_density *d = &scene->macro_clusters[0].prototype.density;
+  assert_int_equal(satf_scene_track_points(d), 2 + 2); /* two points each */
   assert_non_null(d->track_width);
   assert_float_equal(d->track_width[0], 0.25f, 0.0f);
   assert_float_equal(d->track_width[1], 1.75f, 0.0f);
