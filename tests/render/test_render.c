@@ -118,6 +118,19 @@ static satf_image *render(satf_renderer *r, int aovs) {
   return img;
 }
 
+/* scene JSON through a fresh renderer at W x H: its frame (with aovs), and
+ * the scene and renderer for the caller to destroy */
+static satf_image *render_json(const fixture *f, const char *json, int aovs,
+                               satf_scene **scene, satf_renderer **r) {
+  *scene = fixture_scene(json);
+  assert_non_null(*scene);
+  *r = fixture_renderer(*scene, f->db, W, H, 0);
+  assert_non_null(*r);
+  satf_image *img = render(*r, aovs);
+  assert_non_null(img);
+  return img;
+}
+
 static double luminance(const satf_image *img, size_t i) {
   return 0.2126 * fixture_plane(img, "R")[i] +
          0.7152 * fixture_plane(img, "G")[i] +
@@ -268,12 +281,9 @@ static void test_highlight_across_flat_cluster(void **state) {
       " \"effects\": {\"cluster_shadows\": false},"
       " \"background\": [0, 0, 0], \"image\": {\"width\": 160, "
       "\"height\": 120}}";
-  satf_scene *scene = fixture_scene(json);
-  assert_non_null(scene);
-  satf_renderer *r = fixture_renderer(scene, f->db, W, H, 0);
-  assert_non_null(r);
-  satf_image *img = render(r, 1);
-  assert_non_null(img);
+  satf_scene *scene;
+  satf_renderer *r;
+  satf_image *img = render_json(f, json, 1, &scene, &r);
   const float *A = fixture_plane(img, "A");
   const float *dif = fixture_plane(img, "diffuse.G");
   const float *spec = fixture_plane(img, "specI.G");
@@ -293,6 +303,83 @@ static void test_highlight_across_flat_cluster(void **state) {
   assert_true(n > 500);
   assert_true(lo > 0.01 * (sum / n)); /* the highlight is there */
   assert_true(hi - lo < 0.02 * (sum / n));
+  satf_image_destroy(img);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(scene);
+}
+
+/* A cluster of "tracks" whose strands all start after its first slice
+ * (satf-import's clusters begin a little above their roots): the first
+ * boundary holds no strand, so the first HSV row thins out towards t = 0
+ * (SATF eq. 7 mixes its two boundary records), but the strands it holds
+ * are lit like the rest. Mixed as stored (reflectance per unit alpha),
+ * the row went from black to full brightness. */
+static void test_root_row_not_darkened(void **state) {
+  fixture *f = *state;
+  enum { SLICES = 9, STRANDS = 600 };
+  size_t cap = 256 * 1024; /* 600 tracks of 8 points: about 90 KB */
+  char *json = malloc(cap);
+  assert_non_null(json);
+  int n = snprintf(
+      json, cap,
+      "{\"macro_clusters\": [{\"prototype\": {"
+      " \"trajectory\": [[0, 3, 0], [0, -3, 0]], \"a\": 1.0,"
+      " \"shell\": {\"layers\": 3, \"st\": 8, \"su\": 12, \"core\": 0.2},"
+      " \"density\": {\"type\": \"tracks\", \"slices\": %d,"
+      " \"strand_width\": 0.06, \"tracks\": [",
+      SLICES);
+  uint32_t seed = 12345u;
+  for (int k = 0; k < STRANDS; k++) {
+    float xy[2];
+    do { /* a point of the unit disc */
+      for (int c = 0; c < 2; c++) {
+        seed = seed * 1664525u + 1013904223u;
+        xy[c] = (float)(seed >> 8) / 8388608.0f - 1.0f;
+      }
+    } while (xy[0] * xy[0] + xy[1] * xy[1] > 0.9f);
+    n += snprintf(json + n, cap - (size_t)n, "%s[1", k ? "," : "");
+    for (int i = 1; i < SLICES; i++)
+      n += snprintf(json + n, cap - (size_t)n, ", %.4f, %.4f", xy[0], xy[1]);
+    n += snprintf(json + n, cap - (size_t)n, "]");
+  }
+  snprintf(json + n, cap - (size_t)n,
+           "]}}}], \"camera\": {\"position\": [0, 0, 300], \"target\": [0, 0, "
+           "0], \"fov_y\": 1.6}, \"lights\": [{\"direction\": [-0.3, -0.2, "
+           "-0.9]}], \"effects\": {\"cluster_shadows\": false},"
+           " \"background\": [0, 0, 0]}");
+  satf_scene *scene;
+  satf_renderer *r;
+  satf_image *img = render_json(f, json, 0, &scene, &r);
+  free(json);
+  const float *A = fixture_plane(img, "A");
+  /* per image row: luminance per unit alpha over the covered pixels */
+  double q[H];
+  int first = -1;
+  for (int y = 0; y < H; y++) {
+    double l = 0.0, a = 0.0;
+    int c = 0;
+    for (int x = 0; x < W; x++) {
+      size_t i = (size_t)y * W + (size_t)x;
+      if (A[i] > 0.5f)
+        l += luminance(img, i), a += A[i], c++;
+    }
+    q[y] = c >= 10 ? l / a : -1.0;
+    if (first < 0 && q[y] >= 0.0)
+      first = y;
+  }
+  assert_true(first > 0 && first < H / 3);
+  /* the body: the middle third of the frame, t from 1/3 to 2/3 */
+  double body = 0.0;
+  for (int y = H / 3; y < 2 * H / 3; y++)
+    body += q[y] / (H / 3);
+  double lo = 1e30;
+  for (int y = first; y < first + 6; y++)
+    lo = fmin(lo, q[y] / body);
+  printf("root rows from %d: luminance per unit alpha %.3f to %.3f of the "
+         "body's %.4f\n",
+         first, lo, q[first + 5] / body, body);
+  assert_true(body > 0.0);
+  assert_true(lo > 0.85);
   satf_image_destroy(img);
   satf_renderer_destroy(r);
   satf_scene_destroy(scene);
@@ -731,6 +818,7 @@ int main(void) {
       cmocka_unit_test(test_background_and_coverage),
       cmocka_unit_test(test_aovs_decompose_beauty),
       cmocka_unit_test(test_highlight_across_flat_cluster),
+      cmocka_unit_test(test_root_row_not_darkened),
       cmocka_unit_test(test_exr_with_aovs),
       cmocka_unit_test(test_exr_premultiplied_and_named),
       cmocka_unit_test(test_secondary_highlight_off),

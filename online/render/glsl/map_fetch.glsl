@@ -1,7 +1,15 @@
 /* map_fetch.glsl - the maps of a cluster: rows 2i and 2i+1 hold HSV i's
  * two boundary records (maps.h); mixing them by the position along the
- * HSV is SATF eq. 7. Included by the layer programs' fragment shaders,
- * after PHYSICAL is defined. */
+ * HSV is SATF eq. 7. The maps hold reflectance (radiance) per unit alpha
+ * (maps.c: lay_row), so eq. 7 mixes it weighted by each record's alpha,
+ * as the records' own opacity-weighted reflectance (eq. 5) mixes: a
+ * boundary where no strand is yet (a cluster's first slice above its
+ * roots, its last below the tips) thins the HSV out but does not darken
+ * what strands the HSV holds. Mixed as they are stored, the first HSV row
+ * of a generated curtain ran from black at its root end to full
+ * brightness (luminance per unit alpha 0.009 -> 0.148 over its top 10
+ * pixel rows against the strands' 0.19 -> 0.13). Included by the layer
+ * programs' fragment shaders, after PHYSICAL is defined. */
 #if PHYSICAL
 /* a texel holds the key light's quad and the fill's (maps_fiber.h) as 8
  * halfs in 4 words, low half first: one fetch reads both, where two
@@ -39,8 +47,13 @@ void fetch_maps(float u_turns, float t, int layer, out vec4 key,
   ivec3 p = map_texel(u_turns, t, layer, f);
   uvec4 a = texelFetch(u_maps, p, 0);
   uvec4 b = texelFetch(u_maps, p + ivec3(0, 1, 0), 0);
-  key = mix(unpack_key(a), unpack_key(b), f);
-  fill = mix(unpack_fill(a), unpack_fill(b), f);
+  vec4 ka = unpack_key(a), kb = unpack_key(b);
+  vec4 fa = unpack_fill(a), fb = unpack_fill(b);
+  /* both lights' radiance is per unit of the key quad's alpha */
+  float wa = (1.0 - f) * ka.a, wb = f * kb.a, al = wa + wb;
+  float inv = al > 0.0 ? 1.0 / al : 0.0;
+  key = vec4((wa * ka.rgb + wb * kb.rgb) * inv, al);
+  fill = vec4((wa * fa.rgb + wb * fb.rgb) * inv, mix(fa.a, fb.a, f));
 }
 #else
 vec4 fetch_map(float u_turns, float t, int layer) {
@@ -48,7 +61,10 @@ vec4 fetch_map(float u_turns, float t, int layer) {
   ivec3 p = map_texel(u_turns, t, layer, f);
   vec4 a = texelFetch(u_maps, p, 0);
   vec4 b = texelFetch(u_maps, p + ivec3(0, 1, 0), 0);
-  return mix(a, b, f);
+  vec4 m = mix(a, b, f);
+  /* reflectance (r) per unit alpha (g), mixed weighted by alpha */
+  m.r = m.g > 0.0 ? mix(a.r * a.g, b.r * b.g, f) / m.g : 0.0;
+  return m;
 }
 /* SATF maps give reflectance and alpha (the --no-satf baseline has its
  * own shaders: baseline_fs.glsl) */
