@@ -8,7 +8,7 @@
  * what strands the HSV holds. Mixed as they are stored, the first HSV row
  * of a generated curtain ran from black at its root end to full
  * brightness (luminance per unit alpha 0.009 -> 0.148 over its top 10
- * pixel rows against the strands' 0.19 -> 0.13). Included by the layer
+ * pixel rows against the strands' 0.18 -> 0.13). Included by the layer
  * programs' fragment shaders, after PHYSICAL is defined. */
 #if PHYSICAL
 /* a texel holds the key light's quad and the fill's (maps_fiber.h) as 8
