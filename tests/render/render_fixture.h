@@ -6,6 +6,7 @@
 #define SATF_TESTS_RENDER_FIXTURE_H
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -223,6 +224,80 @@ static inline int fixture_same_bits(const satf_image *a, const satf_image *b,
     return 0;
   size_t n = (size_t)satf_image_width(a) * (size_t)satf_image_height(a);
   return memcmp(pa, pb, n * sizeof(float)) == 0;
+}
+
+/* A straight cluster of "tracks" hanging from y = 3 (t = 0) to y = -3,
+ * seen from far away along z, whose strands all start at slice 1 of 9
+ * (satf-import's clusters begin a little above their roots), cluster
+ * shadows off; `material` is "" or the scene's material object. The JSON,
+ * malloc'ed, or NULL. */
+static inline char *fixture_rooted_tracks_json(const char *material) {
+  enum { SLICES = 9, STRANDS = 600 };
+  size_t cap = 256 * 1024; /* 600 tracks of 8 points: about 90 KB */
+  char *json = malloc(cap);
+  if (!json)
+    return NULL;
+  int n = snprintf(
+      json, cap,
+      "{\"macro_clusters\": [{\"prototype\": {"
+      " \"trajectory\": [[0, 3, 0], [0, -3, 0]], \"a\": 1.0,"
+      " \"shell\": {\"layers\": 3, \"st\": 8, \"su\": 12, \"core\": 0.2},"
+      " \"density\": {\"type\": \"tracks\", \"slices\": %d,"
+      " \"strand_width\": 0.06, \"tracks\": [",
+      SLICES);
+  uint32_t seed = 12345u;
+  for (int k = 0; k < STRANDS; k++) {
+    float xy[2];
+    do { /* a point of the unit disc */
+      for (int c = 0; c < 2; c++) {
+        seed = seed * 1664525u + 1013904223u;
+        xy[c] = (float)(seed >> 8) / 8388608.0f - 1.0f;
+      }
+    } while (xy[0] * xy[0] + xy[1] * xy[1] > 0.9f);
+    n += snprintf(json + n, cap - (size_t)n, "%s[1", k ? "," : "");
+    for (int i = 1; i < SLICES; i++)
+      n += snprintf(json + n, cap - (size_t)n, ", %.4f, %.4f", xy[0], xy[1]);
+    n += snprintf(json + n, cap - (size_t)n, "]");
+  }
+  snprintf(json + n, cap - (size_t)n,
+           "]}}}], \"camera\": {\"position\": [0, 0, 300], \"target\": [0, 0, "
+           "0], \"fov_y\": 1.6}, \"lights\": [{\"direction\": [-0.3, -0.2, "
+           "-0.9]}], \"effects\": {\"cluster_shadows\": false},"
+           " \"background\": [0, 0, 0]%s%s}",
+           material[0] ? ", \"material\": " : "", material);
+  return json;
+}
+
+/* Of a frame of fixture_rooted_tracks_json: the least luminance per unit
+ * alpha of the first six image rows the hair covers (A > 0.5 in ten
+ * pixels or more) over that of the rows of its middle third; -1 when the
+ * hair's top is not in the upper third. */
+static inline double fixture_root_rows_ratio(const satf_image *img) {
+  int w = satf_image_width(img), h = satf_image_height(img);
+  const float *A = fixture_plane(img, "A"), *R = fixture_plane(img, "R"),
+              *G = fixture_plane(img, "G"), *B = fixture_plane(img, "B");
+  double body = 0.0, lo = INFINITY;
+  int first = -1, rows = 0;
+  for (int y = 0; y < h; y++) {
+    double l = 0.0, a = 0.0;
+    int c = 0;
+    for (int x = 0; x < w; x++) {
+      size_t i = (size_t)y * (size_t)w + (size_t)x;
+      if (A[i] > 0.5f)
+        l += 0.2126 * R[i] + 0.7152 * G[i] + 0.0722 * B[i], a += A[i], c++;
+    }
+    if (c < 10)
+      continue;
+    if (first < 0)
+      first = y;
+    if (y < first + 6)
+      lo = fmin(lo, l / a);
+    if (y >= h / 3 && y < 2 * h / 3)
+      body += l / a, rows++;
+  }
+  if (first <= 0 || first >= h / 3 || rows == 0 || !(body > 0.0))
+    return -1.0;
+  return lo / (body / rows);
 }
 
 #ifdef SATF_TOOLS_COMPARE_METRICS_H

@@ -2,7 +2,8 @@
  * (online/render/maps_fiber.c, glsl/shade_fs.glsl with PHYSICAL): the
  * hair's colour follows its melanin, back-lit hair glows with transmitted
  * light, an absorption-free fibre is neutral, every light adds its own
- * look-ups, and a Phong database is refused. */
+ * look-ups, a cluster's root row is not darkened, and a Phong database is
+ * refused. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -604,6 +605,23 @@ static void test_orientation_free_level(void **state) {
   assert_true(free_ < 1.01);
 }
 
+/* The physical maps' first HSV row of a cluster whose strands start after
+ * its first slice: SATF eq. 7 mixes the boundary records' radiance per
+ * unit alpha weighted by their alpha, so the row thins out towards t = 0
+ * without darkening (as test_render's kk frame). */
+static void test_root_row_not_darkened(void **state) {
+  (void)state;
+  char *json = fixture_rooted_tracks_json("{\"model\": \"physical\"}");
+  assert_non_null(json);
+  satf_image *img = render(json);
+  free(json);
+  double ratio = fixture_root_rows_ratio(img);
+  printf("root rows: luminance per unit alpha %.3f of the body's\n", ratio);
+  /* 0.86 measured; 0.21 mixed as stored */
+  assert_true(ratio > 0.75);
+  satf_image_destroy(img);
+}
+
 /* A physical scene with a Phong database: refused with a message that
  * says what is needed. */
 static void test_phong_database_refused(void **state) {
@@ -630,6 +648,7 @@ int main(void) {
       cmocka_unit_test(test_fill_light_shadowed),
       cmocka_unit_test(test_no_secondary_drops_trt),
       cmocka_unit_test(test_still_frames),
+      cmocka_unit_test(test_root_row_not_darkened),
       cmocka_unit_test(test_phong_database_refused),
       cmocka_unit_test(test_layout_sums),
       cmocka_unit_test(test_fill_lights_sum),
