@@ -6,11 +6,11 @@
 #define SATF_TESTS_RENDER_FIXTURE_H
 
 #include <math.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "satf/common.h"
 #include "satf/db.h"
 #include "satf/gl.h"
 #include "satf/offline.h"
@@ -245,14 +245,13 @@ static inline char *fixture_rooted_tracks_json(const char *material) {
       " \"density\": {\"type\": \"tracks\", \"slices\": %d,"
       " \"strand_width\": 0.06, \"tracks\": [",
       SLICES);
-  uint32_t seed = 12345u;
+  satf_rng rng;
+  satf_rng_seed(&rng, 12345u, 0u);
   for (int k = 0; k < STRANDS; k++) {
     float xy[2];
     do { /* a point of the unit disc */
-      for (int c = 0; c < 2; c++) {
-        seed = seed * 1664525u + 1013904223u;
-        xy[c] = (float)(seed >> 8) / 8388608.0f - 1.0f;
-      }
+      for (int c = 0; c < 2; c++)
+        xy[c] = (float)satf_rng_range(&rng, -1.0, 1.0);
     } while (xy[0] * xy[0] + xy[1] * xy[1] > 0.9f);
     n += snprintf(json + n, cap - (size_t)n, "%s[1", k ? "," : "");
     for (int i = 1; i < SLICES; i++)
@@ -276,6 +275,8 @@ static inline double fixture_root_rows_ratio(const satf_image *img) {
   int w = satf_image_width(img), h = satf_image_height(img);
   const float *A = fixture_plane(img, "A"), *R = fixture_plane(img, "R"),
               *G = fixture_plane(img, "G"), *B = fixture_plane(img, "B");
+  if (!A || !R || !G || !B)
+    return -1.0;
   double body = 0.0, lo = INFINITY;
   int first = -1, rows = 0;
   for (int y = 0; y < h; y++) {

@@ -5,10 +5,8 @@
  * as the records' own opacity-weighted reflectance (eq. 5) mixes: a
  * boundary where no strand is yet (a cluster's first slice above its
  * roots, its last below the tips) thins the HSV out but does not darken
- * what strands the HSV holds. Mixed as they are stored, the first HSV row
- * of a generated curtain ran from black at its root end to full
- * brightness (luminance per unit alpha 0.009 -> 0.148 over its top 10
- * pixel rows against the strands' 0.18 -> 0.13). Included by the layer
+ * what strands the HSV holds (mixed as stored, a cluster's root row ran
+ * from black: docs/method.md, "Reflectance scale"). Included by the layer
  * programs' fragment shaders, after PHYSICAL is defined. */
 #if PHYSICAL
 /* a texel holds the key light's quad and the fill's (maps_fiber.h) as 8
