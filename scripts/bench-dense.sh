@@ -15,7 +15,7 @@
 # "straight fur ponytail") picks the scenes; SATF_DENSE_PATHS (default
 # "clusters strands") and SATF_DENSE_SHADINGS (default "kk physical");
 # SATF_DENSE_ARGS, more satf-render options for every run (e.g. "--maps
-# gpu" on a machine with a GPU).
+# cpu" on a machine with a GPU, whose default is the GPU's maps).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}

@@ -200,14 +200,21 @@ typedef struct satf_render_stats {
  * database looked up on the CPU and the maps uploaded (the reference);
  * GPU, a compute pass writing them into their textures from the
  * database's records kept on the GPU (no look-up on the CPU and no
- * upload). The same maps up to half-float rounding. The default is the
- * CPU's: on llvmpipe (2 threads) the compute pass takes 3-10 times the
- * CPU's look-ups and upload (640x480, an orbit: cluster_6a 57 against 6
- * ms, hair_7c 239 against 86, the imported ponytail 642 against 84), and
- * 4-9 times in the physical mode (cluster_6a 170 against 18 ms, hair_7a
- * 281 against 42, the ponytail 1132 against 314; a loaded machine). */
-typedef enum satf_maps_mode { SATF_MAPS_CPU = 0, SATF_MAPS_GPU } satf_maps_mode;
-#define SATF_MAPS_DEFAULT SATF_MAPS_CPU
+ * upload). The same maps up to half-float rounding. AUTO, the default,
+ * takes the GPU's on a hardware GPU and the CPU's on a software
+ * rasteriser (satf_gl_renderer_is_software): on llvmpipe (2 threads) the
+ * compute pass takes 3-10 times the CPU's look-ups and upload (640x480,
+ * an orbit: cluster_6a 57 against 6 ms, hair_7c 239 against 86, the
+ * imported ponytail 642 against 84), and 4-9 times in the physical mode
+ * (cluster_6a 170 against 18 ms, hair_7a 281 against 42, the ponytail
+ * 1132 against 314; a loaded machine); on an NVIDIA H200 it takes 0.1-3
+ * ms where the look-ups and upload take 10-100 (docs/performance.md). */
+typedef enum satf_maps_mode {
+  SATF_MAPS_CPU = 0,
+  SATF_MAPS_GPU,
+  SATF_MAPS_AUTO
+} satf_maps_mode;
+#define SATF_MAPS_DEFAULT SATF_MAPS_AUTO
 
 /* The renderer's memory for a scene, in bytes, by what grows with it;
  * estimated from the scene and its database alone, before anything is
@@ -243,7 +250,10 @@ typedef struct satf_render_memory_options {
    * fibre one); NULL: neither it nor the GPU's maps are counted (a lower
    * bound, for a refusal before the database is read) */
   const satf_db *db;
-  satf_maps_mode maps; /* satf_renderer_set_maps */
+  /* satf_renderer_set_maps; SATF_MAPS_AUTO is counted as the CPU's maps:
+   * what it is on a software rasteriser, and on a hardware GPU the GPU's
+   * maps live in the GPU's own memory */
+  satf_maps_mode maps;
   /* satf_renderer_set_sparse_strands' setting: which clusters are drawn as
    * their strands, with no maps (0: none) */
   int sparse_strands;
@@ -349,11 +359,14 @@ float satf_renderer_shadow_move(const satf_renderer *r);
 /* Where the maps are built: satf_maps_mode (above). */
 /* Switches (every instance's maps are built again at the next frame);
  * fails, keeping the mode, where the GPU's program or tables cannot be
- * made. */
+ * made. SATF_MAPS_AUTO resolves against the current context's
+ * GL_RENDERER and falls back to the CPU's maps where the GPU's cannot be
+ * made; satf_renderer_maps returns the mode resolved (CPU or GPU). */
 satf_status satf_renderer_set_maps(satf_renderer *r, satf_maps_mode mode,
                                    satf_error *err);
 satf_maps_mode satf_renderer_maps(const satf_renderer *r);
-/* "cpu" or "gpu"; satf_maps_mode_parse returns -1 for anything else. */
+/* "cpu", "gpu" or "auto"; satf_maps_mode_parse returns -1 for anything
+ * else. */
 const char *satf_maps_mode_name(satf_maps_mode mode);
 int satf_maps_mode_parse(const char *name, satf_maps_mode *mode);
 

@@ -1,6 +1,7 @@
 /* gl_util.c - see gl_util.h. */
 #include "satf/gl.h"
 
+#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -68,6 +69,33 @@ satf_status satf_gl_query_context(int width, int height, int *major, int *minor,
                           "limit of %d pixels per side on %s",
                           width, height, limit, renderer);
   return satf_gl_check("OpenGL context query", err);
+}
+
+/* Whether `needle` (lower case) occurs in `hay`, ignoring case. */
+static int contains_nocase(const char *hay, const char *needle) {
+  size_t n = strlen(needle);
+  for (; *hay; hay++) {
+    size_t i = 0;
+    while (i < n && hay[i] && tolower((unsigned char)hay[i]) == needle[i])
+      i++;
+    if (i == n)
+      return 1;
+  }
+  return 0;
+}
+
+int satf_gl_renderer_is_software(const char *renderer) {
+  /* GL_RENDERER as the CPU rasterisers report it: Mesa's "llvmpipe (LLVM
+   * 15.0.6, 256 bits)", "softpipe", "Software Rasterizer" (swrast and
+   * others), Google's "SwiftShader" */
+  static const char *names[] = {"llvmpipe", "softpipe", "swrast", "software",
+                                "swiftshader"};
+  if (!renderer)
+    return 1;
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+    if (contains_nocase(renderer, names[i]))
+      return 1;
+  return 0;
 }
 
 /* ---- shaders ----------------------------------------------------------- */

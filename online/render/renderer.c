@@ -95,6 +95,8 @@ satf_renderer_create_progress(const satf_scene *scene, const satf_db *db,
     st = resources_build(r, err);
   if (st == SATF_OK)
     st = sparse_build(r, err);
+  if (st == SATF_OK) /* the GPU's maps on a hardware GPU */
+    st = satf_renderer_set_maps(r, SATF_MAPS_DEFAULT, err);
   if (st != SATF_OK) {
     satf_renderer_destroy(r);
     return st;
@@ -183,14 +185,31 @@ void satf_renderer_set_shadow_move(satf_renderer *r, float texels) {
 float satf_renderer_shadow_move(const satf_renderer *r) {
   return r->dom.move_tol;
 }
+/* SATF_MAPS_AUTO: the GPU's maps on a hardware GPU, where the compute
+ * pass is the cheaper (an H200: 0.1-3 ms a frame against 10-100 for the
+ * CPU's look-ups and upload), the CPU's on a software rasteriser, where
+ * it is 3-10 times the dearer (satf/render.h) */
+static satf_maps_mode resolve_maps(void) {
+  const GLubyte *name = glGetString(GL_RENDERER);
+  return satf_gl_renderer_is_software((const char *)name) ? SATF_MAPS_CPU
+                                                          : SATF_MAPS_GPU;
+}
+
 satf_status satf_renderer_set_maps(satf_renderer *r, satf_maps_mode mode,
                                    satf_error *err) {
-  if (mode != SATF_MAPS_CPU && mode != SATF_MAPS_GPU)
+  if (mode != SATF_MAPS_CPU && mode != SATF_MAPS_GPU && mode != SATF_MAPS_AUTO)
     return satf_error_set(err, SATF_ERR_ARGUMENT, "maps mode %d", (int)mode);
+  int automatic = mode == SATF_MAPS_AUTO;
+  if (automatic)
+    mode = resolve_maps();
   if (mode == SATF_MAPS_GPU && !r->mgpu) {
     satf_status st = maps_gpu_create(r, &r->mgpu, err);
-    if (st != SATF_OK)
+    if (st != SATF_OK && !automatic)
       return st;
+    if (st != SATF_OK) { /* auto: the CPU's maps serve on any context */
+      satf_error_clear(err);
+      mode = SATF_MAPS_CPU;
+    }
   }
   if (mode != r->maps_mode) /* the other mode's maps are not these */
     for (int i = 0; i < r->ninsts; i++)
@@ -203,13 +222,18 @@ satf_maps_mode satf_renderer_maps(const satf_renderer *r) {
   return r->maps_mode;
 }
 const char *satf_maps_mode_name(satf_maps_mode mode) {
-  return mode == SATF_MAPS_GPU ? "gpu" : "cpu";
+  return mode == SATF_MAPS_GPU    ? "gpu"
+         : mode == SATF_MAPS_AUTO ? "auto"
+                                  : "cpu";
 }
 int satf_maps_mode_parse(const char *name, satf_maps_mode *mode) {
-  if (!strcmp(name, "cpu") || !strcmp(name, "gpu")) {
-    *mode = name[0] == 'g' ? SATF_MAPS_GPU : SATF_MAPS_CPU;
-    return 0;
-  }
+  static const satf_maps_mode modes[] = {SATF_MAPS_CPU, SATF_MAPS_GPU,
+                                         SATF_MAPS_AUTO};
+  for (size_t i = 0; i < sizeof modes / sizeof modes[0]; i++)
+    if (!strcmp(name, satf_maps_mode_name(modes[i]))) {
+      *mode = modes[i];
+      return 0;
+    }
   return -1;
 }
 unsigned satf_renderer_texture(const satf_renderer *r) {

@@ -152,6 +152,31 @@ static void test_version_and_renderer(void **state) {
   printf("GL %d.%d core on %s\n", major, minor, renderer);
 }
 
+/* The renderer strings the maps' default resolves against (satf/render.h,
+ * SATF_MAPS_AUTO): as Mesa, NVIDIA, AMD, Intel and others report them. */
+static void test_renderer_is_software(void **state) {
+  (void)state;
+  static const char *software[] = {"llvmpipe (LLVM 15.0.6, 256 bits)",
+                                   "softpipe",
+                                   "Software Rasterizer",
+                                   "Mesa OffScreen / SWRAST",
+                                   "Google SwiftShader",
+                                   "LLVMPIPE"};
+  static const char *hardware[] = {"NVIDIA H200/PCIe/SSE2",
+                                   "AMD Radeon RX 7900 XTX (radeonsi, navi31)",
+                                   "Mesa Intel(R) UHD Graphics 630 (CFL GT2)",
+                                   "Apple M2",
+                                   "virgl",
+                                   ""};
+  for (size_t i = 0; i < sizeof software / sizeof software[0]; i++)
+    if (!satf_gl_renderer_is_software(software[i]))
+      fail_msg("'%s' is a software rasteriser", software[i]);
+  for (size_t i = 0; i < sizeof hardware / sizeof hardware[0]; i++)
+    if (satf_gl_renderer_is_software(hardware[i]))
+      fail_msg("'%s' is a hardware GPU", hardware[i]);
+  assert_true(satf_gl_renderer_is_software(NULL));
+}
+
 static void check_pattern_bottom_up(const float *px, int w, int h, int index) {
   for (int j = 0; j < h; j++)
     for (int i = 0; i < w; i++) {
@@ -453,6 +478,7 @@ static void test_window_default_framebuffer(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_version_and_renderer),
+      cmocka_unit_test(test_renderer_is_software),
       cmocka_unit_test(test_window_default_framebuffer),
       cmocka_unit_test(test_pattern_float_target),
       cmocka_unit_test(test_pattern_half_target),
@@ -568,6 +594,7 @@ static void test_fill_rate(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_version_and_renderer),
+      cmocka_unit_test(test_renderer_is_software),
       cmocka_unit_test(test_pattern_float_target),
       cmocka_unit_test(test_pattern_half_target),
       cmocka_unit_test(test_depth_attachment),

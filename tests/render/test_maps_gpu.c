@@ -10,7 +10,7 @@
  * eye and the light move in the GPU mode (its instances built again), and
  * after an instance moves and a prototype bends. The physical mode's run on
  * a small fibre database, under a directional key light and a coloured
- * point light. */
+ * point light. The default mode, SATF_MAPS_AUTO, resolves by the context. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -202,6 +202,12 @@ static void assert_modes_agree(satf_renderer *r, const char *what,
   }
 }
 
+/* What SATF_MAPS_AUTO resolves to on this test's context. */
+static satf_maps_mode auto_mode(void) {
+  const char *name = (const char *)glGetString(GL_RENDERER);
+  return satf_gl_renderer_is_software(name) ? SATF_MAPS_CPU : SATF_MAPS_GPU;
+}
+
 /* Both modes on `scene` (the physical mode's on a fibre database db);
  * then the eye and the key light move while in the GPU mode (which must
  * build its instances again), compared with the CPU's maps for them.
@@ -213,7 +219,7 @@ static int check_scene(const satf_db *db, satf_scene *scene, const char *what) {
   satf_error err;
   /* every cluster drawn as a cluster, with maps */
   assert_int_equal(satf_renderer_set_sparse_strands(r, 0, &err), SATF_OK);
-  assert_int_equal(satf_renderer_maps(r), SATF_MAPS_DEFAULT);
+  assert_int_equal(satf_renderer_maps(r), auto_mode());
   assert_modes_agree(r, what, SATF_MAPS_CPU);
   satf_scene_camera *cam = satf_renderer_camera(r);
   /* 50 degrees around the target's vertical, the light 30 degrees */
@@ -237,6 +243,41 @@ static int check_scene(const satf_db *db, satf_scene *scene, const char *what) {
   satf_renderer_destroy(r);
   satf_scene_destroy(scene);
   return free_level;
+}
+
+/* The default mode: a new renderer's maps are SATF_MAPS_AUTO's choice
+ * for the context (the CPU's on llvmpipe), set again after either mode;
+ * the names parse back and anything else is refused. */
+static void test_auto(void **st) {
+  state *f = *st;
+  satf_scene *scene = fixture_scene(FIXTURE_TWO_PROTOTYPES);
+  assert_non_null(scene);
+  satf_renderer *r = fixture_renderer(scene, f->gl->db, W, H, 2);
+  assert_non_null(r);
+  satf_error err;
+  assert_int_equal(SATF_MAPS_DEFAULT, SATF_MAPS_AUTO);
+  assert_int_equal(satf_renderer_maps(r), auto_mode());
+  satf_maps_mode modes[] = {SATF_MAPS_GPU, SATF_MAPS_CPU};
+  for (int i = 0; i < 2; i++) {
+    assert_int_equal(satf_renderer_set_maps(r, modes[i], &err), SATF_OK);
+    assert_int_equal(satf_renderer_maps(r), modes[i]);
+    assert_int_equal(satf_renderer_set_maps(r, SATF_MAPS_AUTO, &err), SATF_OK);
+    assert_int_equal(satf_renderer_maps(r), auto_mode());
+  }
+  assert_int_equal(satf_renderer_set_maps(r, (satf_maps_mode)7, &err),
+                   SATF_ERR_ARGUMENT);
+  assert_int_equal(satf_renderer_maps(r), auto_mode());
+  satf_maps_mode all[] = {SATF_MAPS_CPU, SATF_MAPS_GPU, SATF_MAPS_AUTO}, m;
+  for (int i = 0; i < 3; i++) {
+    assert_int_equal(satf_maps_mode_parse(satf_maps_mode_name(all[i]), &m), 0);
+    assert_int_equal(m, all[i]);
+  }
+  assert_string_equal(satf_maps_mode_name(SATF_MAPS_AUTO), "auto");
+  assert_int_equal(satf_maps_mode_parse("tpu", &m), -1);
+  assert_int_equal(satf_maps_mode_parse("", &m), -1);
+  assert_int_equal(satf_maps_mode_parse("GPU", &m), -1);
+  satf_renderer_destroy(r);
+  satf_scene_destroy(scene);
 }
 
 static void test_procedural(void **st) {
@@ -436,9 +477,10 @@ static void test_physical_curl(void **st) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_procedural), cmocka_unit_test(test_scene_change),
-      cmocka_unit_test(test_samples),    cmocka_unit_test(test_imported),
-      cmocka_unit_test(test_physical),   cmocka_unit_test(test_physical_curl),
+      cmocka_unit_test(test_auto),          cmocka_unit_test(test_procedural),
+      cmocka_unit_test(test_scene_change),  cmocka_unit_test(test_samples),
+      cmocka_unit_test(test_imported),      cmocka_unit_test(test_physical),
+      cmocka_unit_test(test_physical_curl),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

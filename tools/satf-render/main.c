@@ -68,13 +68,14 @@ static void usage(FILE *out) {
       "                       (default off: within soft IoU 0.97, SSIM 0.95\n"
       "                       of full detail on every sample, but no faster\n"
       "                       on llvmpipe yet; zoomed-out fur drifts)\n"
-      "  --maps cpu|gpu       where the maps are built when the eye or a\n"
+      "  --maps cpu|gpu|auto  where the maps are built when the eye or a\n"
       "                       light moves: cpu, looked up on the CPU and\n"
       "                       uploaded (the reference); gpu, a compute\n"
       "                       pass from the database kept on the GPU (the\n"
       "                       same maps, the physical mode's too; no\n"
-      "                       look-up or upload on the CPU)\n"
-      "                       (default %s)\n"
+      "                       look-up or upload on the CPU); auto, gpu on\n"
+      "                       a hardware GPU and cpu on a software\n"
+      "                       rasteriser such as llvmpipe (default %s)\n"
       "  --shadow-move T|off  keep the cluster shadows' deep opacity map\n"
       "                       while no cluster moved more than T of its\n"
       "                       texels or slabs since it was drawn (default\n"
@@ -151,7 +152,8 @@ static int parse_one(satf_cli_args *it, options *o) {
       return -1;
     if (satf_maps_mode_parse(val, &o->maps) == 0)
       return 0;
-    fprintf(stderr, "%s: --maps: expected cpu or gpu, got '%s'\n", PROG, val);
+    fprintf(stderr, "%s: --maps: expected cpu, gpu or auto, got '%s'\n", PROG,
+            val);
     return -1;
   }
   if (satf_cli_is(it, NULL, "--shadow-move")) {
@@ -464,9 +466,13 @@ static satf_status bench(const options *o, const satf_gl_context *ctx,
   /* which machine the figures are of: llvmpipe and a GPU differ 10x */
   int major = 0, minor = 0;
   satf_gl_context_version(ctx, &major, &minor);
-  printf("GL %d.%d on %s; %d CPU threads for the maps\n", major, minor,
-         satf_gl_context_renderer(ctx),
-         o->threads > 0 ? (int)o->threads : satf_cpu_count());
+  if (satf_renderer_maps(r) == SATF_MAPS_GPU)
+    printf("GL %d.%d on %s; the maps built on the GPU\n", major, minor,
+           satf_gl_context_renderer(ctx));
+  else
+    printf("GL %d.%d on %s; %d CPU threads for the maps\n", major, minor,
+           satf_gl_context_renderer(ctx),
+           o->threads > 0 ? (int)o->threads : satf_cpu_count());
   printf("set-up %.2f s (the renderer's creation), peak memory %.0f MB "
          "(estimated %.0f MB)\n",
          t_setup, satf_peak_memory_mb(), o->estimate / 1e6);

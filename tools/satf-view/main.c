@@ -141,11 +141,12 @@ int main(int argc, char **argv) {
     return 1;
   fe.strand_width = o.strand_width;
   fe.sparse_strands = o.sparse_strands;
-  /* the viewer's maps are the CPU's (satf_renderer_set_maps not called) */
+  /* the viewer's maps are the renderer's default: the GPU's on a hardware
+   * GPU, the CPU's on a software rasteriser */
   /* the source strands before the memory check, which counts them */
   if (satf_frontend_set_shading(PROG, &fe, o.shading) != SATF_OK ||
       (o.strands && satf_frontend_load_strands(PROG, &fe) != SATF_OK) ||
-      satf_frontend_check_memory(PROG, &fe, o.w, o.h, SATF_MAPS_CPU) !=
+      satf_frontend_check_memory(PROG, &fe, o.w, o.h, SATF_MAPS_DEFAULT) !=
           SATF_OK) {
     satf_frontend_free(&fe);
     return 1;
