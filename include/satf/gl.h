@@ -65,10 +65,6 @@ void satf_gl_context_version(const satf_gl_context *ctx, int *major,
                              int *minor);
 /* GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)". */
 const char *satf_gl_context_renderer(const satf_gl_context *ctx);
-/* 1 where a GL_RENDERER string names a rasteriser that runs on the CPU
- * (Mesa's llvmpipe, softpipe and swrast, SwiftShader, the "Software
- * Rasterizer" of other drivers), else 0; NULL counts as software. */
-int satf_gl_renderer_is_software(const char *renderer);
 /* The frame size given at creation. */
 void satf_gl_context_size(const satf_gl_context *ctx, int *width, int *height);
 
@@ -119,6 +115,12 @@ satf_status satf_gl_check(const char *label, satf_error *err);
 satf_status satf_gl_query_context(int width, int height, int *major, int *minor,
                                   char *renderer, size_t renderer_size,
                                   satf_error *err);
+
+/* 1 where a GL_RENDERER string names a rasteriser that runs on the CPU
+ * (Mesa's llvmpipe, softpipe and swrast, SwiftShader, the "Software
+ * Rasterizer" of other drivers), else 0; NULL and "" count as software.
+ * Needs no context. */
+int satf_gl_renderer_is_software(const char *renderer);
 
 /* ---- shaders ----------------------------------------------------------- */
 

@@ -207,8 +207,8 @@ typedef struct satf_render_stats {
  * an orbit: cluster_6a 57 against 6 ms, hair_7c 239 against 86, the
  * imported ponytail 642 against 84), and 4-9 times in the physical mode
  * (cluster_6a 170 against 18 ms, hair_7a 281 against 42, the ponytail
- * 1132 against 314; a loaded machine); on an NVIDIA H200 it takes 0.1-3
- * ms where the look-ups and upload take 10-100 (docs/performance.md). */
+ * 1132 against 314; a loaded machine); on an NVIDIA H200 it takes 0.1-10
+ * ms where the look-ups and upload take 7-107 (docs/performance.md). */
 typedef enum satf_maps_mode {
   SATF_MAPS_CPU = 0,
   SATF_MAPS_GPU,
@@ -262,8 +262,9 @@ typedef struct satf_render_memory_options {
   size_t strand_points;
 } satf_render_memory_options;
 
-/* 640x480, no database, the CPU's maps, SATF_SPARSE_STRANDS_DEFAULT, the
- * clusters drawn: the renderer's own defaults, to change what differs. */
+/* 640x480, no database, SATF_MAPS_DEFAULT (counted as the CPU's maps),
+ * SATF_SPARSE_STRANDS_DEFAULT, the clusters drawn: the renderer's own
+ * defaults, to change what differs. */
 satf_render_memory_options satf_render_memory_options_default(void);
 
 /* Fills *parts (when not NULL) and returns parts->total. */
@@ -359,12 +360,16 @@ float satf_renderer_shadow_move(const satf_renderer *r);
 /* Where the maps are built: satf_maps_mode (above). */
 /* Switches (every instance's maps are built again at the next frame);
  * fails, keeping the mode, where the GPU's program or tables cannot be
- * made. SATF_MAPS_AUTO resolves against the current context's
- * GL_RENDERER and falls back to the CPU's maps where the GPU's cannot be
- * made; satf_renderer_maps returns the mode resolved (CPU or GPU). */
+ * made. SATF_MAPS_AUTO (a new renderer's mode) resolves against the
+ * current context's GL_RENDERER; its GPU's maps are made at the first
+ * frame that builds maps, and where they cannot be made or built the
+ * frame and those after it take the CPU's. satf_renderer_maps returns the
+ * mode resolved (CPU or GPU), satf_renderer_maps_note why auto fell back
+ * to the CPU's ("" where it did not). */
 satf_status satf_renderer_set_maps(satf_renderer *r, satf_maps_mode mode,
                                    satf_error *err);
 satf_maps_mode satf_renderer_maps(const satf_renderer *r);
+const char *satf_renderer_maps_note(const satf_renderer *r);
 /* "cpu", "gpu" or "auto"; satf_maps_mode_parse returns -1 for anything
  * else. */
 const char *satf_maps_mode_name(satf_maps_mode mode);

@@ -90,7 +90,7 @@ int satf_gl_renderer_is_software(const char *renderer) {
    * others), Google's "SwiftShader" */
   static const char *names[] = {"llvmpipe", "softpipe", "swrast", "software",
                                 "swiftshader"};
-  if (!renderer)
+  if (!renderer || !renderer[0])
     return 1;
   for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
     if (contains_nocase(renderer, names[i]))

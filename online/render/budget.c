@@ -212,7 +212,7 @@ static double strand_path_bytes(const satf_scene *scene, int sparse,
 
 satf_render_memory_options satf_render_memory_options_default(void) {
   satf_render_memory_options o = {
-      640, 480, NULL, SATF_MAPS_CPU, SATF_SPARSE_STRANDS_DEFAULT, 0};
+      640, 480, NULL, SATF_MAPS_DEFAULT, SATF_SPARSE_STRANDS_DEFAULT, 0};
   return o;
 }
 

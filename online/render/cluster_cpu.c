@@ -7,6 +7,7 @@
 #endif
 #include "renderer_internal.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -394,10 +395,32 @@ static satf_status gpu_update_maps(satf_renderer *r, satf_frame_timing *t,
   return st;
 }
 
+/* Auto's choice of the GPU's maps failed with err: the CPU's from now on
+ * (satf_renderer_set_maps), the reason kept in maps_note, err cleared. */
+static void fall_back_to_cpu(satf_renderer *r, satf_error *err) {
+  snprintf(r->maps_note, sizeof r->maps_note, "%s",
+           err && err->message[0] ? err->message : "the GPU's maps failed");
+  satf_error_clear(err);
+  maps_gpu_destroy(r->mgpu);
+  r->mgpu = NULL;
+  for (int i = 0; i < r->ninsts; i++)
+    if (r->insts[i].looked_up)
+      cluster_cpu_forget_lookups(&r->insts[i]);
+  r->maps_mode = SATF_MAPS_CPU;
+}
+
 satf_status cluster_cpu_update_maps(satf_renderer *r, satf_frame_timing *t,
                                     satf_error *err) {
-  if (r->maps_mode == SATF_MAPS_GPU && r->mgpu)
-    return gpu_update_maps(r, t, err);
+  if (r->maps_mode == SATF_MAPS_GPU) {
+    satf_status st = r->mgpu ? SATF_OK : maps_gpu_create(r, &r->mgpu, err);
+    if (st == SATF_OK)
+      st = gpu_update_maps(r, t, err);
+    if (st == SATF_OK || !r->maps_auto)
+      return st;
+    /* auto's choice: the CPU's maps serve on any context, this frame too */
+    fall_back_to_cpu(r, err);
+    memset(t, 0, sizeof *t);
+  }
   double t0 = satf_now_seconds();
   satf_status st = update_angles(r, err);
   if (st != SATF_OK)

@@ -186,37 +186,53 @@ float satf_renderer_shadow_move(const satf_renderer *r) {
   return r->dom.move_tol;
 }
 /* SATF_MAPS_AUTO: the GPU's maps on a hardware GPU, where the compute
- * pass is the cheaper (an H200: 0.1-3 ms a frame against 10-100 for the
+ * pass is the cheaper (an H200: 0.1-10 ms a frame against 7-107 for the
  * CPU's look-ups and upload), the CPU's on a software rasteriser, where
  * it is 3-10 times the dearer (satf/render.h) */
-static satf_maps_mode resolve_maps(void) {
-  const GLubyte *name = glGetString(GL_RENDERER);
-  return satf_gl_renderer_is_software((const char *)name) ? SATF_MAPS_CPU
-                                                          : SATF_MAPS_GPU;
+satf_maps_mode renderer_maps_resolve(const char *gl_renderer) {
+  return satf_gl_renderer_is_software(gl_renderer) ? SATF_MAPS_CPU
+                                                   : SATF_MAPS_GPU;
+}
+
+/* The mode `mode` from now on; the other mode's maps are not these. */
+static void switch_maps(satf_renderer *r, satf_maps_mode mode) {
+  if (mode != r->maps_mode)
+    for (int i = 0; i < r->ninsts; i++)
+      if (r->insts[i].looked_up)
+        cluster_cpu_forget_lookups(&r->insts[i]);
+  r->maps_mode = mode;
+}
+
+void renderer_maps_auto_as(satf_renderer *r, satf_maps_mode mode) {
+  switch_maps(r, mode);
+  r->maps_auto = 1;
+  r->maps_note[0] = '\0';
 }
 
 satf_status satf_renderer_set_maps(satf_renderer *r, satf_maps_mode mode,
                                    satf_error *err) {
   if (mode != SATF_MAPS_CPU && mode != SATF_MAPS_GPU && mode != SATF_MAPS_AUTO)
     return satf_error_set(err, SATF_ERR_ARGUMENT, "maps mode %d", (int)mode);
-  int automatic = mode == SATF_MAPS_AUTO;
-  if (automatic)
-    mode = resolve_maps();
+  if (mode == SATF_MAPS_AUTO) {
+    /* the GPU's maps made at the first frame that builds maps
+     * (cluster_cpu_update_maps): the strand and baseline paths, and
+     * scenes of single strands, never need them */
+    renderer_maps_auto_as(
+        r, renderer_maps_resolve((const char *)glGetString(GL_RENDERER)));
+    return SATF_OK;
+  }
   if (mode == SATF_MAPS_GPU && !r->mgpu) {
     satf_status st = maps_gpu_create(r, &r->mgpu, err);
-    if (st != SATF_OK && !automatic)
+    if (st != SATF_OK)
       return st;
-    if (st != SATF_OK) { /* auto: the CPU's maps serve on any context */
-      satf_error_clear(err);
-      mode = SATF_MAPS_CPU;
-    }
   }
-  if (mode != r->maps_mode) /* the other mode's maps are not these */
-    for (int i = 0; i < r->ninsts; i++)
-      if (r->insts[i].looked_up)
-        cluster_cpu_forget_lookups(&r->insts[i]);
-  r->maps_mode = mode;
+  switch_maps(r, mode);
+  r->maps_auto = 0;
+  r->maps_note[0] = '\0';
   return SATF_OK;
+}
+const char *satf_renderer_maps_note(const satf_renderer *r) {
+  return r->maps_note;
 }
 satf_maps_mode satf_renderer_maps(const satf_renderer *r) {
   return r->maps_mode;

@@ -150,9 +150,14 @@ struct satf_renderer {
   size_t scratch_floats;
   int maps_changed; /* instances whose maps the last frame changed */
   /* where the paper's maps are built (satf_renderer_set_maps): the CPU
-   * (cluster_cpu.c) or the GPU (maps_gpu.h: mgpu, made on first use) */
+   * (cluster_cpu.c) or the GPU (maps_gpu.h: mgpu, made when set, or for
+   * SATF_MAPS_AUTO at the first frame that builds maps); maps_auto: the
+   * mode was auto's choice, which falls back to the CPU's where the GPU's
+   * fail (maps_note: why, "" otherwise) */
   satf_maps_mode maps_mode;
   struct maps_gpu *mgpu;
+  int maps_auto;
+  char maps_note[sizeof(((satf_error *)0)->message)];
   int incremental; /* 0: every HSV looked up every frame (the reference) */
   /* the clusters' drawing (cluster_gpu.c): compositing mode, programs (with
    * the level of detail compiled in: *_lod), and per instance, for
@@ -287,6 +292,10 @@ satf_status cluster_cpu_update_maps(satf_renderer *r, satf_frame_timing *t,
 /* Marks every HSV of `in` for a look-up at the next frame (its geometry,
  * features or transform changed). */
 void cluster_cpu_forget_lookups(inst *in);
+/* SATF_MAPS_AUTO's choice where the context's GL_RENDERER is `gl_renderer`
+ * (renderer.c); a test makes a renderer take `mode` as auto's choice. */
+satf_maps_mode renderer_maps_resolve(const char *gl_renderer);
+void renderer_maps_auto_as(satf_renderer *r, satf_maps_mode mode);
 /* Frees the map threads' scratch buffers. */
 void cluster_cpu_release(satf_renderer *r);
 /* The per-instance data of the instanced draws (r->inst_models,

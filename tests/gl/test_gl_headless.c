@@ -162,12 +162,9 @@ static void test_renderer_is_software(void **state) {
                                    "Mesa OffScreen / SWRAST",
                                    "Google SwiftShader",
                                    "LLVMPIPE"};
-  static const char *hardware[] = {"NVIDIA H200/PCIe/SSE2",
-                                   "AMD Radeon RX 7900 XTX (radeonsi, navi31)",
-                                   "Mesa Intel(R) UHD Graphics 630 (CFL GT2)",
-                                   "Apple M2",
-                                   "virgl",
-                                   ""};
+  static const char *hardware[] = {
+      "NVIDIA H200/PCIe/SSE2", "AMD Radeon RX 7900 XTX (radeonsi, navi31)",
+      "Mesa Intel(R) UHD Graphics 630 (CFL GT2)", "Apple M2", "virgl"};
   for (size_t i = 0; i < sizeof software / sizeof software[0]; i++)
     if (!satf_gl_renderer_is_software(software[i]))
       fail_msg("'%s' is a software rasteriser", software[i]);
@@ -175,6 +172,7 @@ static void test_renderer_is_software(void **state) {
     if (satf_gl_renderer_is_software(hardware[i]))
       fail_msg("'%s' is a hardware GPU", hardware[i]);
   assert_true(satf_gl_renderer_is_software(NULL));
+  assert_true(satf_gl_renderer_is_software(""));
 }
 
 static void check_pattern_bottom_up(const float *px, int w, int h, int index) {

@@ -60,13 +60,13 @@ static inline satf_db *fixture_db(void) {
   " \"background\": [0, 0, 0]}"
 
 /* A fibre database small enough for a test (seconds): 24 sectors, 12 x 12
- * azimuths, records of 16 samples; NULL, and a message, on failure. */
-static inline satf_db *fixture_fiber_db(void) {
+ * azimuths, records of `width` samples; NULL, and a message, on failure. */
+static inline satf_db *fixture_fiber_db_width(int width) {
   satf_build_params p = satf_build_params_default_fiber();
   p.samples = 24;
   p.n_view = p.n_light = 12;
   p.grid = 12;
-  p.trace.width = 16;
+  p.trace.width = width;
   p.fiber.sub_rays = 4;
   satf_db *db = NULL;
   satf_error err;
@@ -75,6 +75,10 @@ static inline satf_db *fixture_fiber_db(void) {
     return NULL;
   }
   return db;
+}
+/* fixture_fiber_db_width of records of 16 samples. */
+static inline satf_db *fixture_fiber_db(void) {
+  return fixture_fiber_db_width(16);
 }
 
 /* A headless GL context of w x h and the fixture database: what a cmocka
@@ -184,6 +188,22 @@ static inline satf_renderer *fixture_renderer(const satf_scene *scene,
   satf_error err;
   if (satf_renderer_create(scene, db, w, h, threads, &r, &err) != SATF_OK) {
     fprintf(stderr, "fixture renderer: %s\n", err.message);
+    return NULL;
+  }
+  return r;
+}
+
+/* fixture_renderer with the CPU's maps (satf_renderer_set_maps), for the
+ * tests that read an instance's CPU copy of its maps (in->texels), which
+ * the GPU's maps, auto's choice on a hardware GPU, never fill. */
+static inline satf_renderer *fixture_renderer_cpu_maps(const satf_scene *scene,
+                                                       const satf_db *db, int w,
+                                                       int h, int threads) {
+  satf_renderer *r = fixture_renderer(scene, db, w, h, threads);
+  satf_error err;
+  if (r && satf_renderer_set_maps(r, SATF_MAPS_CPU, &err) != SATF_OK) {
+    fprintf(stderr, "fixture renderer: %s\n", err.message);
+    satf_renderer_destroy(r);
     return NULL;
   }
   return r;

@@ -191,7 +191,7 @@ static void test_renderer_maps_are_rounded_floats(void **state) {
   fixture_gl *f = *state;
   satf_scene *scene = fixture_scene(FIXTURE_TWO_PROTOTYPES);
   assert_non_null(scene);
-  satf_renderer *r = fixture_renderer(scene, f->db, W, H, 2);
+  satf_renderer *r = fixture_renderer_cpu_maps(scene, f->db, W, H, 2);
   assert_non_null(r);
   assert_true(r->incremental);
   long all = fixture_render_lookups(r);

@@ -433,6 +433,62 @@ static void test_physical(void **st) {
       check_scene(f->fiber, physical(curtain_scene()), "physical, curtain"));
 }
 
+/* Auto's choice of the GPU's maps (made as on a hardware GPU) is lazy
+ * and falls back: nothing GPU-side is made until a frame builds maps;
+ * then, on the fixture's fibre database, the GPU's maps serve; on a fibre
+ * database of odd record width, which they cannot read, that frame and
+ * the next take the CPU's maps, the same frame as --maps cpu gives, and
+ * the reason is kept. */
+static void test_auto_fallback(void **st) {
+  state *f = *st;
+  satf_db *odd = fixture_fiber_db_width(15);
+  assert_non_null(odd);
+  satf_error err;
+  const satf_db *dbs[2] = {f->fiber, odd};
+  for (int d = 0; d < 2; d++) {
+    satf_scene *scene = physical(fixture_scene(FIXTURE_TWO_PROTOTYPES));
+    satf_renderer *r = fixture_renderer(scene, dbs[d], W, H, 2);
+    assert_non_null(r);
+    renderer_maps_auto_as(r, SATF_MAPS_GPU);
+    assert_int_equal(satf_renderer_maps(r), SATF_MAPS_GPU);
+    assert_null(r->mgpu);
+    assert_string_equal(satf_renderer_maps_note(r), "");
+    satf_image *img = fixture_render_image(r);
+    assert_non_null(img);
+    if (d == 0) {
+      assert_non_null(r->mgpu);
+      assert_int_equal(satf_renderer_maps(r), SATF_MAPS_GPU);
+      assert_string_equal(satf_renderer_maps_note(r), "");
+    } else {
+      assert_null(r->mgpu);
+      assert_int_equal(satf_renderer_maps(r), SATF_MAPS_CPU);
+      const char *note = satf_renderer_maps_note(r);
+      printf("auto fell back: %s\n", note);
+      assert_non_null(strstr(note, "15 samples"));
+      /* the frame is the CPU's */
+      assert_int_equal(satf_renderer_set_maps(r, SATF_MAPS_CPU, &err), SATF_OK);
+      assert_string_equal(satf_renderer_maps_note(r), "");
+      satf_image *cpu = fixture_render_image(r);
+      assert_non_null(cpu);
+      compare_image a = fixture_compare_image(cpu, "cpu");
+      compare_image b = fixture_compare_image(img, "auto");
+      compare_result res;
+      assert_int_equal(compare_measure(&a, &b, &res, &err), SATF_OK);
+      assert_true(res.union_px > 100);
+      assert_true(res.ssim >= 0.9999);
+      satf_image_destroy(cpu);
+      /* an explicit --maps gpu still refuses it */
+      assert_int_equal(satf_renderer_set_maps(r, SATF_MAPS_GPU, &err),
+                       SATF_ERR_INCOMPATIBLE);
+      assert_int_equal(satf_renderer_maps(r), SATF_MAPS_CPU);
+    }
+    satf_image_destroy(img);
+    satf_renderer_destroy(r);
+    satf_scene_destroy(scene);
+  }
+  satf_db_destroy(odd);
+}
+
 /* Curly clusters (satf_scene_density.curl: M_p over a cone of fibre
  * tangents, maps_fiber.c mp_tilted) in the physical mode: the GPU's maps
  * are the CPU's; and the curl changes the frame: the front-lit
@@ -477,10 +533,10 @@ static void test_physical_curl(void **st) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_auto),          cmocka_unit_test(test_procedural),
-      cmocka_unit_test(test_scene_change),  cmocka_unit_test(test_samples),
-      cmocka_unit_test(test_imported),      cmocka_unit_test(test_physical),
-      cmocka_unit_test(test_physical_curl),
+      cmocka_unit_test(test_auto),       cmocka_unit_test(test_auto_fallback),
+      cmocka_unit_test(test_procedural), cmocka_unit_test(test_scene_change),
+      cmocka_unit_test(test_samples),    cmocka_unit_test(test_imported),
+      cmocka_unit_test(test_physical),   cmocka_unit_test(test_physical_curl),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

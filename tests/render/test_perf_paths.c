@@ -59,7 +59,7 @@ static const char *const SCENE =
     " \"background\": [0, 0, 0]}";
 
 static satf_renderer *make(const fixture_gl *f, const satf_scene *scene) {
-  return fixture_renderer(scene, f->db, W, H, 2);
+  return fixture_renderer_cpu_maps(scene, f->db, W, H, 2);
 }
 
 static satf_image *image(satf_renderer *r) { return fixture_render_image(r); }
@@ -252,8 +252,8 @@ static void test_layers_split(void **state) {
   satf_scene *scene = fixture_scene(SCENE), *next = fixture_scene(SCENE);
   assert_non_null(scene);
   assert_non_null(next);
-  satf_renderer *two = fixture_renderer(scene, f->db, W, H, 2);
-  satf_renderer *one = fixture_renderer(scene, f->db, W, H, 1);
+  satf_renderer *two = fixture_renderer_cpu_maps(scene, f->db, W, H, 2);
+  satf_renderer *one = fixture_renderer_cpu_maps(scene, f->db, W, H, 1);
   assert_non_null(two);
   assert_non_null(one);
   assert_int_equal(fixture_render_lookups(two), fixture_render_lookups(one));

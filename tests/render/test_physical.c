@@ -396,6 +396,9 @@ static void test_layout_sums(void **state) {
                    SATF_OK);
   assert_int_equal(satf_renderer_create(s, fiber_db, W, H, 1, &one, &err),
                    SATF_OK);
+  /* the CPU's copy of the maps is read below */
+  assert_int_equal(satf_renderer_set_maps(r, SATF_MAPS_CPU, &err), SATF_OK);
+  assert_int_equal(satf_renderer_set_maps(one, SATF_MAPS_CPU, &err), SATF_OK);
   satf_image *img = NULL, *img1 = NULL;
   satf_frame_timing t;
   assert_int_equal(satf_renderer_render_image(r, 0, &img, &t, &err), SATF_OK);
@@ -457,6 +460,8 @@ static const inst *maps_of(const char *lights, satf_scene **s,
   satf_error err;
   assert_int_equal(satf_renderer_create(*s, fiber_db, W, H, 1, r, &err),
                    SATF_OK);
+  /* the CPU's copy of the maps is read */
+  assert_int_equal(satf_renderer_set_maps(*r, SATF_MAPS_CPU, &err), SATF_OK);
   satf_image *img = NULL;
   satf_frame_timing t;
   assert_int_equal(satf_renderer_render_image(*r, 0, &img, &t, &err), SATF_OK);
@@ -562,6 +567,7 @@ static double level_spread(int from_strands) {
   satf_error err;
   assert_int_equal(satf_renderer_create(s, fiber_db, W, H, 1, &r, &err),
                    SATF_OK);
+  assert_int_equal(satf_renderer_set_maps(r, SATF_MAPS_CPU, &err), SATF_OK);
   inst *in = &r->insts[0];
   size_t q = satf_shell_sector_count(&in->geom.shell);
   for (size_t i = 0; i < q; i++) /* the first sector's, and no cached */

@@ -53,7 +53,8 @@ static void usage(FILE *out) {
       "  --bench N            render N frames of an orbiting camera (of the\n"
       "                       animation, if the scene has one) and print\n"
       "                       the paper's Table 1 row (ms per stage, FPS)\n"
-      "  --threads N          CPU threads for the map stage (0 = all)\n"
+      "  --threads N          CPU threads for the map stage (the CPU's maps;\n"
+      "                       0 = all)\n"
       "  --samples N          anti-aliasing: N jittered samples per pixel\n"
       "                       (1-64; default: the scene's image.samples, 1)\n"
       "  --pixel-filter F     auto (default), box or blackman-harris: the\n"
@@ -510,6 +511,9 @@ static satf_status run(options *o, const satf_frontend *fe, satf_error *err) {
     st = render_still(o, r, &stats, t_setup, err);
   if (st == SATF_OK && o->bench)
     st = bench(o, ctx, r, fe->scene, &stats, t_setup, err);
+  if (r && satf_renderer_maps_note(r)[0]) /* auto fell back */
+    fprintf(stderr, "%s: the maps built on the CPU: the GPU's: %s\n", PROG,
+            satf_renderer_maps_note(r));
   satf_renderer_destroy(r);
   satf_gl_context_destroy(ctx);
   return st;
