@@ -426,8 +426,9 @@ static satf_status bench(viewer *v, satf_gl_window *win,
   satf_frontend_table_row(stdout, o->name, &stats, &mean, fps);
   int fw, fh;
   satf_gl_window_framebuffer_size(win, &fw, &fh);
-  printf("in a %dx%d window (satf-view): each frame presented and swapped\n",
-         fw, fh);
+  printf("in a %dx%d window (satf-view): each frame presented and swapped; "
+         "the maps built on the %s\n",
+         fw, fh, satf_renderer_maps(v->r) == SATF_MAPS_GPU ? "GPU" : "CPU");
   return SATF_OK;
 }
 
