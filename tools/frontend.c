@@ -190,6 +190,12 @@ void satf_frontend_apply(satf_renderer *r, const satf_scene_effects *off,
   satf_renderer_set_composite(r, (satf_composite)composite);
 }
 
+void satf_frontend_maps_note(const char *prog, const satf_renderer *r) {
+  if (r && satf_renderer_maps_note(r)[0])
+    fprintf(stderr, "%s: the maps built on the CPU: the GPU's: %s\n", prog,
+            satf_renderer_maps_note(r));
+}
+
 void satf_frontend_free(satf_frontend *fe) {
   satf_strand_set_destroy(fe->strands);
   satf_db_destroy(fe->db);

@@ -92,6 +92,9 @@ extern const char *const satf_frontend_strand_help;
 /* Turns off the effects cleared in `off` and sets the compositing mode. */
 void satf_frontend_apply(satf_renderer *r, const satf_scene_effects *off,
                          int composite);
+/* Says on stderr why the maps fell back to the CPU's, if they did
+ * (satf_renderer_maps_note); r may be NULL. */
+void satf_frontend_maps_note(const char *prog, const satf_renderer *r);
 void satf_frontend_free(satf_frontend *fe);
 
 /* Applies a --no-EFFECT flag; returns 1 if arg was one. */

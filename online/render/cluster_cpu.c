@@ -103,6 +103,12 @@ void cluster_cpu_forget_lookups(inst *in) {
   in->replaced = 1;
 }
 
+void cluster_cpu_forget_all_lookups(satf_renderer *r) {
+  for (int i = 0; i < r->ninsts; i++)
+    if (r->insts[i].looked_up)
+      cluster_cpu_forget_lookups(&r->insts[i]);
+}
+
 /* One job per changed instance: its layers are built in floats in the
  * thread's scratch, summed for the s-maps and packed to halfs once
  * (half.h), so the maps kept and uploaded are half the bytes (the
@@ -403,9 +409,7 @@ static void fall_back_to_cpu(satf_renderer *r, satf_error *err) {
   satf_error_clear(err);
   maps_gpu_destroy(r->mgpu);
   r->mgpu = NULL;
-  for (int i = 0; i < r->ninsts; i++)
-    if (r->insts[i].looked_up)
-      cluster_cpu_forget_lookups(&r->insts[i]);
+  cluster_cpu_forget_all_lookups(r);
   r->maps_mode = SATF_MAPS_CPU;
 }
 

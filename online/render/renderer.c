@@ -189,7 +189,7 @@ float satf_renderer_shadow_move(const satf_renderer *r) {
  * pass is the cheaper (an H200: 0.1-10 ms a frame against 7-107 for the
  * CPU's look-ups and upload), the CPU's on a software rasteriser, where
  * it is 3-10 times the dearer (satf/render.h) */
-satf_maps_mode renderer_maps_resolve(const char *gl_renderer) {
+static satf_maps_mode maps_resolve(const char *gl_renderer) {
   return satf_gl_renderer_is_software(gl_renderer) ? SATF_MAPS_CPU
                                                    : SATF_MAPS_GPU;
 }
@@ -197,9 +197,7 @@ satf_maps_mode renderer_maps_resolve(const char *gl_renderer) {
 /* The mode `mode` from now on; the other mode's maps are not these. */
 static void switch_maps(satf_renderer *r, satf_maps_mode mode) {
   if (mode != r->maps_mode)
-    for (int i = 0; i < r->ninsts; i++)
-      if (r->insts[i].looked_up)
-        cluster_cpu_forget_lookups(&r->insts[i]);
+    cluster_cpu_forget_all_lookups(r);
   r->maps_mode = mode;
 }
 
@@ -217,8 +215,8 @@ satf_status satf_renderer_set_maps(satf_renderer *r, satf_maps_mode mode,
     /* the GPU's maps made at the first frame that builds maps
      * (cluster_cpu_update_maps): the strand and baseline paths, and
      * scenes of single strands, never need them */
-    renderer_maps_auto_as(
-        r, renderer_maps_resolve((const char *)glGetString(GL_RENDERER)));
+    renderer_maps_auto_as(r,
+                          maps_resolve((const char *)glGetString(GL_RENDERER)));
     return SATF_OK;
   }
   if (mode == SATF_MAPS_GPU && !r->mgpu) {
@@ -323,8 +321,7 @@ satf_status satf_renderer_set_sparse_strands(satf_renderer *r, int max_strands,
     return SATF_OK;
   r->sparse_max = max_strands;
   r->dom.valid = r->fill_dom.valid = 0; /* other hair casts the shadows */
-  for (int i = 0; i < r->ninsts; i++)   /* a cluster again needs its maps */
-    cluster_cpu_forget_lookups(&r->insts[i]);
+  cluster_cpu_forget_all_lookups(r);    /* a cluster again needs its maps */
   satf_status st = sparse_build(r, err);
   /* clusters drawn as strands until now get their features and maps */
   return st == SATF_OK ? hierarchy_prepare(r, err) : st;

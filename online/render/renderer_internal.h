@@ -292,9 +292,10 @@ satf_status cluster_cpu_update_maps(satf_renderer *r, satf_frame_timing *t,
 /* Marks every HSV of `in` for a look-up at the next frame (its geometry,
  * features or transform changed). */
 void cluster_cpu_forget_lookups(inst *in);
-/* SATF_MAPS_AUTO's choice where the context's GL_RENDERER is `gl_renderer`
- * (renderer.c); a test makes a renderer take `mode` as auto's choice. */
-satf_maps_mode renderer_maps_resolve(const char *gl_renderer);
+/* cluster_cpu_forget_lookups of every instance that has looked up. */
+void cluster_cpu_forget_all_lookups(satf_renderer *r);
+/* Makes r take `mode` as SATF_MAPS_AUTO's choice (renderer.c: for tests,
+ * as on another context). */
 void renderer_maps_auto_as(satf_renderer *r, satf_maps_mode mode);
 /* Frees the map threads' scratch buffers. */
 void cluster_cpu_release(satf_renderer *r);

@@ -511,9 +511,7 @@ static satf_status run(options *o, const satf_frontend *fe, satf_error *err) {
     st = render_still(o, r, &stats, t_setup, err);
   if (st == SATF_OK && o->bench)
     st = bench(o, ctx, r, fe->scene, &stats, t_setup, err);
-  if (r && satf_renderer_maps_note(r)[0]) /* auto fell back */
-    fprintf(stderr, "%s: the maps built on the CPU: the GPU's: %s\n", PROG,
-            satf_renderer_maps_note(r));
+  satf_frontend_maps_note(PROG, r);
   satf_renderer_destroy(r);
   satf_gl_context_destroy(ctx);
   return st;

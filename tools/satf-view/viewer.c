@@ -457,9 +457,7 @@ satf_status viewer_run(satf_gl_window *win, satf_frontend *fe,
     if (st == SATF_OK && !done)
       satf_gl_window_poll(win);
   }
-  if (v.r && satf_renderer_maps_note(v.r)[0]) /* the GPU's maps failed */
-    fprintf(stderr, "%s: the maps built on the CPU: the GPU's: %s\n", PROG,
-            satf_renderer_maps_note(v.r));
+  satf_frontend_maps_note(PROG, v.r);
   /* the renderer reads the snapshot until it is destroyed */
   satf_renderer_destroy(v.r);
   satf_scene_destroy(v.snap);
