@@ -245,10 +245,11 @@ float self_hairs(vec3 thru, float s, float r, float shells, float cap, int k,
  * point's Poisson count of hairs towards the light, the map's (n_map) and
  * its own cluster's, summed over the points with weights w (transmittance
  * to the point x its alpha). Taken at the weighted mean count: w_sum x
- * the term at n_map + n_sum / w_sum. Our approximation: per point it cost
- * six exponentials a point and a fifth of the physical frame on llvmpipe
- * (the shared ponytail), and the counts along one ray lie close together
- * (docs/performance.md, "Physical against kk"). */
+ * the term at n_map + n_sum / w_sum. Our approximation: taken at every
+ * point it cost six exponentials a point, about 40 ms of the shared
+ * ponytail's physical frame on llvmpipe, and the counts along one ray lie
+ * close together (docs/shading.md, docs/performance.md "Physical against
+ * kk"). */
 vec3 forward_scattered(vec3 e_global, float n_map, vec3 af, float w_sum,
                        float n_sum) {
   if (w_sum <= 0.0) return vec3(0.0);
